@@ -1,0 +1,203 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+#ifndef OPENCV_LIDARSGM_HPP
+#define OPENCV_LIDARSGM_HPP
+
+#include "opencv2/core.hpp"
+#include "opencv2/core/cuda.hpp"
+
+/**
+@defgroup lidarsgm Stereo-LiDAR fusion by semi-global matching
+
+Dense disparity from a rectified stereo pair and a sparse (LiDAR) disparity map, after Yao, Ishikawa and Oishi,
+"Stereo-LiDAR Fusion by Semi-Global Matching with Discrete Disparity-Matching Cost and Semidensification"
+@cite Yao2025. The pipeline:
+
+1. census transform of both images (centre-symmetric 9x7 window, 31 bits) and Hamming matching cost H(p, d);
+2. semidensification (SDSGM only): each pixel takes, among the sparse disparities in a (2 rs + 1)^2 window, the one
+   whose census cost at that pixel is lowest, if that cost is below Ts; otherwise its own sparse value, if any;
+3. the discrete disparity-matching cost (DDC, DSGM and SDSGM): where a (semidense) sparse disparity s exists, the
+   matching cost is (1 - alpha) H + alpha {0, Q1, Q2} for |d - s| = 0, 1, > 1; elsewhere it is H;
+4. semi-global aggregation over 4 or 8 paths with penalties P1, P2; winner-takes-all, uniqueness check and a
+   parabola fit for subpixel disparities;
+5. the consistency check: a disparity survives the left-right check, or (stereo-LiDAR check) if some original sparse
+   disparity within a (2 rc + 1)^2 window differs from it by at most Tc.
+
+The CPU path and the CUDA path compute the same integer arithmetic and give identical outputs.
+*/
+
+namespace cv {
+namespace lidarsgm {
+
+//! @addtogroup lidarsgm
+//! @{
+
+/** @brief Stereo-LiDAR semi-global matcher (plain SGM, DSGM, SDSGM).
+
+Input images: rectified, 8-bit or 16-bit, single channel, same size and type. Colour images are refused (convert
+with cv::cvtColor). Sparse disparity: CV_16UC1 in KITTI encoding (value / 256 pixels, 0 = no measurement) or
+CV_32FC1 in pixels (0, negative, NaN and infinite values = no measurement); values are taken to 1/16 pixel
+(rounded to nearest) and those outside [minDisparity, minDisparity + numDisparities) are ignored as no measurement.
+The sparse disparity is left-view disparity: left pixel (x, y) matches right pixel (x - d, y).
+
+Output: by default CV_16SC1 with 4 fractional bits (disparity x 16) and invalid pixels set to
+(minDisparity - 1) * 16, as cv::StereoSGBM, so cv::reprojectImageTo3D and the ximgproc filters accept it; with
+setOutputType(CV_32F), CV_32FC1 in pixels with invalid pixels set to minDisparity - 1.
+
+Costs are integers. The energy is scaled by one factor K (chosen per parameter set so that the sum of all path costs
+fits in 16 bits) and each weight, K (1 - alpha), K alpha Q1, K alpha Q2, K P1, K P2 and K for plain census cost, is
+rounded to the nearest integer; K is picked so that the largest relative rounding error of these weights is
+smallest (for the paper's defaults, below 0.3 %). Scaling the whole energy does not change the minimiser, the
+uniqueness ratio or the parabola, so alpha is honoured as given rather than quantised to a few bits.
+ */
+class CV_EXPORTS_W StereoLidarSGM : public Algorithm
+{
+public:
+    //! Which fusion pipeline runs.
+    enum FusionMode
+    {
+        MODE_SGM   = 0, //!< plain stereo SGM on census cost; the sparse input is only used by the LiDAR check
+        MODE_DSGM  = 1, //!< SGM with the discrete disparity-matching cost (DDC) on the sparse input
+        MODE_SDSGM = 2  //!< semidensification, then SGM with DDC on the semidense map
+    };
+    //! Which consistency check filters the result (the paper's Table V).
+    enum ConsistencyCheck
+    {
+        CHECK_NONE         = 0, //!< keep every disparity that passes the uniqueness check
+        CHECK_STEREO       = 1, //!< left-right check only
+        CHECK_CAMERA_LIDAR = 2, //!< keep a disparity only if a sparse disparity within rc is within Tc of it
+        CHECK_STEREO_LIDAR = 3  //!< keep it if it passes the left-right check or the camera-LiDAR test
+    };
+
+    /** @brief Creates the matcher with the paper's parameters.
+    @param minDisparity smallest disparity searched.
+    @param numDisparities number of disparities searched: a multiple of 16 in [16, 256].
+    @param P1 penalty for a disparity change of 1 between neighbours (census-bit units), 0 <= P1 <= P2.
+    @param P2 penalty for larger changes, P1 <= P2 <= 1000.
+    @param Q1 DDC penalty for |d - sparse| = 1, 0 <= Q1 <= Q2.
+    @param Q2 DDC penalty for |d - sparse| > 1, Q1 <= Q2 <= 1000.
+    @param alpha blend between census cost and DDC, in [0, 1].
+    @param mode one of StereoLidarSGM::FusionMode.
+    @param check one of StereoLidarSGM::ConsistencyCheck.
+     */
+    CV_WRAP static Ptr<StereoLidarSGM> create(int minDisparity = 0, int numDisparities = 128,
+                                              int P1 = 10, int P2 = 120, int Q1 = 5, int Q2 = 160,
+                                              double alpha = 0.7, int mode = StereoLidarSGM::MODE_SDSGM,
+                                              int check = StereoLidarSGM::CHECK_STEREO_LIDAR);
+
+    /** @brief Computes the fused disparity map of the left image.
+    @param left left image, CV_8UC1 or CV_16UC1.
+    @param right right image, same size and type as left.
+    @param sparseDisparity sparse disparity of the left view, same size, CV_16UC1 (x256) or CV_32FC1; may be empty
+    in MODE_SGM with CHECK_NONE or CHECK_STEREO.
+    @param disparity output, CV_16SC1 (x16) or CV_32FC1 (see setOutputType).
+    Inputs given as cv::cuda::GpuMat run the CUDA path (when built with CUDA) and return a GpuMat.
+     */
+    CV_WRAP virtual void compute(InputArray left, InputArray right, InputArray sparseDisparity,
+                                 OutputArray disparity) = 0;
+
+    /** @brief CUDA path: GpuMat inputs and output, asynchronous on the given stream. */
+    virtual void compute(InputArray left, InputArray right, InputArray sparseDisparity,
+                         OutputArray disparity, cuda::Stream& stream) = 0;
+
+    /** @brief The semidense disparity map on its own (the paper's Table IV).
+    @param left left image, as for compute.
+    @param right right image, as for compute.
+    @param sparseDisparity sparse disparity, as for compute.
+    @param semidense output in the same format as compute's output (CV_16SC1 x16 by default).
+     */
+    CV_WRAP virtual void semidensify(InputArray left, InputArray right, InputArray sparseDisparity,
+                                     OutputArray semidense) = 0;
+
+    /** @brief CUDA path of semidensify. */
+    virtual void semidensify(InputArray left, InputArray right, InputArray sparseDisparity,
+                             OutputArray semidense, cuda::Stream& stream) = 0;
+
+    //! Smallest disparity searched (any integer in [-1024, 1024]; default 0).
+    CV_WRAP virtual int getMinDisparity() const = 0;
+    CV_WRAP virtual void setMinDisparity(int minDisparity) = 0;
+    //! Number of disparities: a multiple of 16 in [16, 256] (default 128).
+    CV_WRAP virtual int getNumDisparities() const = 0;
+    CV_WRAP virtual void setNumDisparities(int numDisparities) = 0;
+    //! SGM penalty for a disparity step of 1, in census-bit units: 0 <= P1 <= P2 (paper: 10).
+    CV_WRAP virtual int getP1() const = 0;
+    CV_WRAP virtual void setP1(int P1) = 0;
+    //! SGM penalty for larger steps: P1 <= P2 <= 1000 (paper: 120).
+    CV_WRAP virtual int getP2() const = 0;
+    CV_WRAP virtual void setP2(int P2) = 0;
+    //! DDC penalty for |d - sparse| = 1: 0 <= Q1 <= Q2 (paper: 5).
+    CV_WRAP virtual int getQ1() const = 0;
+    CV_WRAP virtual void setQ1(int Q1) = 0;
+    //! DDC penalty for |d - sparse| > 1: Q1 <= Q2 <= 1000 (paper: 160).
+    CV_WRAP virtual int getQ2() const = 0;
+    CV_WRAP virtual void setQ2(int Q2) = 0;
+    //! Weight of DDC against census cost where a sparse disparity exists, in [0, 1] (paper: 0.7).
+    CV_WRAP virtual double getAlpha() const = 0;
+    CV_WRAP virtual void setAlpha(double alpha) = 0;
+    /** Uniqueness: a disparity is kept only if its aggregated cost is at most ratio times the lowest cost at
+    disparities more than 1 away from it; in (0, 1], 1 disables the check (default 0.95). */
+    CV_WRAP virtual double getUniquenessRatio() const = 0;
+    CV_WRAP virtual void setUniquenessRatio(double ratio) = 0;
+    //! Largest difference, in whole pixels, between left and right disparities in the left-right check, in [0, 16] (default 1).
+    CV_WRAP virtual int getLRMaxDiff() const = 0;
+    CV_WRAP virtual void setLRMaxDiff(int maxDiff) = 0;
+    //! Number of aggregation paths: 4 or 8 (default 8).
+    CV_WRAP virtual int getNumPaths() const = 0;
+    CV_WRAP virtual void setNumPaths(int numPaths) = 0;
+    //! Subpixel refinement by a parabola through the costs at d-1, d, d+1 (default on).
+    CV_WRAP virtual bool getSubpixel() const = 0;
+    CV_WRAP virtual void setSubpixel(bool subpixel) = 0;
+    //! Semidensification window radius rs, in [0, 32] (paper: 6).
+    CV_WRAP virtual int getSemidenseRadius() const = 0;
+    CV_WRAP virtual void setSemidenseRadius(int rs) = 0;
+    //! Semidensification threshold Ts on the census cost (a candidate is taken if its cost is below Ts), in [0, 32] (paper: 2).
+    CV_WRAP virtual int getSemidenseThreshold() const = 0;
+    CV_WRAP virtual void setSemidenseThreshold(int Ts) = 0;
+    //! Consistency-check window radius rc, in [0, 64] (paper: 20).
+    CV_WRAP virtual int getCheckRadius() const = 0;
+    CV_WRAP virtual void setCheckRadius(int rc) = 0;
+    //! Consistency-check threshold Tc in pixels, in [0, 64] (paper: 2); compared at 1/16 pixel.
+    CV_WRAP virtual double getCheckThreshold() const = 0;
+    CV_WRAP virtual void setCheckThreshold(double Tc) = 0;
+    //! Fusion mode, one of FusionMode (default MODE_SDSGM).
+    CV_WRAP virtual int getMode() const = 0;
+    CV_WRAP virtual void setMode(int mode) = 0;
+    //! Consistency check, one of ConsistencyCheck (default CHECK_STEREO_LIDAR).
+    CV_WRAP virtual int getConsistencyCheck() const = 0;
+    CV_WRAP virtual void setConsistencyCheck(int check) = 0;
+    //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
+    CV_WRAP virtual int getOutputType() const = 0;
+    CV_WRAP virtual void setOutputType(int type) = 0;
+
+    /** @brief Loads a matcher saved with save() (cv::FileStorage, YAML/XML/JSON). */
+    CV_WRAP static Ptr<StereoLidarSGM> load(const String& filename, const String& objname = String());
+};
+
+/** @brief Projects a LiDAR point cloud into a sparse disparity map of the left (reference) camera.
+
+Each point X (LiDAR frame) is moved to the rectified camera frame by the rigid transform lidarToCamera, then
+projected by the 3x4 projection: [u v 1]^T ~ projection [R t] [X 1]^T. Its depth z is the third component, its
+disparity focalBaseline / z (focal length in pixels times baseline in metres, e.g. P2[0,3] - P3[0,3] in KITTI).
+Pixels are (round(u), round(v)); where several points fall on one pixel the nearest (largest disparity) wins;
+points with z <= 0, outside the image or with a non-finite coordinate are dropped.
+
+@param points N x 3 or N x 4 CV_32F (x, y, z[, reflectance]), or an N x 1 CV_32FC3/CV_32FC4 array.
+@param projection 3x4 projection matrix (CV_32F or CV_64F) of the rectified left camera.
+@param lidarToCamera 3x4 or 4x4 rigid transform (rotation with orthonormal rows, det 1) from LiDAR to rectified
+camera coordinates; for KITTI, R0_rect * Tr_velo_to_cam.
+@param focalBaseline focal length (pixels) times baseline (metres), > 0.
+@param imageSize size of the disparity map.
+@param sparseDisparity output, CV_32FC1 in pixels (0 = none) or CV_16UC1 in KITTI encoding (round(d * 256),
+0 = none, saturated at 65535).
+@param dtype CV_32F or CV_16U.
+ */
+CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray projection, InputArray lidarToCamera,
+                                           double focalBaseline, Size imageSize, OutputArray sparseDisparity,
+                                           int dtype = CV_32F);
+
+//! @}
+
+}} // namespace cv::lidarsgm
+
+#endif // OPENCV_LIDARSGM_HPP

@@ -1,0 +1,110 @@
+#!/usr/bin/env python
+# This file is part of the lidarsgm module (an OpenCV extra module).
+"""cv2.lidarsgm from Python: create, parameters, compute on a shipped KITTI frame, projection, semidensify."""
+
+import os
+import tempfile
+import unittest
+
+import numpy as np
+import cv2 as cv
+
+try:
+    from tests_common import NewOpenCVTests
+except ImportError:  # run outside OpenCV's python test tree
+    NewOpenCVTests = unittest.TestCase
+
+
+def data_dir():
+    d = os.environ.get('OPENCV_PYTEST_LIDARSGM_DATA') or os.environ.get('OPENCV_TEST_DATA_PATH')
+    if not d:
+        raise unittest.SkipTest('OPENCV_TEST_DATA_PATH is not set')
+    return d
+
+
+def read_calib(path):
+    calib = {}
+    with open(path) as f:
+        for line in f:
+            if ':' in line:
+                k, v = line.split(':', 1)
+                calib[k] = np.array([float(x) for x in v.split()])
+    p2 = calib['P2'].reshape(3, 4)
+    r0 = np.eye(4)
+    r0[:3, :3] = calib['R0_rect'].reshape(3, 3)
+    tr = np.eye(4)
+    tr[:3, :4] = calib['Tr_velo_to_cam'].reshape(3, 4)
+    fb = calib['P2'][3] - calib['P3'][3]
+    return p2, r0 @ tr, fb
+
+
+class lidarsgm_test(NewOpenCVTests):
+
+    def load_frame(self):
+        d = os.path.join(data_dir(), 'kitti')
+        left = cv.imread(os.path.join(d, 'image_2', '000002_10.png'), cv.IMREAD_GRAYSCALE)
+        right = cv.imread(os.path.join(d, 'image_3', '000002_10.png'), cv.IMREAD_GRAYSCALE)
+        pts = np.fromfile(os.path.join(d, 'velodyne', '000002.bin'), dtype=np.float32).reshape(-1, 4)
+        p2, l2c, fb = read_calib(os.path.join(d, 'calib.txt'))
+        sparse = cv.lidarsgm.projectPointsToDisparity(pts, p2, l2c, fb, (left.shape[1], left.shape[0]))
+        gt = cv.imread(os.path.join(d, 'disp_occ_0', '000002_10.png'), cv.IMREAD_UNCHANGED)
+        return left, right, sparse, gt
+
+    def test_defaults_and_setters(self):
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        self.assertEqual(m.getNumDisparities(), 128)
+        self.assertEqual(m.getMode(), cv.lidarsgm.StereoLidarSGM_MODE_SDSGM)
+        self.assertEqual(m.getConsistencyCheck(), cv.lidarsgm.StereoLidarSGM_CHECK_STEREO_LIDAR)
+        self.assertAlmostEqual(m.getAlpha(), 0.7)
+        m.setNumPaths(4)
+        self.assertEqual(m.getNumPaths(), 4)
+        with self.assertRaises(cv.error):
+            m.setNumDisparities(100)
+
+    def test_compute_kitti(self):
+        left, right, sparse, gt = self.load_frame()
+        self.assertEqual(sparse.dtype, np.float32)
+        self.assertGreater(np.count_nonzero(sparse), 10000)
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        disp = m.compute(left, right, sparse)
+        self.assertEqual(disp.dtype, np.int16)
+        self.assertEqual(disp.shape, left.shape)
+        valid = (disp > -16) & (gt > 0)
+        d = disp[valid] / 16.0
+        g = gt[valid] / 256.0
+        err = np.abs(d - g)
+        bad = (err > 3) & (err > 0.05 * g)
+        self.assertGreater(valid.sum() / (gt > 0).sum(), 0.95)   # coverage
+        self.assertLess(bad.mean(), 0.05)                       # covered D1
+
+        m.setOutputType(cv.CV_32F)
+        disp32 = m.compute(left, right, sparse)
+        self.assertEqual(disp32.dtype, np.float32)
+        np.testing.assert_array_equal(disp32, disp.astype(np.float32) / 16)
+
+        semi = m.semidensify(left, right, sparse)
+        self.assertGreater(np.count_nonzero(semi > 0), np.count_nonzero(sparse > 0))
+
+    def test_save_load(self):
+        m = cv.lidarsgm.StereoLidarSGM.create(numDisparities=64, P1=12, alpha=0.5)
+        fd, path = tempfile.mkstemp(suffix='.yml')
+        os.close(fd)
+        try:
+            m.save(path)
+            n = cv.lidarsgm.StereoLidarSGM.load(path)
+            self.assertEqual(n.getNumDisparities(), 64)
+            self.assertEqual(n.getP1(), 12)
+            self.assertAlmostEqual(n.getAlpha(), 0.5)
+        finally:
+            os.remove(path)
+
+    def test_bad_input(self):
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        colour = np.zeros((40, 60, 3), np.uint8)
+        with self.assertRaises(cv.error) as ctx:
+            m.compute(colour, colour, np.zeros((40, 60), np.float32))
+        self.assertIn('COLOR_BGR2GRAY', str(ctx.exception))
+
+
+if __name__ == '__main__':
+    NewOpenCVTests.bootstrap()

@@ -1,0 +1,11 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+#ifndef OPENCV_LIDARSGM_PERF_PRECOMP_HPP
+#define OPENCV_LIDARSGM_PERF_PRECOMP_HPP
+
+#include "opencv2/ts.hpp"
+#include "opencv2/lidarsgm.hpp"
+#include "opencv2/imgproc.hpp"
+#include "opencv2/imgcodecs.hpp"
+#include "opencv2/calib3d.hpp"
+
+#endif

@@ -1,0 +1,76 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+#include "perf_precomp.hpp"
+#include "lidarsgm_eval.hpp"
+
+namespace opencv_test { namespace {
+
+using cv::lidarsgm::StereoLidarSGM;
+
+struct KittiInput
+{
+    Mat left, right, sparse;
+};
+
+static const KittiInput& kittiFrame()
+{
+    static KittiInput in;
+    if (in.left.empty())
+    {
+        const std::string dir = cvtest::findDataDirectory("kitti");
+        in.left = imread(dir + "/image_2/000002_10.png", IMREAD_GRAYSCALE);
+        in.right = imread(dir + "/image_3/000002_10.png", IMREAD_GRAYSCALE);
+        CV_Assert(!in.left.empty() && !in.right.empty());
+        lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
+        cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/000002.bin"), c.P2,
+                                               c.lidarToCamera, c.focalBaseline, in.left.size(), in.sparse);
+    }
+    return in;
+}
+
+CV_ENUM(FusionMode, StereoLidarSGM::MODE_SGM, StereoLidarSGM::MODE_DSGM, StereoLidarSGM::MODE_SDSGM)
+
+typedef tuple<FusionMode, int, int> ModePathsDisp;
+typedef perf::TestBaseWithParam<ModePathsDisp> Lidarsgm_KITTI;
+
+// KITTI frame 000002 (1242x375), CPU path.
+PERF_TEST_P(Lidarsgm_KITTI, compute,
+            testing::Combine(FusionMode::all(), testing::Values(4, 8), testing::Values(128, 256)))
+{
+    const KittiInput& in = kittiFrame();
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, get<2>(GetParam()), 10, 120, 5, 160, 0.7, get<0>(GetParam()));
+    m->setNumPaths(get<1>(GetParam()));
+    Mat disp;
+    m->compute(in.left, in.right, in.sparse, disp);  // allocate buffers outside the timed loop
+    TEST_CYCLE() m->compute(in.left, in.right, in.sparse, disp);
+    SANITY_CHECK_NOTHING();
+}
+
+PERF_TEST(Lidarsgm_KITTI, semidensify)
+{
+    const KittiInput& in = kittiFrame();
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+    Mat semi;
+    TEST_CYCLE() m->semidensify(in.left, in.right, in.sparse, semi);
+    SANITY_CHECK_NOTHING();
+}
+
+// The bar: OpenCV's own CPU SGM with 8 paths on the same frame (anchors: blockSize 3, P1 72, P2 288).
+PERF_TEST(Lidarsgm_KITTI, opencv_StereoSGBM_MODE_HH_128)
+{
+    const KittiInput& in = kittiFrame();
+    Ptr<StereoSGBM> sgbm = StereoSGBM::create(0, 128, 3, 72, 288, 1, 0, 10, 100, 2, StereoSGBM::MODE_HH);
+    Mat disp;
+    TEST_CYCLE() sgbm->compute(in.left, in.right, disp);
+    SANITY_CHECK_NOTHING();
+}
+
+PERF_TEST(Lidarsgm_KITTI, projectPointsToDisparity)
+{
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
+    Mat pts = lidarsgm_eval::readVelodyne(dir + "/velodyne/000002.bin"), sparse;
+    TEST_CYCLE() cv::lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), sparse);
+    SANITY_CHECK_NOTHING();
+}
+
+}} // namespace

@@ -1,0 +1,480 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// lidarsgm_fuse: fuse a stereo pair with LiDAR into a dense disparity map, for one frame or a whole dataset folder,
+// and score it against ground truth with the KITTI devkit's rules (D1) or Middlebury's bad-N.
+//
+//   lidarsgm_fuse --kitti-frame DIR --id 000002 [--out OUT]      one frame of a KITTI-layout folder (raw scan)
+//   lidarsgm_fuse --left L --right R (--sparse S | --velodyne V --calib C) [--gt G] [--out OUT]
+//   lidarsgm_fuse --kitti DIR [--table5]                        every frame listed in DIR/frames.txt
+//   lidarsgm_fuse --middlebury DIR [--seed N]                   every scene folder in DIR (1 % of GT as input)
+// Run with --help for every option.
+
+#include "opencv2/lidarsgm.hpp"
+#include "opencv2/calib3d.hpp"
+#include "opencv2/core/utility.hpp"
+#include "lidarsgm_eval.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+
+using namespace cv;
+using namespace lidarsgm_eval;
+typedef cv::lidarsgm::StereoLidarSGM Matcher;
+
+namespace {
+
+struct Options
+{
+    std::map<std::string, std::string> kv;
+    bool has(const std::string& k) const { return kv.count(k) != 0; }
+    std::string str(const std::string& k, const std::string& def = "") const
+    {
+        std::map<std::string, std::string>::const_iterator it = kv.find(k);
+        return it == kv.end() ? def : it->second;
+    }
+    int i(const std::string& k, int def) const { return has(k) ? std::atoi(str(k).c_str()) : def; }
+    double d(const std::string& k, double def) const { return has(k) ? std::atof(str(k).c_str()) : def; }
+};
+
+const char* kHelp =
+    "lidarsgm_fuse: stereo-LiDAR fusion by semi-global matching (SGM / DSGM / SDSGM)\n"
+    "Inputs (one of):\n"
+    "  --kitti-frame DIR --id ID      KITTI-layout folder: image_2/ID_10.png, image_3/ID_10.png, velodyne/ID.bin,\n"
+    "                                 calib.txt, optional disp_occ_0/ID_10.png (ground truth)\n"
+    "  --left L --right R --sparse S  sparse disparity PNG (uint16, value / 256) or .exr/.pfm float\n"
+    "  --left L --right R --velodyne V --calib C   raw scan + KITTI calibration file\n"
+    "  --kitti DIR                    benchmark every frame of DIR/frames.txt\n"
+    "  --middlebury DIR               benchmark every scene folder of DIR (1 % of the ground truth as sparse input)\n"
+    "Options:\n"
+    "  --gt G              ground truth for a single frame (KITTI PNG)\n"
+    "  --out DIR           write disparity.png (KITTI 16-bit), disparity_color.png, sparse_color.png,\n"
+    "                      semidense_color.png, error.png (with ground truth) for a single frame\n"
+    "  --modes LIST        comma list of sgm, dsgm, sdsgm (default: sdsgm for a frame, all for a folder)\n"
+    "  --check C           none | stereo | camera-lidar | stereo-lidar (default stereo-lidar)\n"
+    "  --table5            also run SDSGM with each consistency check (the paper's Table V)\n"
+    "  --num-disparities N --min-disparity N --P1 N --P2 N --Q1 N --Q2 N --alpha A --uniqueness U\n"
+    "  --lr-max-diff N --paths 4|8 --subpixel 0|1 --rs N --Ts N --rc N --Tc T   algorithm parameters\n"
+    "  --seed N            random seed of the Middlebury sampling (default 1)\n"
+    "  --timing N          time N runs per frame and compare with cv::StereoSGBM MODE_HH (same process)\n"
+    "  --threads N         cv::setNumThreads\n";
+
+int modeFromName(const std::string& s)
+{
+    if (s == "sgm") return Matcher::MODE_SGM;
+    if (s == "dsgm") return Matcher::MODE_DSGM;
+    if (s == "sdsgm") return Matcher::MODE_SDSGM;
+    CV_Error(Error::StsBadArg, "unknown mode '" + s + "' (sgm, dsgm, sdsgm)");
+}
+const char* modeLabel(int m) { return m == Matcher::MODE_SGM ? "SGM" : m == Matcher::MODE_DSGM ? "DSGM" : "SDSGM"; }
+int checkFromName(const std::string& s)
+{
+    if (s == "none") return Matcher::CHECK_NONE;
+    if (s == "stereo") return Matcher::CHECK_STEREO;
+    if (s == "camera-lidar") return Matcher::CHECK_CAMERA_LIDAR;
+    if (s == "stereo-lidar") return Matcher::CHECK_STEREO_LIDAR;
+    CV_Error(Error::StsBadArg, "unknown check '" + s + "' (none, stereo, camera-lidar, stereo-lidar)");
+}
+const char* checkLabel(int c)
+{
+    static const char* n[] = { "none", "stereo", "camera-lidar", "stereo-lidar" };
+    return n[c];
+}
+
+std::vector<std::string> split(const std::string& s)
+{
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string t;
+    while (std::getline(ss, t, ','))
+        if (!t.empty())
+            out.push_back(t);
+    return out;
+}
+
+Ptr<Matcher> makeMatcher(const Options& o, int mode, int check, int numDisparities)
+{
+    Ptr<Matcher> m = Matcher::create(o.i("min-disparity", 0), o.i("num-disparities", numDisparities),
+                                     o.i("P1", 10), o.i("P2", 120), o.i("Q1", 5), o.i("Q2", 160),
+                                     o.d("alpha", 0.7), mode, check);
+    m->setUniquenessRatio(o.d("uniqueness", 0.95));
+    m->setLRMaxDiff(o.i("lr-max-diff", 1));
+    m->setNumPaths(o.i("paths", 8));
+    m->setSubpixel(o.i("subpixel", 1) != 0);
+    m->setSemidenseRadius(o.i("rs", 6));
+    m->setSemidenseThreshold(o.i("Ts", 2));
+    m->setCheckRadius(o.i("rc", 20));
+    m->setCheckThreshold(o.d("Tc", 2.0));
+    return m;
+}
+
+Mat readGrey(const std::string& path)
+{
+    Mat img = imread(path, IMREAD_UNCHANGED);
+    if (img.empty())
+        CV_Error(Error::StsObjectNotFound, "cannot read image " + path);
+    if (img.channels() == 3)
+        cvtColor(img, img, COLOR_BGR2GRAY);
+    else if (img.channels() == 4)
+        cvtColor(img, img, COLOR_BGRA2GRAY);
+    return img;
+}
+
+struct Frame
+{
+    std::string name;
+    Mat left, right, sparse, gt;  // sparse: CV_32F pixels (0 = none); gt: float, -1 = none
+};
+
+Frame loadKittiFrame(const std::string& dir, const std::string& id)
+{
+    Frame f;
+    f.name = id;
+    f.left = readGrey(dir + "/image_2/" + id + "_10.png");
+    f.right = readGrey(dir + "/image_3/" + id + "_10.png");
+    KittiCalib c = readKittiCalib(dir + "/calib.txt");
+    Mat pts = readVelodyne(dir + "/velodyne/" + id + ".bin");
+    cv::lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
+    const std::string gt = dir + "/disp_occ_0/" + id + "_10.png";
+    if (!imread(gt, IMREAD_UNCHANGED).empty())
+        f.gt = readKittiDisparity(gt);
+    return f;
+}
+
+double medianMs(std::vector<double> v)
+{
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// ---- one frame ---------------------------------------------------------------------------------------------------
+int runFrame(const Options& o, Frame& f)
+{
+    const std::vector<std::string> modes = split(o.str("modes", "sdsgm"));
+    const int check = checkFromName(o.str("check", "stereo-lidar"));
+    const std::string out = o.str("out");
+    const int minD = o.i("min-disparity", 0);
+    for (size_t k = 0; k < modes.size(); k++)
+    {
+        const int mode = modeFromName(modes[k]);
+        Ptr<Matcher> m = makeMatcher(o, mode, check, 128);
+        Mat disp;
+        TickMeter tm;
+        tm.start();
+        m->compute(f.left, f.right, f.sparse, disp);
+        tm.stop();
+        Mat d = disparityToFloat(disp, minD);
+        printf("%s %-6s check %-12s %8.1f ms", f.name.c_str(), modeLabel(mode), checkLabel(check), tm.getTimeMilli());
+        if (!f.gt.empty())
+        {
+            ErrorStats s = evaluate(d, f.gt, isD1Outlier);
+            printf("  coverage %6.2f %%  covered D1 %5.2f %%  total D1 %5.2f %%", s.coverage(), s.coveredError(),
+                   s.totalError());
+        }
+        printf("\n");
+        if (!out.empty())
+        {
+            const std::string suffix = modes.size() > 1 ? "_" + modes[k] : "";
+            imwrite(out + "/disparity" + suffix + ".png", toKittiPng(d));
+            imwrite(out + "/disparity" + suffix + "_color.png", colorizeDisparity(d, (float)m->getNumDisparities()));
+            if (!f.gt.empty())
+                imwrite(out + "/error" + suffix + ".png", colorizeError(interpolateBackground(d), f.gt));
+            if (mode == Matcher::MODE_SDSGM && !f.sparse.empty())
+            {
+                Mat semi;
+                m->semidensify(f.left, f.right, f.sparse, semi);
+                imwrite(out + "/semidense_color.png", colorizeDisparity(disparityToFloat(semi, minD), (float)m->getNumDisparities()));
+            }
+        }
+    }
+    if (!out.empty() && !f.sparse.empty())
+    {
+        Mat s;
+        f.sparse.convertTo(s, CV_32F, f.sparse.depth() == CV_16U ? 1.0 / 256 : 1.0);
+        s.setTo(-1.f, ~(s > 0));
+        imwrite(out + "/sparse_color.png", colorizeDisparity(s, 128.f));
+        printf("wrote %s/disparity*.png (KITTI 16-bit) and colour pictures\n", out.c_str());
+    }
+
+    const int reps = o.i("timing", 0);
+    if (reps > 0)
+    {
+        Ptr<Matcher> m = makeMatcher(o, Matcher::MODE_SDSGM, check, 128);
+        Ptr<StereoSGBM> sgbm = StereoSGBM::create(0, 128, 3, 72, 288, 1, 0, 10, 100, 2, StereoSGBM::MODE_HH);
+        Mat disp;
+        m->compute(f.left, f.right, f.sparse, disp);  // warm-up (buffers)
+        sgbm->compute(f.left, f.right, disp);
+        std::vector<double> tl, ts;
+        for (int r = 0; r < reps; r++)
+        {
+            TickMeter a, b;
+            a.start(); m->compute(f.left, f.right, f.sparse, disp); a.stop();
+            b.start(); sgbm->compute(f.left, f.right, disp); b.stop();
+            tl.push_back(a.getTimeMilli());
+            ts.push_back(b.getTimeMilli());
+        }
+        printf("timing (%d runs, %d threads, %dx%d, 128 disparities, 8 paths): SDSGM median %.1f ms, "
+               "cv::StereoSGBM MODE_HH median %.1f ms, ratio %.2f\n", reps, getNumThreads(), f.left.cols,
+               f.left.rows, medianMs(tl), medianMs(ts), medianMs(tl) / medianMs(ts));
+    }
+    return 0;
+}
+
+// ---- KITTI folder ------------------------------------------------------------------------------------------------
+struct Row
+{
+    std::string label;
+    ErrorStats stats;
+    std::vector<double> ms;
+};
+
+void printTable(const char* title, const char* metric, const std::vector<Row>& rows)
+{
+    printf("\n%s\n", title);
+    printf("| %-28s | coverage | covered %-5s | total %-5s | ms/frame |\n", "method", metric, metric);
+    printf("|------------------------------|----------|---------------|-------------|----------|\n");
+    for (size_t i = 0; i < rows.size(); i++)
+    {
+        const Row& r = rows[i];
+        char t[32] = "-";
+        if (!r.ms.empty())
+            snprintf(t, sizeof(t), "%.1f", medianMs(r.ms));
+        printf("| %-28s | %6.2f %% | %11.2f %% | %9.2f %% | %8s |\n", r.label.c_str(), r.stats.coverage(),
+               r.stats.coveredError(), r.stats.totalError(), t);
+    }
+}
+
+int runKitti(const Options& o)
+{
+    const std::string dir = o.str("kitti");
+    std::ifstream list((dir + "/frames.txt").c_str());
+    if (!list)
+        CV_Error(Error::StsObjectNotFound, "cannot open " + dir + "/frames.txt");
+    std::vector<std::string> ids;
+    std::string id;
+    while (list >> id)
+        ids.push_back(id);
+    const std::vector<std::string> modes = split(o.str("modes", "sgm,dsgm,sdsgm"));
+    const int check = checkFromName(o.str("check", "stereo-lidar"));
+    const bool table5 = o.has("table5");
+    const int minD = o.i("min-disparity", 0);
+
+    std::vector<Row> rows(modes.size());
+    for (size_t k = 0; k < modes.size(); k++)
+        rows[k].label = std::string(modeLabel(modeFromName(modes[k]))) + " (" + checkLabel(check) + ")";
+    std::vector<Row> t5(4);
+    for (int c = 0; c < 4; c++)
+        t5[c].label = std::string("SDSGM (") + checkLabel(c) + ")";
+    Row lidar, semi;
+    lidar.label = "LiDAR points alone";
+    semi.label = "semidense map (SDSGM input)";
+
+    TickMeter total;
+    total.start();
+    for (size_t n = 0; n < ids.size(); n++)
+    {
+        Frame f = loadKittiFrame(dir, ids[n]);
+        if (f.gt.empty())
+            CV_Error(Error::StsObjectNotFound, "no ground truth for frame " + ids[n]);
+        for (size_t k = 0; k < modes.size(); k++)
+        {
+            Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check, 128);
+            Mat disp;
+            TickMeter tm;
+            tm.start();
+            m->compute(f.left, f.right, f.sparse, disp);
+            tm.stop();
+            rows[k].stats.add(evaluate(disparityToFloat(disp, minD), f.gt, isD1Outlier));
+            rows[k].ms.push_back(tm.getTimeMilli());
+        }
+        if (table5)
+            for (int c = 0; c < 4; c++)
+            {
+                Ptr<Matcher> m = makeMatcher(o, Matcher::MODE_SDSGM, c, 128);
+                Mat disp;
+                m->compute(f.left, f.right, f.sparse, disp);
+                t5[c].stats.add(evaluate(disparityToFloat(disp, minD), f.gt, isD1Outlier));
+            }
+        Mat sp = f.sparse.clone();
+        sp.setTo(-1.f, f.sparse <= 0);
+        lidar.stats.add(evaluate(sp, f.gt, isD1Outlier));
+        Ptr<Matcher> m = makeMatcher(o, Matcher::MODE_SDSGM, check, 128);
+        Mat sd;
+        m->semidensify(f.left, f.right, f.sparse, sd);
+        semi.stats.add(evaluate(disparityToFloat(sd, minD), f.gt, isD1Outlier, false));
+        total.stop();
+        const double fps = (n + 1) / total.getTimeSec();
+        fprintf(stderr, "\r[%zu/%zu] frames, %.2f frames/s, %.0f s left   ", n + 1, ids.size(), fps,
+                (ids.size() - n - 1) / fps);
+        total.start();
+    }
+    fprintf(stderr, "\n");
+    char title[256];
+    snprintf(title, sizeof(title), "KITTI %s: %zu frames, D1 (KITTI devkit rules), sums over frames, %d threads",
+             dir.c_str(), ids.size(), getNumThreads());
+    rows.push_back(lidar);
+    printTable(title, "D1", rows);
+    printf("| %-28s | %6.2f %% | %11.2f %% | %11s | %8s |\n", semi.label.c_str(), semi.stats.coverage(),
+           semi.stats.coveredError(), "-", "-");
+    if (table5)
+        printTable("Consistency checks on SDSGM (the paper's Table V)", "D1", t5);
+    return 0;
+}
+
+// ---- Middlebury folder -------------------------------------------------------------------------------------------
+bool loadMiddleburyScene(const std::string& dir, const std::string& name, Frame& f)
+{
+    struct Layout { const char *l, *r, *gt; double scale; };
+    static const Layout layouts[] = { {"im2.png", "im6.png", "disp2.png", 4.0}, {"view1.png", "view5.png", "disp1.png", 2.0},
+                                      {"im0.png", "im1.png", "disp0.pfm", 1.0}, {"aloeL.jpg", "aloeR.jpg", "aloeGT.png", 1.0} };
+    const std::string base = dir + "/" + name + "/";
+    for (size_t i = 0; i < sizeof(layouts) / sizeof(layouts[0]); i++)
+    {
+        Mat gt = imread(base + layouts[i].gt, IMREAD_UNCHANGED);
+        if (gt.empty())
+            continue;
+        f.name = name;
+        f.left = readGrey(base + layouts[i].l);
+        f.right = readGrey(base + layouts[i].r);
+        Mat g;
+        gt.convertTo(g, CV_32F, 1.0 / layouts[i].scale);
+        if (gt.depth() == CV_32F)
+            g.setTo(-1.f, ~(gt < std::numeric_limits<float>::infinity()));  // PFM: inf = unknown
+        else
+            g.setTo(-1.f, gt == 0);
+        f.gt = g;
+        return true;
+    }
+    return false;
+}
+
+int runMiddlebury(const Options& o)
+{
+    const std::string dir = o.str("middlebury");
+    std::vector<String> entries;
+    glob(dir + "/*", entries, false);
+    std::vector<std::string> scenes;
+    for (size_t i = 0; i < entries.size(); i++)
+    {
+        std::string n = entries[i].substr(entries[i].find_last_of('/') + 1);
+        Frame f;
+        if (loadMiddleburyScene(dir, n, f))
+            scenes.push_back(n);
+    }
+    std::sort(scenes.begin(), scenes.end());
+    const std::vector<std::string> modes = split(o.str("modes", "sgm,dsgm,sdsgm"));
+    const int check = checkFromName(o.str("check", "stereo-lidar"));
+    const int seed = o.i("seed", 1);
+    const float badN = (float)o.d("bad", 2.0);
+    printf("Middlebury %s: 1 %% of the ground truth as sparse input (seed %d), bad-%.0f errors, check %s\n",
+           dir.c_str(), seed, badN, checkLabel(check));
+    printf("| %-20s | ndisp | %-6s | coverage | covered bad | total bad |\n", "scene", "mode");
+    printf("|----------------------|-------|--------|----------|-------------|-----------|\n");
+    std::vector<ErrorStats> sums(modes.size());
+    for (size_t s = 0; s < scenes.size(); s++)
+    {
+        Frame f;
+        loadMiddleburyScene(dir, scenes[s], f);
+        double maxGt = 0;
+        minMaxLoc(f.gt, nullptr, &maxGt);
+        const int ndisp = std::min(256, std::max(64, ((int)std::ceil(maxGt) + 1 + 15) / 16 * 16));
+        // 1 % of the ground-truth pixels, drawn with a fixed seed.
+        RNG rng((uint64)seed);
+        f.sparse = Mat(f.gt.size(), CV_32F, Scalar::all(0));
+        for (int y = 0; y < f.gt.rows; y++)
+            for (int x = 0; x < f.gt.cols; x++)
+                if (f.gt.at<float>(y, x) > 0 && rng.uniform(0.0, 1.0) < 0.01)
+                    f.sparse.at<float>(y, x) = f.gt.at<float>(y, x);
+        for (size_t k = 0; k < modes.size(); k++)
+        {
+            Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check, ndisp);
+            m->setNumDisparities(o.i("num-disparities", ndisp));
+            Mat disp;
+            m->compute(f.left, f.right, f.sparse, disp);
+            BadN bad = { badN };
+            ErrorStats st = evaluate(disparityToFloat(disp, o.i("min-disparity", 0)), f.gt, bad);
+            sums[k].add(st);
+            printf("| %-20s | %5d | %-6s | %6.2f %% | %9.2f %% | %7.2f %% |\n", scenes[s].c_str(), ndisp,
+                   modeLabel(modeFromName(modes[k])), st.coverage(), st.coveredError(), st.totalError());
+        }
+    }
+    for (size_t k = 0; k < modes.size(); k++)
+        printf("| %-20s | %5s | %-6s | %6.2f %% | %9.2f %% | %7.2f %% |\n", "all scenes (sums)", "-",
+               modeLabel(modeFromName(modes[k])), sums[k].coverage(), sums[k].coveredError(), sums[k].totalError());
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    Options o;
+    for (int i = 1; i < argc; i++)
+    {
+        std::string a = argv[i];
+        if (a == "--help" || a == "-h")
+        {
+            printf("%s", kHelp);
+            return 0;
+        }
+        if (a.size() < 3 || a.compare(0, 2, "--") != 0)
+        {
+            fprintf(stderr, "lidarsgm_fuse: unexpected argument '%s' (see --help)\n", a.c_str());
+            return 2;
+        }
+        a = a.substr(2);
+        const bool flag = a == "table5";
+        if (!flag && i + 1 >= argc)
+        {
+            fprintf(stderr, "lidarsgm_fuse: option --%s needs a value (see --help)\n", a.c_str());
+            return 2;
+        }
+        o.kv[a] = flag ? "1" : argv[++i];
+    }
+    try
+    {
+        if (o.has("threads"))
+            setNumThreads(o.i("threads", -1));
+        if (o.has("kitti"))
+            return runKitti(o);
+        if (o.has("middlebury"))
+            return runMiddlebury(o);
+        Frame f;
+        if (o.has("kitti-frame"))
+            f = loadKittiFrame(o.str("kitti-frame"), o.str("id", "000002"));
+        else if (o.has("left") && o.has("right"))
+        {
+            f.name = o.str("left");
+            f.left = readGrey(o.str("left"));
+            f.right = readGrey(o.str("right"));
+            if (o.has("sparse"))
+            {
+                Mat s = imread(o.str("sparse"), IMREAD_UNCHANGED);
+                if (s.empty())
+                    CV_Error(Error::StsObjectNotFound, "cannot read sparse disparity " + o.str("sparse"));
+                f.sparse = s;
+            }
+            else if (o.has("velodyne") && o.has("calib"))
+            {
+                KittiCalib c = readKittiCalib(o.str("calib"));
+                cv::lidarsgm::projectPointsToDisparity(readVelodyne(o.str("velodyne")), c.P2, c.lidarToCamera,
+                                                       c.focalBaseline, f.left.size(), f.sparse);
+            }
+            if (o.has("gt"))
+                f.gt = readKittiDisparity(o.str("gt"));
+        }
+        else
+        {
+            fprintf(stderr, "lidarsgm_fuse: give --kitti-frame, --left/--right, --kitti or --middlebury (see --help)\n");
+            return 2;
+        }
+        return runFrame(o, f);
+    }
+    catch (const cv::Exception& e)
+    {
+        fprintf(stderr, "lidarsgm_fuse: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,106 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// Internal interface of the pipeline stages. The CPU stages live in src/<stage>.cpp, the CUDA ones in
+// src_cuda/<stage>.cu; both follow the integer definitions written down here, so their outputs are identical.
+
+#ifndef OPENCV_LIDARSGM_PIPELINE_HPP
+#define OPENCV_LIDARSGM_PIPELINE_HPP
+
+#include "opencv2/core.hpp"
+#include <climits>
+
+namespace cv { namespace lidarsgm { namespace detail {
+
+//! Centre-symmetric census: a 9x7 window, each of the 31 pixel pairs (p + o, p - o) gives one bit.
+enum { CENSUS_WIDTH = 9, CENSUS_HEIGHT = 7, CENSUS_BITS = (CENSUS_WIDTH * CENSUS_HEIGHT - 1) / 2 };
+
+//! Marks "no disparity" in the internal 1/16-pixel maps (CV_16SC1).
+const short NO_DISP = SHRT_MIN;
+
+//! Integer weights of the scaled energy (see StereoLidarSGM's documentation and computeCostWeights).
+struct CostWeights
+{
+    int census;        //!< weight of the census cost where no prior disparity exists
+    int censusPrior;   //!< weight of the census cost where a prior exists: round(K (1 - alpha))
+    int q1, q2;        //!< round(K alpha Q1), round(K alpha Q2)
+    int p1, p2;        //!< round(K P1), round(K P2)
+    double scale;      //!< K
+};
+
+/** Picks the scale K and rounds the weights. K is searched in [Kmax / 2, Kmax], Kmax being the largest scale whose
+worst-case sum of path costs, numPaths * (max cost + P2), fits in 16 bits; the K whose weights have the smallest
+largest relative rounding error wins. With ddc false there is no prior term (plain SGM). */
+CV_EXPORTS CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc);
+
+//! Everything a stage needs, already validated and converted to integers.
+struct PipelineParams
+{
+    int minDisparity;
+    int numDisparities;
+    int numPaths;          //!< 4 or 8
+    bool subpixel;
+    int uniqueness1024;    //!< round(uniquenessRatio * 1024)
+    int lrMaxDiff;
+    int semidenseRadius;   //!< rs
+    int semidenseThreshold;//!< Ts
+    int checkRadius;       //!< rc
+    int checkThreshold16;  //!< round(Tc * 16)
+    int mode;              //!< StereoLidarSGM::FusionMode
+    int check;             //!< StereoLidarSGM::ConsistencyCheck
+    CostWeights w;
+};
+
+//! Number of set bits (the Hamming distance of two census strings is popcount32(a ^ b)).
+static inline int popcount32(unsigned v)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_popcount(v);
+#else
+    v = v - ((v >> 1) & 0x55555555u);
+    v = (v & 0x33333333u) + ((v >> 2) & 0x33333333u);
+    return (int)((((v + (v >> 4)) & 0x0F0F0F0Fu) * 0x01010101u) >> 24);
+#endif
+}
+
+//! Integer disparity (pixels) of a 1/16-pixel value, rounded to nearest (halves up).
+static inline int roundDisp16(int d16) { return (d16 + 8) >> 4; }
+
+// ---- CPU stages (exported for the per-stage unit tests; not part of the public API) ------------------------------------------------------------------------------------------------
+
+/** Sparse input (CV_16UC1 x256 or CV_32FC1 pixels) to the internal CV_16SC1 1/16-pixel map with NO_DISP for "none".
+Values whose rounded integer disparity lies outside [minDisparity, minDisparity + numDisparities) become NO_DISP. */
+CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat& sparse16);
+
+//! Census transform (CV_8UC1 or CV_16UC1 in, CV_32SC1 bit strings out); pixels outside the image are clamped.
+CV_EXPORTS void censusTransform(const Mat& image, Mat& census);
+
+/** Semidensification (paper Eq. 5): among the sparse disparities q in the (2 rs + 1)^2 window of p, the one with the
+lowest census cost H(p, round(q)) wins if that cost is below Ts; ties go to the nearest q, then to the first in
+raster order. Otherwise p keeps its own sparse value (or none). */
+CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
+                 Mat& semidense16);
+
+/** Matching cost volume, rows = image rows, cols = width * numDisparities, CV_16UC1, d fastest.
+C(p, d) = census * H(p, d) where prior16 has no value at p, else censusPrior * H + {0, q1, q2} for
+|d - round(prior)| = 0, 1, > 1. prior16 may be empty (plain SGM). The right pixel x - d is clamped to the image. */
+CV_EXPORTS void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,
+                         Mat& cost);
+
+//! Sums the path costs of 4 or 8 SGM paths into sum (same layout as cost).
+CV_EXPORTS void aggregateCosts(const Mat& cost, int width, const PipelineParams& p, Mat& sum);
+
+/** Winner-takes-all with the uniqueness check and the parabola fit.
+disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;
+dispInt: the integer left disparity (NO_DISP where not unique);
+dispRight: the integer right-view disparity from the same volume (lowest cost along the diagonal x + d). */
+CV_EXPORTS void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight);
+
+/** Consistency check (paper Eq. 6), in place on disp16: left-right test (|dL - dR(x - dL)| <= lrMaxDiff) and/or the
+LiDAR test (some sparse16 value within the (2 rc + 1)^2 window is within checkThreshold16 of disp16). */
+CV_EXPORTS void consistencyCheck(Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
+                      const PipelineParams& p);
+
+}}} // namespace cv::lidarsgm::detail
+
+#endif

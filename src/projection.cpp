@@ -1,0 +1,128 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// LiDAR point cloud to sparse disparity map of the reference camera.
+
+#include "precomp.hpp"
+#include "pipeline.hpp"
+
+namespace cv { namespace lidarsgm {
+
+namespace {
+
+Matx34d toMatx34(InputArray m, const char* name)
+{
+    Mat a = m.getMat();
+    if (a.channels() != 1 || (a.depth() != CV_32F && a.depth() != CV_64F))
+        CV_Error_(Error::StsUnsupportedFormat, ("lidarsgm: %s must be a single-channel CV_32F or CV_64F matrix", name));
+    Mat d;
+    a.convertTo(d, CV_64F);
+    Matx34d r;
+    if (d.rows == 3 && d.cols == 4)
+        r = Matx34d(d.ptr<double>());
+    else if (d.rows == 4 && d.cols == 4)
+    {
+        const double* last = d.ptr<double>(3);
+        if (!(last[0] == 0 && last[1] == 0 && last[2] == 0 && last[3] == 1))
+            CV_Error_(Error::StsBadArg, ("lidarsgm: the last row of the 4x4 %s must be [0 0 0 1]", name));
+        r = Matx34d(d.ptr<double>());
+    }
+    else
+        CV_Error_(Error::StsBadSize, ("lidarsgm: %s must be 3x4 or 4x4, got %dx%d", name, d.rows, d.cols));
+    for (int i = 0; i < 12; i++)
+        if (!std::isfinite(r.val[i]))
+            CV_Error_(Error::StsBadArg, ("lidarsgm: %s has a NaN or infinite entry", name));
+    return r;
+}
+
+} // namespace
+
+void projectPointsToDisparity(InputArray _points, InputArray _projection, InputArray _lidarToCamera,
+                              double focalBaseline, Size imageSize, OutputArray _sparse, int dtype)
+{
+    CV_INSTRUMENT_REGION();
+    CV_CheckTrue(dtype == CV_32F || dtype == CV_16U, "lidarsgm: projectPointsToDisparity: dtype must be CV_32F or CV_16U");
+    CV_CheckTrue(imageSize.width > 0 && imageSize.height > 0, "lidarsgm: projectPointsToDisparity: imageSize must be positive");
+    CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0, "lidarsgm: projectPointsToDisparity: focalBaseline must be finite and > 0");
+
+    Mat pts = _points.getMat();
+    CV_CheckTrue(pts.empty() || pts.depth() == CV_32F, "lidarsgm: points must be CV_32F (N x 3, N x 4, or N x 1 with 3 or 4 channels)");
+    int dims = 0, n = 0;
+    if (!pts.empty())
+    {
+        if (pts.channels() == 1 && (pts.cols == 3 || pts.cols == 4))
+        {
+            dims = pts.cols;
+            n = pts.rows;
+        }
+        else if ((pts.channels() == 3 || pts.channels() == 4) && (pts.cols == 1 || pts.rows == 1))
+        {
+            dims = pts.channels();
+            n = (int)pts.total();
+            pts = pts.reshape(1, n);
+        }
+        else
+            CV_Error_(Error::StsBadSize, ("lidarsgm: points must be N x 3 or N x 4 (or N x 1 with 3 or 4 channels), got %dx%d with %d channels",
+                                          pts.rows, pts.cols, pts.channels()));
+        if (!pts.isContinuous())
+            pts = pts.clone();
+    }
+
+    const Matx34d P = toMatx34(_projection, "projection");
+    const Matx34d T = toMatx34(_lidarToCamera, "lidarToCamera");
+    {
+        Matx33d M(P(0, 0), P(0, 1), P(0, 2), P(1, 0), P(1, 1), P(1, 2), P(2, 0), P(2, 1), P(2, 2));
+        const double scale = std::max(norm(M, NORM_INF), DBL_MIN);
+        CV_CheckTrue(std::abs(determinant(M)) > 1e-9 * scale * scale * scale,
+                     "lidarsgm: the projection's left 3x3 block is singular");
+        Matx33d R(T(0, 0), T(0, 1), T(0, 2), T(1, 0), T(1, 1), T(1, 2), T(2, 0), T(2, 1), T(2, 2));
+        const double orthErr = norm(R * R.t() - Matx33d::eye(), NORM_INF);
+        CV_CheckTrue(orthErr < 1e-3 && std::abs(determinant(R) - 1.0) < 1e-3,
+                     "lidarsgm: lidarToCamera must be a rigid transform (its 3x3 block a rotation)");
+    }
+    const Matx34d PT = Matx34d(Matx44d(P(0, 0), P(0, 1), P(0, 2), P(0, 3), P(1, 0), P(1, 1), P(1, 2), P(1, 3),
+                                       P(2, 0), P(2, 1), P(2, 2), P(2, 3), 0, 0, 0, 1).get_minor<3, 4>(0, 0) *
+                               Matx44d(T(0, 0), T(0, 1), T(0, 2), T(0, 3), T(1, 0), T(1, 1), T(1, 2), T(1, 3),
+                                       T(2, 0), T(2, 1), T(2, 2), T(2, 3), 0, 0, 0, 1));
+
+    // Nearest point wins: keep the largest disparity per pixel.
+    Mat disp(imageSize, CV_32FC1, Scalar::all(0));
+    for (int i = 0; i < n; i++)
+    {
+        const float* q = pts.ptr<float>(i);
+        const double X = q[0], Y = q[1], Z = q[2];
+        if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z))
+            continue;
+        const double u = PT(0, 0) * X + PT(0, 1) * Y + PT(0, 2) * Z + PT(0, 3);
+        const double v = PT(1, 0) * X + PT(1, 1) * Y + PT(1, 2) * Z + PT(1, 3);
+        const double z = PT(2, 0) * X + PT(2, 1) * Y + PT(2, 2) * Z + PT(2, 3);
+        if (!(z > 0))
+            continue;
+        const double ui = std::floor(u / z + 0.5), vi = std::floor(v / z + 0.5);
+        if (ui < 0 || vi < 0 || ui >= imageSize.width || vi >= imageSize.height)
+            continue;
+        const float d = (float)(focalBaseline / z);
+        float& dst = disp.at<float>((int)vi, (int)ui);
+        if (d > dst)
+            dst = d;
+    }
+    CV_UNUSED(dims);
+
+    if (dtype == CV_32F)
+        disp.copyTo(_sparse);
+    else
+    {
+        Mat out(imageSize, CV_16UC1);
+        for (int y = 0; y < imageSize.height; y++)
+        {
+            const float* s = disp.ptr<float>(y);
+            ushort* o = out.ptr<ushort>(y);
+            for (int x = 0; x < imageSize.width; x++)
+                // A positive disparity below 1/512 px would round to 0 ("none"): keep it as the smallest value.
+                o[x] = s[x] > 0 ? saturate_cast<ushort>(std::max(1.0, std::floor(s[x] * 256.0 + 0.5))) : (ushort)0;
+        }
+        out.copyTo(_sparse);
+    }
+}
+
+}} // namespace cv::lidarsgm

@@ -1,0 +1,79 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+#include "test_precomp.hpp"
+#include "pipeline.hpp"
+
+namespace opencv_test { namespace {
+
+using namespace cv::lidarsgm::detail;
+
+// A ramp increasing to the right: of the 31 pairs (p + o, p - o), exactly those with o pointing right (dx > 0,
+// only in the three rows above the centre) have I(p + o) > I(p - o). In raster order of o, rows dy = -3..-1 give
+// dx = -4..4 -> 0 0 0 0 0 1 1 1 1, and the centre row dx = -4..-1 gives 0 0 0 0.
+TEST(Lidarsgm_Census, ramp_bits)
+{
+    Mat img(20, 30, CV_8UC1);
+    for (int y = 0; y < img.rows; y++)
+        for (int x = 0; x < img.cols; x++)
+            img.at<uchar>(y, x) = (uchar)(5 * x);
+    Mat census;
+    censusTransform(img, census);
+    ASSERT_EQ(CV_32SC1, census.type());
+    const unsigned rowBits = 0x0F;  // 000001111
+    const unsigned expected = (((rowBits << 9) | rowBits) << 9 | rowBits) << 4;
+    EXPECT_EQ(31, (int)CENSUS_BITS);
+    EXPECT_EQ(expected, (unsigned)census.at<int>(10, 15));
+    // At the left border the columns are clamped: pairs whose both ends clamp to column 0 compare equal.
+    EXPECT_NE(expected, (unsigned)census.at<int>(10, 0));
+}
+
+TEST(Lidarsgm_Census, vertical_ramp_bits)
+{
+    // Increasing downwards: I(p + o) > I(p - o) never holds for the upper-half offsets (p + o is above p - o),
+    // and the centre-row pairs are equal.
+    Mat img(20, 30, CV_8UC1);
+    for (int y = 0; y < img.rows; y++)
+        img.row(y).setTo(Scalar::all(10 * y));
+    Mat census;
+    censusTransform(img, census);
+    EXPECT_EQ(0u, (unsigned)census.at<int>(10, 15));
+    // Decreasing downwards: every pair of the three upper rows is 1; the centre row pairs are equal (0).
+    Mat flipped;
+    flip(img, flipped, 0);
+    censusTransform(flipped, census);
+    EXPECT_EQ(((1u << 27) - 1) << 4, (unsigned)census.at<int>(10, 15));
+}
+
+TEST(Lidarsgm_Census, constant_image_is_zero)
+{
+    Mat img(9, 11, CV_8UC1, Scalar::all(77)), census;
+    censusTransform(img, census);
+    EXPECT_EQ(0, countNonZero(census));
+}
+
+TEST(Lidarsgm_Census, sixteen_bit_matches_eight_bit_order)
+{
+    RNG rng(7);
+    Mat img8(40, 50, CV_8UC1);
+    rng.fill(img8, RNG::UNIFORM, 0, 256);
+    Mat img16;
+    img8.convertTo(img16, CV_16U, 257);  // order-preserving
+    Mat c8, c16;
+    censusTransform(img8, c8);
+    censusTransform(img16, c16);
+    EXPECT_EQ(0, cvtest::norm(c8, c16, NORM_INF));
+}
+
+TEST(Lidarsgm_Census, tiny_images)
+{
+    for (int h = 1; h <= 3; h++)
+        for (int w = 1; w <= 3; w++)
+        {
+            Mat img(h, w, CV_8UC1);
+            randu(img, 0, 256);
+            Mat census;
+            ASSERT_NO_THROW(censusTransform(img, census));
+            EXPECT_EQ(img.size(), census.size());
+        }
+}
+
+}} // namespace

@@ -1,0 +1,138 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+#include "test_precomp.hpp"
+#include "pipeline.hpp"
+
+namespace opencv_test { namespace {
+
+using namespace cv::lidarsgm::detail;
+
+static PipelineParams smallParams(int minD, int numD, bool ddc)
+{
+    PipelineParams p = PipelineParams();
+    p.minDisparity = minD;
+    p.numDisparities = numD;
+    p.numPaths = 8;
+    p.subpixel = true;
+    p.uniqueness1024 = 1024;
+    p.lrMaxDiff = 1;
+    p.semidenseRadius = 6;
+    p.semidenseThreshold = 2;
+    p.checkRadius = 20;
+    p.checkThreshold16 = 32;
+    p.mode = ddc ? cv::lidarsgm::StereoLidarSGM::MODE_DSGM : cv::lidarsgm::StereoLidarSGM::MODE_SGM;
+    p.check = cv::lidarsgm::StereoLidarSGM::CHECK_NONE;
+    p.w = computeCostWeights(10, 120, 5, 160, 0.7, 8, ddc);
+    return p;
+}
+
+TEST(Lidarsgm_CostWeights, paper_defaults_honour_alpha)
+{
+    CostWeights w = computeCostWeights(10, 120, 5, 160, 0.7, 8, true);
+    const double K = w.scale;
+    // Each weight within 0.3 % of K times its real value; in particular (1 - alpha) stays 0.3, not 0.375.
+    EXPECT_NEAR(1.0, w.census / K, 0.003);
+    EXPECT_NEAR(0.3, w.censusPrior / K, 0.3 * 0.003);
+    EXPECT_NEAR(0.7 * 5, w.q1 / K, 0.7 * 5 * 0.003);
+    EXPECT_NEAR(0.7 * 160, w.q2 / K, 0.7 * 160 * 0.003);
+    EXPECT_NEAR(10.0, w.p1 / K, 10 * 0.003);
+    EXPECT_NEAR(120.0, w.p2 / K, 120 * 0.003);
+    // The worst-case sum of 8 path costs fits in 16 bits.
+    const int cmax = std::max(w.census * CENSUS_BITS, w.censusPrior * CENSUS_BITS + w.q2);
+    EXPECT_LE(8 * (cmax + w.p2), 65535);
+}
+
+TEST(Lidarsgm_CostWeights, extreme_parameters_fit_16_bits)
+{
+    const int P[][4] = { {0, 0, 0, 0}, {1000, 1000, 1000, 1000}, {0, 1000, 0, 1000}, {10, 120, 5, 160} };
+    const double alphas[] = { 0.0, 0.001, 0.5, 0.999, 1.0 };
+    for (int paths = 4; paths <= 8; paths += 4)
+        for (size_t i = 0; i < sizeof(P) / sizeof(P[0]); i++)
+            for (size_t a = 0; a < sizeof(alphas) / sizeof(alphas[0]); a++)
+            {
+                CostWeights w = computeCostWeights(P[i][0], P[i][1], P[i][2], P[i][3], alphas[a], paths, true);
+                const int cmax = std::max(w.census * CENSUS_BITS, w.censusPrior * CENSUS_BITS + w.q2);
+                EXPECT_LE(paths * (cmax + w.p2), 65535);
+                EXPECT_GT(w.census, 0);
+                if (alphas[a] == 1.0)
+                {
+                    EXPECT_EQ(0, w.censusPrior);
+                }
+            }
+}
+
+// DDC values on hand-made census strings: H(p, d) = popcount(L(x) ^ R(x - minD - d)).
+TEST(Lidarsgm_MatchingCost, ddc_values)
+{
+    const int W = 40, D = 16, minD = 2;
+    Mat cl(1, W, CV_32SC1, Scalar::all(0)), cr(1, W, CV_32SC1);
+    for (int x = 0; x < W; x++)
+        cr.at<int>(0, x) = (1 << (x % 5)) - 1;  // popcount = x % 5
+    Mat prior(1, W, CV_16SC1, Scalar::all(NO_DISP));
+    const int x0 = 30, k = 7;                   // prior disparity minD + k at x0
+    prior.at<short>(0, x0) = (short)((minD + k) * 16 + 3);  // 1/16 px: rounds to minD + k
+    PipelineParams p = smallParams(minD, D, true);
+    Mat cost;
+    computeMatchingCost(cl, cr, prior, p, cost);
+    ASSERT_EQ(W * D, cost.cols);
+    for (int d = 0; d < D; d++)
+    {
+        const int h = (x0 - minD - d) % 5;
+        const int ddc = d == k ? 0 : std::abs(d - k) == 1 ? p.w.q1 : p.w.q2;
+        EXPECT_EQ(p.w.censusPrior * h + ddc, (int)cost.at<ushort>(0, x0 * D + d)) << "d=" << d;
+        // A pixel without a prior has the plain census cost.
+        const int h1 = (x0 - 1 - minD - d) % 5;
+        EXPECT_EQ(p.w.census * h1, (int)cost.at<ushort>(0, (x0 - 1) * D + d)) << "d=" << d;
+    }
+    // Right pixels left of the image are clamped to column 0.
+    for (int d = 0; d < D; d++)
+        EXPECT_EQ(p.w.census * 0, (int)cost.at<ushort>(0, 1 * D + d));
+}
+
+TEST(Lidarsgm_MatchingCost, plain_sgm_ignores_prior)
+{
+    RNG rng(3);
+    Mat cl(5, 37, CV_32SC1), cr(5, 37, CV_32SC1);
+    rng.fill(cl, RNG::UNIFORM, 0, 1 << 30);
+    rng.fill(cr, RNG::UNIFORM, 0, 1 << 30);
+    PipelineParams p = smallParams(0, 32, false);
+    Mat cost;
+    computeMatchingCost(cl, cr, Mat(), p, cost);
+    for (int y = 0; y < 5; y++)
+        for (int x = 0; x < 37; x++)
+            for (int d = 0; d < 32; d++)
+            {
+                const int xr = std::max(x - d, 0);
+                const int h = popcount32((unsigned)cl.at<int>(y, x) ^ (unsigned)cr.at<int>(y, xr));
+                ASSERT_EQ(p.w.census * h, (int)cost.at<ushort>(y, x * 32 + d));
+            }
+}
+
+TEST(Lidarsgm_SparseInput, conversion_rules)
+{
+    Mat f(1, 8, CV_32FC1);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const float v[8] = { 0.f, -3.f, nan, inf, 10.03f, 10.04f, 200.f, 127.4f };
+    for (int i = 0; i < 8; i++)
+        f.at<float>(0, i) = v[i];
+    Mat s16;
+    convertSparse(f, 0, 128, s16);
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 0));
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 1));
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 2));
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 3));
+    EXPECT_EQ(160, s16.at<short>(0, 4));   // 10.03 * 16 = 160.48 -> 160
+    EXPECT_EQ(161, s16.at<short>(0, 5));   // 160.64 -> 161
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 6));  // out of [0, 128)
+    EXPECT_EQ(2038, s16.at<short>(0, 7));  // rounds to 127: in range
+
+    Mat u(1, 3, CV_16UC1);
+    u.at<ushort>(0, 0) = 0;
+    u.at<ushort>(0, 1) = 2568;             // 10.03125 px -> 160.5 -> 161 (halves up)
+    u.at<ushort>(0, 2) = 200 * 256;  // 200 px: outside [0, 128)
+    convertSparse(u, 0, 128, s16);
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 0));
+    EXPECT_EQ(161, s16.at<short>(0, 1));
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 2));
+}
+
+}} // namespace
