@@ -12,9 +12,7 @@ namespace cv { namespace lidarsgm { namespace detail {
 
 static int maxPathSum(const CostWeights& w, int numPaths, bool ddc)
 {
-    int cmax = w.census * CENSUS_BITS;
-    if (ddc)
-        cmax = std::max(cmax, w.censusPrior * CENSUS_BITS + w.q2);
+    const int cmax = w.census * CENSUS_BITS + (ddc ? w.q2 : 0);
     // A path cost never exceeds the matching cost plus P2 (the recursion subtracts the previous minimum).
     return numPaths * (cmax + w.p2);
 }
@@ -22,9 +20,12 @@ static int maxPathSum(const CostWeights& w, int numPaths, bool ddc)
 CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc)
 {
     CV_Assert(numPaths == 4 || numPaths == 8);
-    const double target[6] = { 1.0, ddc ? 1.0 - alpha : 0.0, ddc ? alpha * Q1 : 0.0, ddc ? alpha * Q2 : 0.0,
-                               (double)P1, (double)P2 };
-    const double cmax = std::max((double)CENSUS_BITS, ddc ? (1.0 - alpha) * CENSUS_BITS + alpha * Q2 : 0.0);
+    // Paper Eq. 4 taken as written: with DDC on, the census term is (1 - alpha) H at every pixel, and the DDC term
+    // is added where a prior exists. (Weighting H by 1 only where no prior exists was measured too, see
+    // doc/notes.md: it makes SDSGM clearly worse on KITTI.) Plain SGM has no alpha: weight 1.
+    const double censusW = ddc ? 1.0 - alpha : 1.0;
+    const double target[5] = { censusW, ddc ? alpha * Q1 : 0.0, ddc ? alpha * Q2 : 0.0, (double)P1, (double)P2 };
+    const double cmax = censusW * CENSUS_BITS + (ddc ? alpha * Q2 : 0.0);
     const double kmax = 65535.0 / (numPaths * (cmax + P2 + 1.0));
 
     CostWeights best = CostWeights();
@@ -33,9 +34,9 @@ CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int
     for (int i = 0; i <= steps; i++)
     {
         const double k = kmax * (1.0 - 0.5 * i / steps);
-        int v[6];
+        int v[5];
         double err = 0.0;
-        for (int j = 0; j < 6; j++)
+        for (int j = 0; j < 5; j++)
         {
             const double t = k * target[j];
             v[j] = cvRound(t);
@@ -43,7 +44,7 @@ CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int
                 err = std::max(err, std::abs(v[j] - t) / t);
         }
         CostWeights w;
-        w.census = v[0]; w.censusPrior = v[1]; w.q1 = v[2]; w.q2 = v[3]; w.p1 = v[4]; w.p2 = v[5]; w.scale = k;
+        w.census = v[0]; w.q1 = v[1]; w.q2 = v[2]; w.p1 = v[3]; w.p2 = v[4]; w.scale = k;
         if (maxPathSum(w, numPaths, ddc) > 65535)
             continue;
         if (err < bestErr - 1e-12)

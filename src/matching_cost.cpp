@@ -16,7 +16,7 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
     CV_Assert(censusL.type() == CV_32SC1 && censusR.type() == CV_32SC1 && censusR.size() == censusL.size());
     CV_Assert(prior16.empty() || (prior16.type() == CV_16SC1 && prior16.size() == censusL.size()));
     cost.create(H, W * D, CV_16UC1);
-    const ushort wPlain = (ushort)p.w.census, wPrior = (ushort)p.w.censusPrior;
+    const ushort w = (ushort)p.w.census;
     const int q1 = p.w.q1, q2 = p.w.q2;
 
     parallel_for_(Range(0, H), [&](const Range& r) {
@@ -37,7 +37,6 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
                 const unsigned* base = rv + (W - 1 - x);
                 ushort* c = out + (size_t)x * D;
                 const int k = (prior && prior[x] != NO_DISP) ? roundDisp16(prior[x]) - minD : -1;
-                const ushort w = k >= 0 ? wPrior : wPlain;
                 const ushort add = k >= 0 ? (ushort)q2 : (ushort)0;
                 int d = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)

@@ -21,8 +21,7 @@ const short NO_DISP = SHRT_MIN;
 //! Integer weights of the scaled energy (see StereoLidarSGM's documentation and computeCostWeights).
 struct CostWeights
 {
-    int census;        //!< weight of the census cost where no prior disparity exists
-    int censusPrior;   //!< weight of the census cost where a prior exists: round(K (1 - alpha))
+    int census;        //!< weight of the census cost: round(K (1 - alpha)) with DDC, round(K) for plain SGM
     int q1, q2;        //!< round(K alpha Q1), round(K alpha Q2)
     int p1, p2;        //!< round(K P1), round(K P2)
     double scale;      //!< K
@@ -82,8 +81,7 @@ CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& s
                  Mat& semidense16);
 
 /** Matching cost volume, rows = image rows, cols = width * numDisparities, CV_16UC1, d fastest.
-C(p, d) = census * H(p, d) where prior16 has no value at p, else censusPrior * H + {0, q1, q2} for
-|d - round(prior)| = 0, 1, > 1. prior16 may be empty (plain SGM). The right pixel x - d is clamped to the image. */
+C(p, d) = census * H(p, d), plus {0, q1, q2} for |d - round(prior)| = 0, 1, > 1 where prior16 has a value. prior16 may be empty (plain SGM). The right pixel x - d is clamped to the image. */
 CV_EXPORTS void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,
                          Mat& cost);
 

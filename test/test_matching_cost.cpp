@@ -30,15 +30,17 @@ TEST(Lidarsgm_CostWeights, paper_defaults_honour_alpha)
     CostWeights w = computeCostWeights(10, 120, 5, 160, 0.7, 8, true);
     const double K = w.scale;
     // Each weight within 0.3 % of K times its real value; in particular (1 - alpha) stays 0.3, not 0.375.
-    EXPECT_NEAR(1.0, w.census / K, 0.003);
-    EXPECT_NEAR(0.3, w.censusPrior / K, 0.3 * 0.003);
+    EXPECT_NEAR(0.3, w.census / K, 0.3 * 0.003);
     EXPECT_NEAR(0.7 * 5, w.q1 / K, 0.7 * 5 * 0.003);
     EXPECT_NEAR(0.7 * 160, w.q2 / K, 0.7 * 160 * 0.003);
     EXPECT_NEAR(10.0, w.p1 / K, 10 * 0.003);
     EXPECT_NEAR(120.0, w.p2 / K, 120 * 0.003);
     // The worst-case sum of 8 path costs fits in 16 bits.
-    const int cmax = std::max(w.census * CENSUS_BITS, w.censusPrior * CENSUS_BITS + w.q2);
-    EXPECT_LE(8 * (cmax + w.p2), 65535);
+    EXPECT_LE(8 * (w.census * CENSUS_BITS + w.q2 + w.p2), 65535);
+    // Plain SGM: census weight K.
+    CostWeights s = computeCostWeights(10, 120, 5, 160, 0.7, 8, false);
+    EXPECT_NEAR(10.0, s.p1 / (double)s.census, 10 * 0.003);
+    EXPECT_EQ(0, s.q2);
 }
 
 TEST(Lidarsgm_CostWeights, extreme_parameters_fit_16_bits)
@@ -50,12 +52,14 @@ TEST(Lidarsgm_CostWeights, extreme_parameters_fit_16_bits)
             for (size_t a = 0; a < sizeof(alphas) / sizeof(alphas[0]); a++)
             {
                 CostWeights w = computeCostWeights(P[i][0], P[i][1], P[i][2], P[i][3], alphas[a], paths, true);
-                const int cmax = std::max(w.census * CENSUS_BITS, w.censusPrior * CENSUS_BITS + w.q2);
-                EXPECT_LE(paths * (cmax + w.p2), 65535);
-                EXPECT_GT(w.census, 0);
+                EXPECT_LE(paths * (w.census * CENSUS_BITS + w.q2 + w.p2), 65535);
                 if (alphas[a] == 1.0)
                 {
-                    EXPECT_EQ(0, w.censusPrior);
+                    EXPECT_EQ(0, w.census);  // pure DDC
+                }
+                else
+                {
+                    EXPECT_GT(w.census, 0);
                 }
             }
 }
@@ -78,7 +82,7 @@ TEST(Lidarsgm_MatchingCost, ddc_values)
     {
         const int h = (x0 - minD - d) % 5;
         const int ddc = d == k ? 0 : std::abs(d - k) == 1 ? p.w.q1 : p.w.q2;
-        EXPECT_EQ(p.w.censusPrior * h + ddc, (int)cost.at<ushort>(0, x0 * D + d)) << "d=" << d;
+        EXPECT_EQ(p.w.census * h + ddc, (int)cost.at<ushort>(0, x0 * D + d)) << "d=" << d;
         // A pixel without a prior has the plain census cost.
         const int h1 = (x0 - 1 - minD - d) % 5;
         EXPECT_EQ(p.w.census * h1, (int)cost.at<ushort>(0, (x0 - 1) * D + d)) << "d=" << d;

@@ -17,8 +17,9 @@ Dense disparity from a rectified stereo pair and a sparse (LiDAR) disparity map,
 1. census transform of both images (centre-symmetric 9x7 window, 31 bits) and Hamming matching cost H(p, d);
 2. semidensification (SDSGM only): each pixel takes, among the sparse disparities in a (2 rs + 1)^2 window, the one
    whose census cost at that pixel is lowest, if that cost is below Ts; otherwise its own sparse value, if any;
-3. the discrete disparity-matching cost (DDC, DSGM and SDSGM): where a (semidense) sparse disparity s exists, the
-   matching cost is (1 - alpha) H + alpha {0, Q1, Q2} for |d - s| = 0, 1, > 1; elsewhere it is H;
+3. the discrete disparity-matching cost (DDC, DSGM and SDSGM), the paper's Eq. 4 as written: the matching cost is
+   (1 - alpha) H at every pixel, plus alpha {0, Q1, Q2} for |d - s| = 0, 1, > 1 where a (semidense) sparse
+   disparity s exists; plain SGM uses H alone;
 4. semi-global aggregation over 4 or 8 paths with penalties P1, P2; winner-takes-all, uniqueness check and a
    parabola fit for subpixel disparities;
 5. the consistency check: a disparity survives the left-right check, or (stereo-LiDAR check) if some original sparse
@@ -46,7 +47,7 @@ Output: by default CV_16SC1 with 4 fractional bits (disparity x 16) and invalid 
 setOutputType(CV_32F), CV_32FC1 in pixels with invalid pixels set to minDisparity - 1.
 
 Costs are integers. The energy is scaled by one factor K (chosen per parameter set so that the sum of all path costs
-fits in 16 bits) and each weight, K (1 - alpha), K alpha Q1, K alpha Q2, K P1, K P2 and K for plain census cost, is
+fits in 16 bits) and each weight, K (1 - alpha) (K in plain SGM), K alpha Q1, K alpha Q2, K P1 and K P2, is
 rounded to the nearest integer; K is picked so that the largest relative rounding error of these weights is
 smallest (for the paper's defaults, below 0.3 %). Scaling the whole energy does not change the minimiser, the
 uniqueness ratio or the parabola, so alpha is honoured as given rather than quantised to a few bits.
