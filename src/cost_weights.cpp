@@ -2,59 +2,45 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Integer weights of the scaled SGM energy. Path costs are kept in 16 bits on both the CPU and the GPU (the GPU
-// holds one W x H x D sum volume); the scale K is the largest that keeps the worst case in range, refined so that
-// rounding the weights distorts their ratios (alpha above all) as little as possible.
+// holds one W x H x D sum volume), so the energy is scaled by the largest K that keeps the worst case in range.
+// The census weight K (1 - alpha) is carried with 8 fractional bits and each census term rounded on its own, so
+// alpha is honoured to within 1/256 of a cost unit even when K (1 - alpha) is small (alpha close to 1).
 
 #include "precomp.hpp"
 #include "pipeline.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 
-static int maxPathSum(const CostWeights& w, int numPaths, bool ddc)
+int maxPathSum(const CostWeights& w, int numPaths)
 {
-    const int cmax = w.census * CENSUS_BITS + (ddc ? w.q2 : 0);
     // A path cost never exceeds the matching cost plus P2 (the recursion subtracts the previous minimum).
-    return numPaths * (cmax + w.p2);
+    return numPaths * (censusTerm(w.census256, CENSUS_BITS) + w.q2 + w.p2);
 }
 
 CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc)
 {
     CV_Assert(numPaths == 4 || numPaths == 8);
+    CV_Assert(alpha >= 0.0 && alpha <= 1.0 && P1 >= 0 && P2 >= 0 && Q1 >= 0 && Q2 >= 0);
     // Paper Eq. 4 taken as written: with DDC on, the census term is (1 - alpha) H at every pixel, and the DDC term
-    // is added where a prior exists. (Weighting H by 1 only where no prior exists was measured too, see
-    // doc/notes.md: it makes SDSGM clearly worse on KITTI.) Plain SGM has no alpha: weight 1.
+    // is added where a prior exists. (Weighting H by 1 where no prior exists was measured too, see doc/notes.md:
+    // it makes SDSGM clearly worse on KITTI.) Plain SGM has no alpha: weight 1.
     const double censusW = ddc ? 1.0 - alpha : 1.0;
-    const double target[5] = { censusW, ddc ? alpha * Q1 : 0.0, ddc ? alpha * Q2 : 0.0, (double)P1, (double)P2 };
-    const double cmax = censusW * CENSUS_BITS + (ddc ? alpha * Q2 : 0.0);
-    const double kmax = 65535.0 / (numPaths * (cmax + P2 + 1.0));
-
-    CostWeights best = CostWeights();
-    double bestErr = DBL_MAX;
-    const int steps = 4096;
-    for (int i = 0; i <= steps; i++)
+    const double aQ1 = ddc ? alpha * Q1 : 0.0, aQ2 = ddc ? alpha * Q2 : 0.0;
+    // + 1 leaves room for the rounding of each term.
+    double k = 65535.0 / (numPaths * (censusW * CENSUS_BITS + aQ2 + P2 + 1.0));
+    for (;;)
     {
-        const double k = kmax * (1.0 - 0.5 * i / steps);
-        int v[5];
-        double err = 0.0;
-        for (int j = 0; j < 5; j++)
-        {
-            const double t = k * target[j];
-            v[j] = cvRound(t);
-            if (target[j] > 0.0)
-                err = std::max(err, std::abs(v[j] - t) / t);
-        }
         CostWeights w;
-        w.census = v[0]; w.q1 = v[1]; w.q2 = v[2]; w.p1 = v[3]; w.p2 = v[4]; w.scale = k;
-        if (maxPathSum(w, numPaths, ddc) > 65535)
-            continue;
-        if (err < bestErr - 1e-12)
-        {
-            bestErr = err;
-            best = w;
-        }
+        w.scale = k;
+        w.census256 = cvRound(k * censusW * 256.0);
+        w.q1 = cvRound(k * aQ1);
+        w.q2 = cvRound(k * aQ2);
+        w.p1 = cvRound(k * P1);
+        w.p2 = cvRound(k * P2);
+        if (maxPathSum(w, numPaths) <= 65535)
+            return w;
+        k *= 0.999;
     }
-    CV_Assert(bestErr < DBL_MAX);
-    return best;
 }
 
 }}} // namespace cv::lidarsgm::detail

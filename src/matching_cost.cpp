@@ -16,7 +16,7 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
     CV_Assert(censusL.type() == CV_32SC1 && censusR.type() == CV_32SC1 && censusR.size() == censusL.size());
     CV_Assert(prior16.empty() || (prior16.type() == CV_16SC1 && prior16.size() == censusL.size()));
     cost.create(H, W * D, CV_16UC1);
-    const ushort w = (ushort)p.w.census;
+    const unsigned w256 = (unsigned)p.w.census256;
     const int q1 = p.w.q1, q2 = p.w.q2;
 
     parallel_for_(Range(0, H), [&](const Range& r) {
@@ -41,17 +41,19 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
                 int d = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
                 const int n32 = VTraits<v_uint32>::vlanes(), n16 = VTraits<v_uint16>::vlanes();
-                const v_uint32 vl = vx_setall_u32(L[x]);
-                const v_uint16 vw = vx_setall_u16(w), vadd = vx_setall_u16(add);
+                const v_uint32 vl = vx_setall_u32(L[x]), vw = vx_setall_u32(w256), vhalf = vx_setall_u32(128);
+                const v_uint16 vadd = vx_setall_u16(add);
                 for (; d <= D - n16; d += n16)
                 {
                     v_uint32 h0 = v_popcount(v_xor(vx_load(base + d), vl));
                     v_uint32 h1 = v_popcount(v_xor(vx_load(base + d + n32), vl));
-                    v_store(c + d, v_add(v_mul_wrap(v_pack(h0, h1), vw), vadd));
+                    h0 = v_shr<8>(v_add(v_mul(h0, vw), vhalf));
+                    h1 = v_shr<8>(v_add(v_mul(h1, vw), vhalf));
+                    v_store(c + d, v_add(v_pack(h0, h1), vadd));
                 }
 #endif
                 for (; d < D; d++)
-                    c[d] = (ushort)(w * popcount32(base[d] ^ L[x]) + add);
+                    c[d] = (ushort)(censusTerm((int)w256, popcount32(base[d] ^ L[x])) + add);
                 if (k >= 0)
                 {
                     // DDC: 0 at the prior, Q1 beside it, Q2 (already added) elsewhere.

@@ -21,16 +21,20 @@ const short NO_DISP = SHRT_MIN;
 //! Integer weights of the scaled energy (see StereoLidarSGM's documentation and computeCostWeights).
 struct CostWeights
 {
-    int census;        //!< weight of the census cost: round(K (1 - alpha)) with DDC, round(K) for plain SGM
+    int census256;     //!< census weight x 256: round(256 K (1 - alpha)) with DDC, round(256 K) for plain SGM
     int q1, q2;        //!< round(K alpha Q1), round(K alpha Q2)
     int p1, p2;        //!< round(K P1), round(K P2)
     double scale;      //!< K
 };
 
-/** Picks the scale K and rounds the weights. K is searched in [Kmax / 2, Kmax], Kmax being the largest scale whose
-worst-case sum of path costs, numPaths * (max cost + P2), fits in 16 bits; the K whose weights have the smallest
-largest relative rounding error wins. With ddc false there is no prior term (plain SGM). */
+//! The census term of the matching cost: census256 * h / 256, rounded to nearest (halves up).
+static inline int censusTerm(int census256, int h) { return (census256 * h + 128) >> 8; }
+
+/** Picks the scale K, the largest whose worst-case sum of path costs, numPaths * (max cost + P2), fits in 16 bits,
+and rounds the weights. With ddc false there is no prior term (plain SGM). */
 CV_EXPORTS CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc);
+//! numPaths * (largest matching cost + P2): the bound on the aggregated cost.
+CV_EXPORTS int maxPathSum(const CostWeights& w, int numPaths);
 
 //! Everything a stage needs, already validated and converted to integers.
 struct PipelineParams
@@ -81,7 +85,7 @@ CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& s
                  Mat& semidense16);
 
 /** Matching cost volume, rows = image rows, cols = width * numDisparities, CV_16UC1, d fastest.
-C(p, d) = census * H(p, d), plus {0, q1, q2} for |d - round(prior)| = 0, 1, > 1 where prior16 has a value. prior16 may be empty (plain SGM). The right pixel x - d is clamped to the image. */
+C(p, d) = censusTerm(census256, H(p, d)), plus {0, q1, q2} for |d - round(prior)| = 0, 1, > 1 where prior16 has a value. prior16 may be empty (plain SGM). The right pixel x - d is clamped to the image. */
 CV_EXPORTS void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,
                          Mat& cost);
 

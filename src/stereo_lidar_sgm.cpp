@@ -81,7 +81,7 @@ public:
         CV_INSTRUMENT_REGION();
         if (isGpuInput(left) || isGpuInput(right) || isGpuInput(sparse))
         {
-            computeCuda(left, right, sparse, disparity, cuda::Stream::Null());
+            computeCuda(left, right, sparse, disparity, nullptr);
             return;
         }
         AutoLock lock(mutex_);  // one call at a time per instance: the work buffers are members
@@ -121,7 +121,7 @@ public:
     void compute(InputArray left, InputArray right, InputArray sparse, OutputArray disparity,
                  cuda::Stream& stream) CV_OVERRIDE
     {
-        computeCuda(left, right, sparse, disparity, stream);
+        computeCuda(left, right, sparse, disparity, &stream);
     }
 
     void semidensify(InputArray left, InputArray right, InputArray sparse, OutputArray semidense) CV_OVERRIDE
@@ -129,7 +129,7 @@ public:
         CV_INSTRUMENT_REGION();
         if (isGpuInput(left) || isGpuInput(right) || isGpuInput(sparse))
         {
-            semidensifyCuda(left, right, sparse, semidense, cuda::Stream::Null());
+            semidensifyCuda(left, right, sparse, semidense, nullptr);
             return;
         }
         AutoLock lock(mutex_);
@@ -148,7 +148,7 @@ public:
     void semidensify(InputArray left, InputArray right, InputArray sparse, OutputArray semidense,
                      cuda::Stream& stream) CV_OVERRIDE
     {
-        semidensifyCuda(left, right, sparse, semidense, stream);
+        semidensifyCuda(left, right, sparse, semidense, &stream);
     }
 
     // ---- parameters ------------------------------------------------------------------------------------------
@@ -229,7 +229,8 @@ public:
     }
 
     // ---- persistence -----------------------------------------------------------------------------------------
-    String getDefaultName() const CV_OVERRIDE { return "lidarsgm.StereoLidarSGM"; }
+    // A FileStorage key: letters, digits and '_' only.
+    String getDefaultName() const CV_OVERRIDE { return "lidarsgm_StereoLidarSGM"; }
 
     void write(FileStorage& fs) const CV_OVERRIDE
     {
@@ -247,7 +248,7 @@ public:
     {
         FileNode name = fn["name"];
         CV_CheckTrue(name.empty() || (String)name == getDefaultName(),
-                     "lidarsgm: the file node does not hold a lidarsgm.StereoLidarSGM");
+                     "lidarsgm: the file node does not hold a lidarsgm_StereoLidarSGM");
         // Through the setters, so a hand-edited file gets the same range checks.
         setMinDisparity(readInt(fn, "minDisparity", minDisparity_));
         setNumDisparities(readInt(fn, "numDisparities", numDisparities_));
@@ -344,7 +345,8 @@ private:
         }
     }
 
-    void computeCuda(InputArray, InputArray, InputArray, OutputArray, cuda::Stream&)
+    // stream == nullptr: the default stream. (Not cuda::Stream::Null() up front: that needs a working driver.)
+    void computeCuda(InputArray, InputArray, InputArray, OutputArray, cuda::Stream* /*stream*/)
     {
 #ifdef HAVE_CUDA
         CV_Error(Error::StsNotImplemented, "lidarsgm: the CUDA path (GpuMat input) is not implemented yet");
@@ -352,7 +354,7 @@ private:
         CV_Error(Error::GpuNotSupported, "lidarsgm: GpuMat input needs the CUDA path, but lidarsgm was built without CUDA");
 #endif
     }
-    void semidensifyCuda(InputArray a, InputArray b, InputArray c, OutputArray d, cuda::Stream& s)
+    void semidensifyCuda(InputArray a, InputArray b, InputArray c, OutputArray d, cuda::Stream* s)
     {
         computeCuda(a, b, c, d, s);
     }

@@ -22,8 +22,9 @@ TEST(Lidarsgm_Census, ramp_bits)
     const unsigned expected = (((rowBits << 9) | rowBits) << 9 | rowBits) << 4;
     EXPECT_EQ(31, (int)CENSUS_BITS);
     EXPECT_EQ(expected, (unsigned)census.at<int>(10, 15));
-    // At the left border the columns are clamped: pairs whose both ends clamp to column 0 compare equal.
-    EXPECT_NE(expected, (unsigned)census.at<int>(10, 0));
+    // Clamped borders keep the ramp's order: the border pixels get the same code.
+    EXPECT_EQ(expected, (unsigned)census.at<int>(10, 0));
+    EXPECT_EQ(expected, (unsigned)census.at<int>(0, 29));
 }
 
 TEST(Lidarsgm_Census, vertical_ramp_bits)

@@ -30,16 +30,17 @@ TEST(Lidarsgm_CostWeights, paper_defaults_honour_alpha)
     CostWeights w = computeCostWeights(10, 120, 5, 160, 0.7, 8, true);
     const double K = w.scale;
     // Each weight within 0.3 % of K times its real value; in particular (1 - alpha) stays 0.3, not 0.375.
-    EXPECT_NEAR(0.3, w.census / K, 0.3 * 0.003);
+    EXPECT_NEAR(0.3, w.census256 / 256.0 / K, 0.3 * 0.003);
     EXPECT_NEAR(0.7 * 5, w.q1 / K, 0.7 * 5 * 0.003);
     EXPECT_NEAR(0.7 * 160, w.q2 / K, 0.7 * 160 * 0.003);
     EXPECT_NEAR(10.0, w.p1 / K, 10 * 0.003);
     EXPECT_NEAR(120.0, w.p2 / K, 120 * 0.003);
     // The worst-case sum of 8 path costs fits in 16 bits.
-    EXPECT_LE(8 * (w.census * CENSUS_BITS + w.q2 + w.p2), 65535);
+    EXPECT_LE(maxPathSum(w, 8), 65535);
+    EXPECT_GT(maxPathSum(w, 8), 65535 * 0.99);  // K is as large as fits: the best precision
     // Plain SGM: census weight K.
     CostWeights s = computeCostWeights(10, 120, 5, 160, 0.7, 8, false);
-    EXPECT_NEAR(10.0, s.p1 / (double)s.census, 10 * 0.003);
+    EXPECT_NEAR(10.0, s.p1 / (s.census256 / 256.0), 10 * 0.003);
     EXPECT_EQ(0, s.q2);
 }
 
@@ -52,14 +53,15 @@ TEST(Lidarsgm_CostWeights, extreme_parameters_fit_16_bits)
             for (size_t a = 0; a < sizeof(alphas) / sizeof(alphas[0]); a++)
             {
                 CostWeights w = computeCostWeights(P[i][0], P[i][1], P[i][2], P[i][3], alphas[a], paths, true);
-                EXPECT_LE(paths * (w.census * CENSUS_BITS + w.q2 + w.p2), 65535);
+                EXPECT_LE(maxPathSum(w, paths), 65535);
                 if (alphas[a] == 1.0)
                 {
-                    EXPECT_EQ(0, w.census);  // pure DDC
+                    EXPECT_EQ(0, w.census256);  // pure DDC
                 }
                 else
                 {
-                    EXPECT_GT(w.census, 0);
+                    // The census weight keeps its ratio to the other weights to within 1/256 of a cost unit.
+                    EXPECT_NEAR((1.0 - alphas[a]) * w.scale, w.census256 / 256.0, 0.5 / 256 + 1e-9);
                 }
             }
 }
@@ -82,14 +84,14 @@ TEST(Lidarsgm_MatchingCost, ddc_values)
     {
         const int h = (x0 - minD - d) % 5;
         const int ddc = d == k ? 0 : std::abs(d - k) == 1 ? p.w.q1 : p.w.q2;
-        EXPECT_EQ(p.w.census * h + ddc, (int)cost.at<ushort>(0, x0 * D + d)) << "d=" << d;
+        EXPECT_EQ(censusTerm(p.w.census256, h) + ddc, (int)cost.at<ushort>(0, x0 * D + d)) << "d=" << d;
         // A pixel without a prior has the plain census cost.
         const int h1 = (x0 - 1 - minD - d) % 5;
-        EXPECT_EQ(p.w.census * h1, (int)cost.at<ushort>(0, (x0 - 1) * D + d)) << "d=" << d;
+        EXPECT_EQ(censusTerm(p.w.census256, h1), (int)cost.at<ushort>(0, (x0 - 1) * D + d)) << "d=" << d;
     }
     // Right pixels left of the image are clamped to column 0.
     for (int d = 0; d < D; d++)
-        EXPECT_EQ(p.w.census * 0, (int)cost.at<ushort>(0, 1 * D + d));
+        EXPECT_EQ(0, (int)cost.at<ushort>(0, 1 * D + d));
 }
 
 TEST(Lidarsgm_MatchingCost, plain_sgm_ignores_prior)
@@ -107,7 +109,7 @@ TEST(Lidarsgm_MatchingCost, plain_sgm_ignores_prior)
             {
                 const int xr = std::max(x - d, 0);
                 const int h = popcount32((unsigned)cl.at<int>(y, x) ^ (unsigned)cr.at<int>(y, xr));
-                ASSERT_EQ(p.w.census * h, (int)cost.at<ushort>(y, x * 32 + d));
+                ASSERT_EQ(censusTerm(p.w.census256, h), (int)cost.at<ushort>(y, x * 32 + d));
             }
 }
 

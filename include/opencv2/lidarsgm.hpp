@@ -46,11 +46,11 @@ Output: by default CV_16SC1 with 4 fractional bits (disparity x 16) and invalid 
 (minDisparity - 1) * 16, as cv::StereoSGBM, so cv::reprojectImageTo3D and the ximgproc filters accept it; with
 setOutputType(CV_32F), CV_32FC1 in pixels with invalid pixels set to minDisparity - 1.
 
-Costs are integers. The energy is scaled by one factor K (chosen per parameter set so that the sum of all path costs
-fits in 16 bits) and each weight, K (1 - alpha) (K in plain SGM), K alpha Q1, K alpha Q2, K P1 and K P2, is
-rounded to the nearest integer; K is picked so that the largest relative rounding error of these weights is
-smallest (for the paper's defaults, below 0.3 %). Scaling the whole energy does not change the minimiser, the
-uniqueness ratio or the parabola, so alpha is honoured as given rather than quantised to a few bits.
+Costs are integers. The energy is scaled by one factor K, the largest for which the sum of all path costs fits in
+16 bits (K is about 33 for the paper's parameters with 8 paths); K alpha Q1, K alpha Q2, K P1 and K P2 are rounded
+to the nearest integer, and the census term K (1 - alpha) H (K H in plain SGM) is computed with the weight carried
+to 1/256 and rounded per term. Scaling the whole energy does not change the minimiser, the uniqueness ratio or the
+parabola, so alpha is honoured as given (0.7 stays 0.7, to within 1/256 of a cost unit) rather than quantised.
  */
 class CV_EXPORTS_W StereoLidarSGM : public Algorithm
 {
