@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <set>
 
 using namespace cv;
 using namespace lidarsgm_eval;
@@ -332,6 +333,8 @@ bool loadMiddleburyScene(const std::string& dir, const std::string& name, Frame&
     const std::string base = dir + "/" + name + "/";
     for (size_t i = 0; i < sizeof(layouts) / sizeof(layouts[0]); i++)
     {
+        if (!std::ifstream((base + layouts[i].gt).c_str()).good())
+            continue;
         Mat gt = imread(base + layouts[i].gt, IMREAD_UNCHANGED);
         if (gt.empty())
             continue;
@@ -353,15 +356,23 @@ bool loadMiddleburyScene(const std::string& dir, const std::string& name, Frame&
 int runMiddlebury(const Options& o)
 {
     const std::string dir = o.str("middlebury");
-    std::vector<String> entries;
-    glob(dir + "/*", entries, false);
-    std::vector<std::string> scenes;
-    for (size_t i = 0; i < entries.size(); i++)
+    // cv::glob lists files: the scenes are the folders that hold them, one level down.
+    std::vector<String> files;
+    glob(dir + "/*", files, true);
+    std::set<std::string> folders;
+    for (size_t i = 0; i < files.size(); i++)
     {
-        std::string n = entries[i].substr(entries[i].find_last_of('/') + 1);
+        const std::string rel = files[i].substr(dir.size() + 1);
+        const size_t slash = rel.find('/');
+        if (slash != std::string::npos && rel.find('/', slash + 1) == std::string::npos)
+            folders.insert(rel.substr(0, slash));
+    }
+    std::vector<std::string> scenes;
+    for (std::set<std::string>::const_iterator it = folders.begin(); it != folders.end(); ++it)
+    {
         Frame f;
-        if (loadMiddleburyScene(dir, n, f))
-            scenes.push_back(n);
+        if (loadMiddleburyScene(dir, *it, f))
+            scenes.push_back(*it);
     }
     std::sort(scenes.begin(), scenes.end());
     const std::vector<std::string> modes = split(o.str("modes", "sgm,dsgm,sdsgm"));
