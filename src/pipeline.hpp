@@ -10,6 +10,14 @@
 #include "opencv2/core.hpp"
 #include <climits>
 
+// Helpers shared by host and device code.
+#ifdef __CUDACC__
+#  define LIDARSGM_HD __host__ __device__ __forceinline__
+#else
+#  define LIDARSGM_HD inline
+#endif
+
+
 namespace cv { namespace lidarsgm { namespace detail {
 
 //! Centre-symmetric census: a 9x7 window, each of the 31 pixel pairs (p + o, p - o) gives one bit.
@@ -28,7 +36,7 @@ struct CostWeights
 };
 
 //! The census term of the matching cost: census256 * h / 256, rounded to nearest (halves up).
-static inline int censusTerm(int census256, int h) { return (census256 * h + 128) >> 8; }
+static LIDARSGM_HD int censusTerm(int census256, int h) { return (census256 * h + 128) >> 8; }
 
 /** Picks the scale K, the largest whose worst-case sum of path costs, numPaths * (max cost + P2), fits in 16 bits,
 and rounds the weights. With ddc false there is no prior term (plain SGM). */
@@ -55,9 +63,11 @@ struct PipelineParams
 };
 
 //! Number of set bits (the Hamming distance of two census strings is popcount32(a ^ b)).
-static inline int popcount32(unsigned v)
+static LIDARSGM_HD int popcount32(unsigned v)
 {
-#if defined(__GNUC__) || defined(__clang__)
+#if defined(__CUDA_ARCH__)
+    return __popc(v);
+#elif defined(__GNUC__) || defined(__clang__)
     return __builtin_popcount(v);
 #else
     v = v - ((v >> 1) & 0x55555555u);
@@ -67,7 +77,7 @@ static inline int popcount32(unsigned v)
 }
 
 //! Integer disparity (pixels) of a 1/16-pixel value, rounded to nearest (halves up).
-static inline int roundDisp16(int d16) { return (d16 + 8) >> 4; }
+static LIDARSGM_HD int roundDisp16(int d16) { return (d16 + 8) >> 4; }
 
 // ---- CPU stages (exported for the per-stage unit tests; not part of the public API) ------------------------------------------------------------------------------------------------
 

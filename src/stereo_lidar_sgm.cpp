@@ -5,6 +5,10 @@
 
 #include "precomp.hpp"
 #include "pipeline.hpp"
+#ifdef HAVE_CUDA
+#  include "opencv2/core/cuda_stream_accessor.hpp"
+#  include "pipeline_cuda.hpp"
+#endif
 
 namespace cv { namespace lidarsgm {
 
@@ -23,35 +27,45 @@ const char* modeName(int mode)
     }
 }
 
-void checkStereoPair(const Mat& left, const Mat& right)
+void checkStereoPairInfo(bool emptyL, bool emptyR, int chL, int chR, int typeL, int typeR, Size szL, Size szR)
 {
-    CV_CheckFalse(left.empty(), "lidarsgm: the left image is empty");
-    CV_CheckFalse(right.empty(), "lidarsgm: the right image is empty");
-    if (left.channels() != 1 || right.channels() != 1)
+    CV_CheckFalse(emptyL, "lidarsgm: the left image is empty");
+    CV_CheckFalse(emptyR, "lidarsgm: the right image is empty");
+    if (chL != 1 || chR != 1)
         CV_Error_(Error::BadNumChannels,
                   ("lidarsgm: the images must be single-channel (grey); got %d and %d channels. "
-                   "Convert colour images with cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY)",
-                   left.channels(), right.channels()));
-    if (left.depth() != CV_8U && left.depth() != CV_16U)
+                   "Convert colour images with cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY)", chL, chR));
+    if (CV_MAT_DEPTH(typeL) != CV_8U && CV_MAT_DEPTH(typeL) != CV_16U)
         CV_Error_(Error::BadDepth, ("lidarsgm: the images must be CV_8UC1 or CV_16UC1; the left image is %s",
-                                    typeToString(left.type()).c_str()));
-    if (left.type() != right.type())
+                                    typeToString(typeL).c_str()));
+    if (typeL != typeR)
         CV_Error_(Error::StsUnmatchedFormats, ("lidarsgm: left and right images differ in type (%s vs %s)",
-                                               typeToString(left.type()).c_str(), typeToString(right.type()).c_str()));
-    if (left.size() != right.size())
+                                               typeToString(typeL).c_str(), typeToString(typeR).c_str()));
+    if (szL != szR)
         CV_Error_(Error::StsUnmatchedSizes, ("lidarsgm: left and right images differ in size (%dx%d vs %dx%d)",
-                                             left.cols, left.rows, right.cols, right.rows));
+                                             szL.width, szL.height, szR.width, szR.height));
+}
+
+void checkStereoPair(const Mat& left, const Mat& right)
+{
+    checkStereoPairInfo(left.empty(), right.empty(), left.channels(), right.channels(), left.type(), right.type(),
+                        left.size(), right.size());
+}
+
+void checkSparseInfo(int type, Size size, Size imageSize)
+{
+    if (type != CV_16UC1 && type != CV_32FC1)
+        CV_Error_(Error::StsUnsupportedFormat,
+                  ("lidarsgm: the sparse disparity map must be CV_16UC1 (KITTI, value / 256) or CV_32FC1 (pixels); got %s",
+                   typeToString(type).c_str()));
+    if (size != imageSize)
+        CV_Error_(Error::StsUnmatchedSizes, ("lidarsgm: the sparse disparity map is %dx%d but the images are %dx%d",
+                                             size.width, size.height, imageSize.width, imageSize.height));
 }
 
 void checkSparse(const Mat& sparse, Size size)
 {
-    if (sparse.type() != CV_16UC1 && sparse.type() != CV_32FC1)
-        CV_Error_(Error::StsUnsupportedFormat,
-                  ("lidarsgm: the sparse disparity map must be CV_16UC1 (KITTI, value / 256) or CV_32FC1 (pixels); got %s",
-                   typeToString(sparse.type()).c_str()));
-    if (sparse.size() != size)
-        CV_Error_(Error::StsUnmatchedSizes, ("lidarsgm: the sparse disparity map is %dx%d but the images are %dx%d",
-                                             sparse.cols, sparse.rows, size.width, size.height));
+    checkSparseInfo(sparse.type(), sparse.size(), size);
 }
 
 bool isGpuInput(InputArray a)
@@ -346,18 +360,103 @@ private:
     }
 
     // stream == nullptr: the default stream. (Not cuda::Stream::Null() up front: that needs a working driver.)
-    void computeCuda(InputArray, InputArray, InputArray, OutputArray, cuda::Stream* /*stream*/)
+    void computeCuda(InputArray left, InputArray right, InputArray sparse, OutputArray disparity,
+                     cuda::Stream* stream)
     {
+        runCuda(left, right, sparse, disparity, stream, false);
+    }
+    void semidensifyCuda(InputArray left, InputArray right, InputArray sparse, OutputArray semidense,
+                         cuda::Stream* stream)
+    {
+        runCuda(left, right, sparse, semidense, stream, true);
+    }
+
 #ifdef HAVE_CUDA
-        CV_Error(Error::StsNotImplemented, "lidarsgm: the CUDA path (GpuMat input) is not implemented yet");
-#else
-        CV_Error(Error::GpuNotSupported, "lidarsgm: GpuMat input needs the CUDA path, but lidarsgm was built without CUDA");
-#endif
-    }
-    void semidensifyCuda(InputArray a, InputArray b, InputArray c, OutputArray d, cuda::Stream* s)
+    template <typename T>
+    static cuda::PtrStepSz<T> ptr(const cuda::GpuMat& m)
     {
-        computeCuda(a, b, c, d, s);
+        return m.empty() ? cuda::PtrStepSz<T>() : cuda::PtrStepSz<T>(m);
     }
+
+    /* The CUDA pipeline, in the same order as compute(). Work buffers are members and only (re)allocated when the
+    size, disparity count or types change; everything else is enqueued on the stream without synchronising. */
+    void runCuda(InputArray left, InputArray right, InputArray sparse, OutputArray out, cuda::Stream* streamPtr,
+                 bool semidenseOnly)
+    {
+        CV_INSTRUMENT_REGION();
+        if (left.kind() != _InputArray::CUDA_GPU_MAT || right.kind() != _InputArray::CUDA_GPU_MAT ||
+            (!sparse.empty() && sparse.kind() != _InputArray::CUDA_GPU_MAT))
+            CV_Error(Error::StsBadArg, "lidarsgm: the CUDA path needs cv::cuda::GpuMat inputs (left, right and sparse)");
+        if (out.kind() != _InputArray::CUDA_GPU_MAT)
+            CV_Error(Error::StsBadArg, "lidarsgm: the CUDA path writes a cv::cuda::GpuMat; pass one as the output");
+        AutoLock lock(mutex_);
+        const cuda::GpuMat L = left.getGpuMat(), R = right.getGpuMat();
+        const cuda::GpuMat Sp = sparse.empty() ? cuda::GpuMat() : sparse.getGpuMat();
+        checkStereoPairInfo(L.empty(), R.empty(), L.channels(), R.channels(), L.type(), R.type(), L.size(), R.size());
+        const PipelineParams p = pipelineParams();
+        const bool needSparse = semidenseOnly || p.mode != MODE_SGM || p.check == CHECK_CAMERA_LIDAR ||
+                                p.check == CHECK_STEREO_LIDAR;
+        if (needSparse && Sp.empty())
+            CV_Error_(Error::StsBadArg, ("lidarsgm: the sparse disparity map is empty, but %s with consistency check %d needs it",
+                                         semidenseOnly ? "semidensify" : modeName(p.mode), p.check));
+        if (!Sp.empty())
+            checkSparseInfo(Sp.type(), Sp.size(), L.size());
+
+        cudaStream_t st = streamPtr ? cuda::StreamAccessor::getStream(*streamPtr) : 0;
+        const Size sz = L.size();
+        namespace ci = cuda_impl;
+        g_censusL_.create(sz, CV_32SC1);
+        g_censusR_.create(sz, CV_32SC1);
+        ci::censusTransform(L.depth() == CV_8U ? ptr<uchar>(L) : cuda::PtrStepSz<uchar>(),
+                            L.depth() == CV_16U ? ptr<ushort>(L) : cuda::PtrStepSz<ushort>(), g_censusL_, st);
+        ci::censusTransform(R.depth() == CV_8U ? ptr<uchar>(R) : cuda::PtrStepSz<uchar>(),
+                            R.depth() == CV_16U ? ptr<ushort>(R) : cuda::PtrStepSz<ushort>(), g_censusR_, st);
+        if (!Sp.empty())
+        {
+            g_sparse16_.create(sz, CV_16SC1);
+            ci::convertSparse(Sp.depth() == CV_16U ? ptr<ushort>(Sp) : cuda::PtrStepSz<ushort>(),
+                              Sp.depth() == CV_32F ? ptr<float>(Sp) : cuda::PtrStepSz<float>(),
+                              p.minDisparity, p.numDisparities, g_sparse16_, st);
+        }
+        cuda::GpuMat prior;
+        if (semidenseOnly || p.mode == MODE_SDSGM)
+        {
+            g_semidense16_.create(sz, CV_16SC1);
+            ci::semidensify(g_censusL_, g_censusR_, g_sparse16_, p, g_semidense16_, st);
+            prior = g_semidense16_;
+        }
+        else if (p.mode == MODE_DSGM)
+            prior = g_sparse16_;
+
+        out.create(sz, outputType_ == CV_16S ? CV_16SC1 : CV_32FC1);
+        cuda::GpuMat o = out.getGpuMat();
+        cuda::PtrStepSz<short> o16 = outputType_ == CV_16S ? ptr<short>(o) : cuda::PtrStepSz<short>();
+        cuda::PtrStepSz<float> o32 = outputType_ == CV_32F ? ptr<float>(o) : cuda::PtrStepSz<float>();
+        if (semidenseOnly)
+        {
+            ci::consistencyCheck(g_semidense16_, cuda::PtrStepSz<short>(), cuda::PtrStepSz<int>(),
+                                 cuda::PtrStepSz<short>(), p, o16, o32, st);
+            return;
+        }
+
+        g_sum_.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
+        ci::aggregateCosts(g_censusL_, g_censusR_, ptr<short>(prior), p, g_sum_, st);
+        g_disp16_.create(sz, CV_16SC1);
+        g_dispInt_.create(sz, CV_16SC1);
+        g_rightKey_.create(sz, CV_32SC1);
+        const cudaError_t err = cudaMemset2DAsync(g_rightKey_.data, g_rightKey_.step, 0xFF, sz.width * sizeof(int),
+                                                  sz.height, st);
+        if (err != cudaSuccess)
+            CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
+        ci::winnerTakesAll(g_sum_, sz.width, p, g_disp16_, g_dispInt_, g_rightKey_, st);
+        ci::consistencyCheck(g_disp16_, g_dispInt_, g_rightKey_, ptr<short>(g_sparse16_), p, o16, o32, st);
+    }
+#else
+    void runCuda(InputArray, InputArray, InputArray, OutputArray, cuda::Stream*, bool)
+    {
+        CV_Error(Error::GpuNotSupported, "lidarsgm: GpuMat input needs the CUDA path, but lidarsgm was built without CUDA");
+    }
+#endif
 
     int minDisparity_ = 0, numDisparities_ = 128, P1_ = 10, P2_ = 120, Q1_ = 5, Q2_ = 160;
     double alpha_ = 0.7, uniquenessRatio_ = 0.95;
@@ -369,6 +468,9 @@ private:
 
     Mutex mutex_;
     Mat censusL_, censusR_, sparse16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
+#ifdef HAVE_CUDA
+    cuda::GpuMat g_censusL_, g_censusR_, g_sparse16_, g_semidense16_, g_sum_, g_disp16_, g_dispInt_, g_rightKey_;
+#endif
 };
 
 Ptr<StereoLidarSGM> StereoLidarSGM::create(int minDisparity, int numDisparities, int P1, int P2, int Q1, int Q2,

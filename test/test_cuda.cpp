@@ -1,0 +1,165 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// The CUDA path against the CPU path: bit for bit. These tests run where a CUDA device exists and skip otherwise.
+#include "test_precomp.hpp"
+#include "lidarsgm_eval.hpp"
+#include "opencv2/core/cuda.hpp"
+#ifdef HAVE_CUDA
+#include "opencv2/core/cuda_stream_accessor.hpp"
+#include <cuda_runtime.h>
+#endif
+
+namespace opencv_test { namespace {
+
+using cv::lidarsgm::StereoLidarSGM;
+
+static void requireCudaDevice()
+{
+#ifndef HAVE_CUDA
+    throw SkipTestException("lidarsgm was built without CUDA");
+#else
+    if (cv::cuda::getCudaEnabledDeviceCount() <= 0)
+        throw SkipTestException("no CUDA device");
+#endif
+}
+
+static void compareCpuGpu(const Ptr<StereoLidarSGM>& m, const Mat& l, const Mat& r, const Mat& s, const std::string& what)
+{
+    Mat cpu, gpuOut;
+    m->compute(l, r, s, cpu);
+    cuda::GpuMat gl(l), gr(r), gs, gd;
+    if (!s.empty())
+        gs.upload(s);
+    m->compute(gl, gr, gs, gd);
+    gd.download(gpuOut);
+    ASSERT_EQ(cpu.type(), gpuOut.type()) << what;
+    ASSERT_EQ(cpu.size(), gpuOut.size()) << what;
+    EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF)) << what;
+    if (!s.empty())
+    {
+        Mat semiCpu, semiGpu;
+        m->semidensify(l, r, s, semiCpu);
+        cuda::GpuMat gsemi;
+        m->semidensify(gl, gr, gs, gsemi);
+        gsemi.download(semiGpu);
+        EXPECT_EQ(0, cvtest::norm(semiCpu, semiGpu, NORM_INF)) << what << " (semidense)";
+    }
+}
+
+TEST(Lidarsgm_CUDA, kitti_frames_bit_exact)
+{
+    requireCudaDevice();
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
+    const char* ids[] = { "000002", "000046" };
+    for (int i = 0; i < 2; i++)
+    {
+        Mat l = imread(dir + "/image_2/" + ids[i] + "_10.png", IMREAD_GRAYSCALE);
+        Mat r = imread(dir + "/image_3/" + ids[i] + "_10.png", IMREAD_GRAYSCALE);
+        Mat s;
+        cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin"),
+                                               c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s);
+        for (int mode = 0; mode < 3; mode++)
+            for (int check = 0; check < 4; check++)
+                for (int paths = 4; paths <= 8; paths += 4)
+                {
+                    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode, check);
+                    m->setNumPaths(paths);
+                    compareCpuGpu(m, l, r, s, format("frame %s mode %d check %d paths %d", ids[i], mode, check, paths));
+                }
+    }
+}
+
+typedef testing::TestWithParam<tuple<Size, int, int> > Lidarsgm_CUDA_Random;
+TEST_P(Lidarsgm_CUDA_Random, bit_exact)
+{
+    requireCudaDevice();
+    const Size sz = get<0>(GetParam());
+    const int numD = get<1>(GetParam()), minD = get<2>(GetParam());
+    RNG rng((uint64)(sz.area() * 131 + numD * 7 + minD + 1000));
+    for (int depth = 0; depth < 2; depth++)
+    {
+        Mat l(sz, depth ? CV_16UC1 : CV_8UC1), r(sz, l.type());
+        rng.fill(l, RNG::UNIFORM, 0, depth ? 65536 : 256);
+        rng.fill(r, RNG::UNIFORM, 0, depth ? 65536 : 256);
+        GaussianBlur(l, l, Size(3, 3), 0);
+        GaussianBlur(r, r, Size(3, 3), 0);
+        Mat s32(sz, CV_32FC1, Scalar::all(0));
+        for (int i = 0; i < sz.area() / 20 + 1; i++)
+            s32.at<float>(rng.uniform(0, sz.height), rng.uniform(0, sz.width)) = (float)rng.uniform(minD - 2.0, minD + numD + 2.0);
+        Mat s16;
+        s32.convertTo(s16, CV_16U, 256);
+        Mat full(sz, CV_32FC1);
+        rng.fill(full, RNG::UNIFORM, std::max(minD, 1), minD + numD);
+        const Mat sparses[] = { s32, s16, Mat(sz, CV_32FC1, Scalar::all(0)), full };
+        for (int k = 0; k < 4; k++)
+            for (int mode = 0; mode < 3; mode++)
+            {
+                Ptr<StereoLidarSGM> m = StereoLidarSGM::create(minD, numD, 10, 120, 5, 160, 0.7, mode, (mode + k) % 4);
+                m->setNumPaths(k % 2 ? 4 : 8);
+                m->setSubpixel(mode != 1);
+                m->setOutputType(k == 3 ? CV_32F : CV_16S);
+                compareCpuGpu(m, l, r, sparses[k], format("size %dx%d depth %d sparse %d mode %d", sz.width, sz.height, depth, k, mode));
+            }
+    }
+}
+INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_CUDA_Random,
+    testing::Values(make_tuple(Size(1, 1), 16, 0), make_tuple(Size(7, 3), 16, 0), make_tuple(Size(1, 37), 64, -5),
+                    make_tuple(Size(53, 1), 64, 3), make_tuple(Size(97, 61), 64, 0), make_tuple(Size(333, 111), 128, -7),
+                    make_tuple(Size(257, 190), 256, 0), make_tuple(Size(130, 77), 48, 2)));
+
+TEST(Lidarsgm_CUDA, roi_input)
+{
+    requireCudaDevice();
+    RNG rng(11);
+    Mat bigL(200, 300, CV_8UC1), bigR(200, 300, CV_8UC1), bigS(200, 300, CV_32FC1, Scalar::all(0));
+    rng.fill(bigL, RNG::UNIFORM, 0, 256);
+    rng.fill(bigR, RNG::UNIFORM, 0, 256);
+    for (int i = 0; i < 2000; i++)
+        bigS.at<float>(rng.uniform(0, 200), rng.uniform(0, 300)) = (float)rng.uniform(1.0, 60.0);
+    const Rect roi(13, 7, 211, 123);
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 64);
+    Mat cpu, gpuOut;
+    m->compute(bigL(roi), bigR(roi), bigS(roi), cpu);
+    cuda::GpuMat gl(bigL), gr(bigR), gs(bigS), gd;
+    m->compute(gl(roi), gr(roi), gs(roi), gd);  // non-contiguous GpuMat views
+    gd.download(gpuOut);
+    EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF));
+}
+
+// compute(..., stream) must be truly asynchronous once buffers exist: capture it into a CUDA graph (capture fails on
+// a synchronisation or an allocation) and replay it.
+TEST(Lidarsgm_CUDA, stream_call_is_graph_capturable)
+{
+    requireCudaDevice();
+#ifdef HAVE_CUDA
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    Mat l = imread(dir + "/image_2/000002_10.png", IMREAD_GRAYSCALE), r = imread(dir + "/image_3/000002_10.png", IMREAD_GRAYSCALE);
+    Mat s(l.size(), CV_32F, Scalar::all(0));
+    RNG rng(3);
+    for (int i = 0; i < 20000; i++)
+        s.at<float>(rng.uniform(0, l.rows), rng.uniform(0, l.cols)) = (float)rng.uniform(1.0, 100.0);
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+    cuda::GpuMat gl(l), gr(r), gs(s), gd;
+    cuda::Stream stream;
+    m->compute(gl, gr, gs, gd, stream);  // allocates the buffers
+    stream.waitForCompletion();
+    gd.setTo(Scalar::all(12345));
+    cudaStream_t st = cuda::StreamAccessor::getStream(stream);
+    ASSERT_EQ(cudaSuccess, cudaStreamBeginCapture(st, cudaStreamCaptureModeThreadLocal));
+    m->compute(gl, gr, gs, gd, stream);
+    cudaGraph_t graph = nullptr;
+    ASSERT_EQ(cudaSuccess, cudaStreamEndCapture(st, &graph));
+    cudaGraphExec_t exec = nullptr;
+    ASSERT_EQ(cudaSuccess, cudaGraphInstantiate(&exec, graph, 0));
+    ASSERT_EQ(cudaSuccess, cudaGraphLaunch(exec, st));
+    stream.waitForCompletion();
+    Mat cpu, gpuOut;
+    m->compute(l, r, s, cpu);
+    gd.download(gpuOut);
+    EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF));
+    cudaGraphExecDestroy(exec);
+    cudaGraphDestroy(graph);
+#endif
+}
+
+}} // namespace
