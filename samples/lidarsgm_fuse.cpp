@@ -14,10 +14,15 @@
 #include "opencv2/calib3d.hpp"
 #include "opencv2/core/utility.hpp"
 #include "lidarsgm_eval.hpp"
+#include "opencv2/core/cuda.hpp"
+#ifdef LIDARSGM_HAVE_CUDASTEREO
+#include "opencv2/cudastereo.hpp"
+#endif
 
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <functional>
 #include <limits>
 #include <set>
 
@@ -60,6 +65,8 @@ const char* kHelp =
     "  --lr-max-diff N --paths 4|8 --subpixel 0|1 --rs N --Ts N --rc N --Tc T   algorithm parameters\n"
     "  --seed N            random seed of the Middlebury sampling (default 1)\n"
     "  --timing N          time N runs per frame and compare with cv::StereoSGBM MODE_HH (same process)\n"
+    "  --cuda 1            run on the GPU (GpuMat in and out); with --timing: CUDA-event medians against\n"
+    "                      cv::cuda::StereoSGM, and the device memory one instance holds\n"
     "  --threads N         cv::setNumThreads\n";
 
 int modeFromName(const std::string& s)
@@ -150,6 +157,70 @@ double medianMs(std::vector<double> v)
     return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+// ---- GPU timing: CUDA events on one stream, medians after a warm-up -----------------------------------------------
+double eventMedian(const std::function<void(cuda::Stream&)>& fn, int reps)
+{
+    cuda::Stream st;
+    cuda::Event e0, e1;
+    for (int i = 0; i < 3; i++)
+        fn(st);
+    st.waitForCompletion();
+    std::vector<double> t;
+    for (int i = 0; i < reps; i++)
+    {
+        e0.record(st);
+        fn(st);
+        e1.record(st);
+        e1.waitForCompletion();
+        t.push_back(cuda::Event::elapsedTime(e0, e1));
+    }
+    return medianMs(t);
+}
+
+int cudaTiming(const Options& o, const Frame& f, int reps)
+{
+    const int check = checkFromName(o.str("check", "stereo-lidar"));
+    const int ndisp = o.i("num-disparities", 128);
+    cuda::GpuMat gl(f.left), gr(f.right), gs(f.sparse), gd;
+    cuda::DeviceInfo info;
+    printf("device: %s, %dx%d, %d disparities, %d paths, median of %d CUDA-event timings (ms)\n", info.name(),
+           f.left.cols, f.left.rows, ndisp, o.i("paths", 8), reps);
+    const int modes[3] = { Matcher::MODE_SDSGM, Matcher::MODE_DSGM, Matcher::MODE_SGM };
+    for (int k = 0; k < 3; k++)
+    {
+        Ptr<Matcher> m = makeMatcher(o, modes[k], check, ndisp);
+        const size_t before = info.freeMemory();
+        m->compute(gl, gr, gs, gd);
+        cuda::Stream::Null().waitForCompletion();
+        const size_t after = info.freeMemory();
+        const double ms = eventMedian([&](cuda::Stream& st) { m->compute(gl, gr, gs, gd, st); }, reps);
+        printf("| lidarsgm %-5s | %8.3f ms | device memory held %.1f MB |\n", modeLabel(modes[k]), ms,
+               before > after ? (before - after) / 1048576.0 : 0.0);
+    }
+#ifdef LIDARSGM_HAVE_CUDASTEREO
+    for (int paths = 8; paths >= 4; paths -= 4)
+    {
+        try
+        {
+            Ptr<cuda::StereoSGM> sgm = cuda::createStereoSGM(0, ndisp, 10, 120, 5,
+                                                              paths == 8 ? cuda::StereoSGM::MODE_HH : cuda::StereoSGM::MODE_HH4);
+            const size_t before = info.freeMemory();
+            sgm->compute(gl, gr, gd);
+            cuda::Stream::Null().waitForCompletion();
+            const size_t after = info.freeMemory();
+            const double ms = eventMedian([&](cuda::Stream& st) { sgm->compute(gl, gr, gd, st); }, reps);
+            printf("| cv::cuda::StereoSGM %d paths | %8.3f ms | device memory held %.1f MB |\n", paths, ms,
+                   before > after ? (before - after) / 1048576.0 : 0.0);
+        }
+        catch (const cv::Exception& e)
+        {
+            printf("| cv::cuda::StereoSGM %d paths | failed: %s |\n", paths, e.what());
+        }
+    }
+#endif
+    return 0;
+}
+
 // ---- one frame ---------------------------------------------------------------------------------------------------
 int runFrame(const Options& o, Frame& f)
 {
@@ -163,11 +234,25 @@ int runFrame(const Options& o, Frame& f)
         Ptr<Matcher> m = makeMatcher(o, mode, check, 128);
         Mat disp;
         TickMeter tm;
-        tm.start();
-        m->compute(f.left, f.right, f.sparse, disp);
-        tm.stop();
+        if (o.has("cuda"))
+        {
+            cuda::GpuMat gl(f.left), gr(f.right), gs, gd;
+            if (!f.sparse.empty())
+                gs.upload(f.sparse);
+            tm.start();
+            m->compute(gl, gr, gs, gd);
+            gd.download(disp);
+            tm.stop();
+        }
+        else
+        {
+            tm.start();
+            m->compute(f.left, f.right, f.sparse, disp);
+            tm.stop();
+        }
         Mat d = disparityToFloat(disp, minD);
-        printf("%s %-6s check %-12s %8.1f ms", f.name.c_str(), modeLabel(mode), checkLabel(check), tm.getTimeMilli());
+        printf("%s %-6s check %-12s %s %8.1f ms", f.name.c_str(), modeLabel(mode), checkLabel(check),
+               o.has("cuda") ? "CUDA" : "CPU ", tm.getTimeMilli());
         if (!f.gt.empty())
         {
             ErrorStats s = evaluate(d, f.gt, isD1Outlier);
@@ -200,6 +285,8 @@ int runFrame(const Options& o, Frame& f)
     }
 
     const int reps = o.i("timing", 0);
+    if (reps > 0 && o.has("cuda"))
+        return cudaTiming(o, f, reps);
     if (reps > 0)
     {
         Ptr<Matcher> m = makeMatcher(o, Matcher::MODE_SDSGM, check, 128);

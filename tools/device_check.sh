@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Build lidarsgm with CUDA on the lent GPU machine and check the CUDA path there: the CUDA tests (bit-exact against the
+# CPU path, graph capture), then CUDA-event timings against cv::cuda::StereoSGM. The OpenCV source travels as a trimmed
+# archive in .device/ (made from the pinned PyPI archive; see doc/notes.md), since the machine has no network.
+#   tools/device_check.sh [extra gtest filter]
+set -eo pipefail
+cd "$(dirname "$0")/.."
+OUT=${OUT:-/tmp/lidarsgm-out}; mkdir -p "$OUT"
+CACHE=/tmp/lidarsgm-cache
+SRC=$CACHE/src/opencv_contrib_python-4.14.0.94
+if [ ! -f "$SRC/opencv/CMakeLists.txt" ]; then mkdir -p $CACHE/src && tar -xJf .device/opencv-trim.tar.xz -C $CACHE/src; fi
+nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
+date -u
+t0=$(date +%s)
+cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=OFF -DLIDARSGM_WITH_CUDA=ON \
+  > "$OUT/configure.log" 2>&1 || { tail -40 "$OUT/configure.log"; exit 1; }
+cmake --build build-device > "$OUT/build.log" 2>&1 || { grep -E "error|FAILED" "$OUT/build.log" | head -30; exit 1; }
+echo "build: $(( $(date +%s) - t0 )) s"
+B=$CACHE/build-cuda90/bin
+OPENCV_TEST_DATA_PATH=testdata $B/opencv_test_lidarsgm --gtest_filter="${1:-*CUDA*}" > "$OUT/tests.log" 2>&1 || true
+grep -E "^\[  FAILED|^\[  PASSED|^\[     SKIP|Failure" "$OUT/tests.log" | sort | uniq -c | head -40
+for id in 000002 000046; do
+  $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda 1 --modes sgm,dsgm,sdsgm
+done
+$B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50
