@@ -9,6 +9,8 @@ OUT=${OUT:-/tmp/lidarsgm-out}; mkdir -p "$OUT"
 CACHE=/tmp/lidarsgm-cache
 SRC=$CACHE/src/opencv_contrib_python-4.14.0.94
 if [ ! -f "$SRC/opencv/CMakeLists.txt" ]; then mkdir -p $CACHE/src && tar -xJf .device/opencv-trim.tar.xz -C $CACHE/src; fi
+# The trimmed archive leaves out the modules' test folders; OpenCV's python module adds its own unconditionally.
+mkdir -p "$SRC/opencv/modules/python/test" && touch "$SRC/opencv/modules/python/test/CMakeLists.txt"
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 date -u
 t0=$(date +%s)
