@@ -2,13 +2,13 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Semi-global aggregation, CUDA twin of src/aggregation.cpp. One warp walks one path line; lane t holds the path
-// costs of disparities t * DPT ... t * DPT + DPT - 1, and neighbours d - 1 / d + 1 across lanes come by shuffles.
-// The directions run one after the other on the stream, each adding its path costs into the 16-bit sum volume
-// (the first one writes it), so the volume is the only large buffer. Integer sums: the order does not matter.
+// costs of a run of disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction adds
+// into the one 16-bit sum volume, the only large buffer. Integer sums: the order does not matter.
 
 #include "pipeline_cuda.hpp"
 #include "matching_cost.cuh"
 #include "opencv2/core/cuda/common.hpp"
+#include <algorithm>
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -17,15 +17,8 @@ namespace {
 const int BIG = 0x3FFFFFFF;       // stands for "no such disparity": never the minimum
 const int WARPS_PER_BLOCK = 4;
 
-__device__ __forceinline__ int warpMin(int v)
-{
-    for (int o = 16; o > 0; o >>= 1)
-        v = ::min(v, __shfl_xor_sync(0xFFFFFFFFu, v, o));
-    return v;
-}
-
-/* Line `line` of direction (dx, dy): its first pixel and length. Horizontal lines are rows, vertical lines columns;
- diagonal lines start on the row the direction enters from (W lines), then on the column it enters from (H - 1). */
+/* Line `line` of direction (dx, dy): its first pixel. Horizontal lines are rows, vertical lines columns; diagonal
+ lines start on the row the direction enters from (W lines), then on the column it enters from (H - 1 lines). */
 __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H, int& x, int& y)
 {
     if (dy == 0)
@@ -47,10 +40,17 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
     return true;
 }
 
-template <int DPT>
+/* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 32-bit reductions on
+ pairs of 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for that), so no
+ carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
+ The loads for the next pixel are issued before the current step's recurrence, to hide their latency. */
+template <int PPT>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PipelineParams p, int dx, int dy, bool first, PtrStepSz<ushort> sum)
+                           PipelineParams p, PtrStepSz<ushort> sum)
 {
+    const int DPT = 2 * PPT;
+    const int dirs[8][2] = { {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, 1}, {1, -1}, {-1, -1} };
+    const int dx = dirs[blockIdx.y][0], dy = dirs[blockIdx.y][1];
     const int lane = threadIdx.x & 31;
     const int line = blockIdx.x * WARPS_PER_BLOCK + (threadIdx.x >> 5);
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
@@ -59,24 +59,47 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         return;
     const CostWeights w = p.w;
     const int d0 = lane * DPT;
+    const bool active = d0 < D;   // D is a multiple of 16, so pairs never straddle D
+
+    // Values of the current pixel, loaded one step ahead.
+    unsigned l = (unsigned)censusL(y, x);
+    int pr = prior16.data ? prior16(y, x) : NO_DISP;
+    unsigned r[DPT];
+#pragma unroll
+    for (int j = 0; j < DPT; j++)
+        r[j] = (unsigned)censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1));
+
     int L[DPT];
     int minPrev = 0;
-    bool start = true;
-    for (; x >= 0 && x < W && y >= 0 && y < H; x += dx, y += dy)
+    for (bool start = true; ; start = false)
     {
-        const unsigned l = (unsigned)censusL(y, x);
-        const int* R = censusR.ptr(y);
-        const int k = (prior16.data && prior16(y, x) != NO_DISP) ? roundDisp16(prior16(y, x)) - minD : -1;
+        const int k = pr != NO_DISP ? roundDisp16(pr) - minD : -1;
         int C[DPT];
 #pragma unroll
         for (int j = 0; j < DPT; j++)
-            C[j] = d0 + j < D ? matchingCost(l, R, x, d0 + j, minD, W, k, w) : BIG;
+        {
+            const int d = d0 + j;
+            int c = censusTerm(w.census256, popcount32(l ^ r[j]));
+            if (k >= 0)
+                c += d == k ? 0 : (d == k - 1 || d == k + 1) ? w.q1 : w.q2;
+            C[j] = active ? c : BIG;
+        }
+        const int cx = x, cy = y;
+        x += dx; y += dy;
+        const bool more = x >= 0 && x < W && y >= 0 && y < H;
+        if (more)
+        {
+            l = (unsigned)censusL(y, x);
+            pr = prior16.data ? prior16(y, x) : NO_DISP;
+#pragma unroll
+            for (int j = 0; j < DPT; j++)
+                r[j] = (unsigned)censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1));
+        }
         if (start)
         {
 #pragma unroll
             for (int j = 0; j < DPT; j++)
                 L[j] = C[j];
-            start = false;
         }
         else
         {
@@ -90,7 +113,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                 const int lm = j > 0 ? L[j - 1] : (lane > 0 ? left : BIG);
                 const int lp = j < DPT - 1 ? L[j + 1] : (lane < 31 ? right : BIG);
                 const int best = ::min(::min(L[j], jump), ::min(lm, lp) + w.p1);
-                Ln[j] = d0 + j < D ? C[j] + best - minPrev : BIG;
+                Ln[j] = active ? C[j] + best - minPrev : BIG;
             }
 #pragma unroll
             for (int j = 0; j < DPT; j++)
@@ -100,29 +123,28 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 #pragma unroll
         for (int j = 0; j < DPT; j++)
             m = ::min(m, L[j]);
-        minPrev = warpMin(m);
-        ushort* S = sum.ptr(y) + (size_t)x * D;
+        minPrev = __reduce_min_sync(0xFFFFFFFFu, m);
+        if (active)
+        {
+            unsigned* S = (unsigned*)(sum.ptr(cy) + (size_t)cx * D + d0);
 #pragma unroll
-        for (int j = 0; j < DPT; j++)
-            if (d0 + j < D)
-                S[d0 + j] = (ushort)(first ? L[j] : S[d0 + j] + L[j]);
+            for (int i = 0; i < PPT; i++)
+                atomicAdd(S + i, (unsigned)L[2 * i] | ((unsigned)L[2 * i + 1] << 16));
+        }
+        if (!more)
+            break;
     }
 }
 
-template <int DPT>
+template <int PPT>
 void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, const PipelineParams& p,
               PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    const int dirs[8][2] = { {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, 1}, {1, -1}, {-1, -1} };
-    for (int r = 0; r < p.numPaths; r++)
-    {
-        const int dx = dirs[r][0], dy = dirs[r][1];
-        const int lines = dy == 0 ? H : dx == 0 ? W : W + H - 1;
-        const int blocks = (lines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK;
-        pathKernel<DPT><<<blocks, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, prior16, p, dx, dy, r == 0, sum);
-        cudaSafeCall(cudaGetLastError());
-    }
+    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
+    const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths);
+    pathKernel<PPT><<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, prior16, p, sum);
+    cudaSafeCall(cudaGetLastError());
 }
 
 } // namespace
@@ -130,16 +152,13 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> p
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
                     const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    switch ((p.numDisparities + 31) / 32)
+    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+    switch ((p.numDisparities + 63) / 64)
     {
     case 1: runPaths<1>(censusL, censusR, prior16, p, sum, stream); break;
     case 2: runPaths<2>(censusL, censusR, prior16, p, sum, stream); break;
     case 3: runPaths<3>(censusL, censusR, prior16, p, sum, stream); break;
-    case 4: runPaths<4>(censusL, censusR, prior16, p, sum, stream); break;
-    case 5: runPaths<5>(censusL, censusR, prior16, p, sum, stream); break;
-    case 6: runPaths<6>(censusL, censusR, prior16, p, sum, stream); break;
-    case 7: runPaths<7>(censusL, censusR, prior16, p, sum, stream); break;
-    default: runPaths<8>(censusL, censusR, prior16, p, sum, stream); break;
+    default: runPaths<4>(censusL, censusR, prior16, p, sum, stream); break;
     }
 }
 
