@@ -44,15 +44,15 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
  pairs of 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for that), so no
  carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
  The loads for the next pixel are issued before the current step's recurrence, to hide their latency. */
-template <int PPT>
+template <int PPT, bool ROW_IN_SMEM>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PipelineParams p, PtrStepSz<ushort> sum)
+                           PipelineParams p, PtrStepSz<ushort> sum, int firstDir)
 {
     const int DPT = 2 * PPT;
     const int dirs[8][2] = { {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, 1}, {1, -1}, {-1, -1} };
-    const int dx = dirs[blockIdx.y][0], dy = dirs[blockIdx.y][1];
+    const int dx = dirs[firstDir + blockIdx.y][0], dy = dirs[firstDir + blockIdx.y][1];
     const int lane = threadIdx.x & 31;
-    const int line = blockIdx.x * WARPS_PER_BLOCK + (threadIdx.x >> 5);
+    const int line = blockIdx.x * (blockDim.x >> 5) + (threadIdx.x >> 5);
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int x, y;
     if (!lineStart(line, dx, dy, W, H, x, y))
@@ -61,13 +61,37 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     const int d0 = lane * DPT;
     const bool active = d0 < D;   // D is a multiple of 16, so pairs never straddle D
 
+    // Horizontal lines (one warp per block) walk 1 row: stage its census strings and prior in shared memory, so
+    // each step's loads are short. Other directions read through the caches.
+    extern __shared__ int rowBuf[];
+    const int* rowL = censusL.ptr(y);
+    const int* rowR = censusR.ptr(y);
+    const short* rowP = prior16.data ? prior16.ptr(y) : nullptr;
+    if (ROW_IN_SMEM)
+    {
+        int* sL = rowBuf;
+        int* sR = rowBuf + W;
+        short* sP = (short*)(rowBuf + 2 * W);
+        for (int i = lane; i < W; i += 32)
+        {
+            sL[i] = rowL[i];
+            sR[i] = rowR[i];
+            sP[i] = rowP ? rowP[i] : NO_DISP;
+        }
+        __syncwarp();
+        rowL = sL; rowR = sR; rowP = sP;
+    }
+#define LIDARSGM_CENSUS_L(yy, xx) (ROW_IN_SMEM ? rowL[xx] : censusL(yy, xx))
+#define LIDARSGM_CENSUS_R(yy, xx) (ROW_IN_SMEM ? rowR[xx] : censusR(yy, xx))
+#define LIDARSGM_PRIOR(yy, xx) (ROW_IN_SMEM ? (int)rowP[xx] : (prior16.data ? (int)prior16(yy, xx) : (int)NO_DISP))
+
     // Values of the current pixel, loaded one step ahead.
-    unsigned l = (unsigned)censusL(y, x);
-    int pr = prior16.data ? prior16(y, x) : NO_DISP;
+    unsigned l = (unsigned)LIDARSGM_CENSUS_L(y, x);
+    int pr = LIDARSGM_PRIOR(y, x);
     unsigned r[DPT];
 #pragma unroll
     for (int j = 0; j < DPT; j++)
-        r[j] = (unsigned)censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1));
+        r[j] = (unsigned)LIDARSGM_CENSUS_R(y, ::min(::max(x - minD - d0 - j, 0), W - 1));
 
     int L[DPT];
     int minPrev = 0;
@@ -89,11 +113,11 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         const bool more = x >= 0 && x < W && y >= 0 && y < H;
         if (more)
         {
-            l = (unsigned)censusL(y, x);
-            pr = prior16.data ? prior16(y, x) : NO_DISP;
+            l = (unsigned)LIDARSGM_CENSUS_L(y, x);
+            pr = LIDARSGM_PRIOR(y, x);
 #pragma unroll
             for (int j = 0; j < DPT; j++)
-                r[j] = (unsigned)censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1));
+                r[j] = (unsigned)LIDARSGM_CENSUS_R(y, ::min(::max(x - minD - d0 - j, 0), W - 1));
         }
         if (start)
         {
@@ -134,6 +158,9 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         if (!more)
             break;
     }
+#undef LIDARSGM_CENSUS_L
+#undef LIDARSGM_CENSUS_R
+#undef LIDARSGM_PRIOR
 }
 
 template <int PPT>
@@ -141,9 +168,23 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> p
               PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-    const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths);
-    pathKernel<PPT><<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, prior16, p, sum);
+    // Horizontal lines: one warp per block, the row in shared memory (2 ints + 1 short per pixel).
+    const size_t smem = (size_t)W * (2 * sizeof(int) + sizeof(short)) + 16;
+    const size_t smemMax = 160 * 1024;
+    if (smem <= smemMax)
+    {
+        if (smem > 48 * 1024)
+            cudaSafeCall(cudaFuncSetAttribute(pathKernel<PPT, true>, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smemMax));
+        pathKernel<PPT, true><<<dim3(H, 2), 32, smem, stream>>>(censusL, censusR, prior16, p, sum, 0);
+    }
+    else  // rows wider than ~16000 pixels: read them through the caches
+        pathKernel<PPT, false><<<dim3((H + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, 2), 32 * WARPS_PER_BLOCK, 0, stream>>>(
+            censusL, censusR, prior16, p, sum, 0);
+    cudaSafeCall(cudaGetLastError());
+    // The other directions: vertical (and the four diagonals), several warps per block.
+    const int maxLines = p.numPaths == 8 ? W + H - 1 : W;
+    const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths - 2);
+    pathKernel<PPT, false><<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, prior16, p, sum, 2);
     cudaSafeCall(cudaGetLastError());
 }
 

@@ -27,7 +27,7 @@ done
 $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50
 if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
   # Per-kernel durations of one SDSGM call (the second: the first includes module loading).
-  ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 6 --launch-count 6 \
+  ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 7 --launch-count 8 \
       $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
