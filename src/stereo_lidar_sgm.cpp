@@ -372,6 +372,12 @@ private:
     }
 
 #ifdef HAVE_CUDA
+    static void cudaCheck(cudaError_t err)
+    {
+        if (err != cudaSuccess)
+            CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
+    }
+
     template <typename T>
     static cuda::PtrStepSz<T> ptr(const cuda::GpuMat& m)
     {
@@ -440,14 +446,18 @@ private:
         }
 
         g_sum_.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
-        ci::aggregateCosts(g_censusL_, g_censusR_, ptr<short>(prior), p, g_sum_, st);
+        if (!auxStream_)
+        {
+            // Created once per instance: the horizontal paths run on this stream beside the others.
+            cudaCheck(cudaStreamCreateWithFlags(&auxStream_, cudaStreamNonBlocking));
+            cudaCheck(cudaEventCreateWithFlags(&forkEvent_, cudaEventDisableTiming));
+            cudaCheck(cudaEventCreateWithFlags(&joinEvent_, cudaEventDisableTiming));
+        }
+        ci::aggregateCosts(g_censusL_, g_censusR_, ptr<short>(prior), p, g_sum_, st, auxStream_, forkEvent_, joinEvent_);
         g_disp16_.create(sz, CV_16SC1);
         g_dispInt_.create(sz, CV_16SC1);
         g_rightKey_.create(sz, CV_32SC1);
-        const cudaError_t err = cudaMemset2DAsync(g_rightKey_.data, g_rightKey_.step, 0xFF, sz.width * sizeof(int),
-                                                  sz.height, st);
-        if (err != cudaSuccess)
-            CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
+        cudaCheck(cudaMemset2DAsync(g_rightKey_.data, g_rightKey_.step, 0xFF, sz.width * sizeof(int), sz.height, st));
         ci::winnerTakesAll(g_sum_, sz.width, p, g_disp16_, g_dispInt_, g_rightKey_, st);
         ci::consistencyCheck(g_disp16_, g_dispInt_, g_rightKey_, ptr<short>(g_sparse16_), p, o16, o32, st);
     }
@@ -470,6 +480,20 @@ private:
     Mat censusL_, censusR_, sparse16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
 #ifdef HAVE_CUDA
     cuda::GpuMat g_censusL_, g_censusR_, g_sparse16_, g_semidense16_, g_sum_, g_disp16_, g_dispInt_, g_rightKey_;
+    cudaStream_t auxStream_ = nullptr;
+    cudaEvent_t forkEvent_ = nullptr, joinEvent_ = nullptr;
+
+public:
+    ~StereoLidarSGMImpl() CV_OVERRIDE
+    {
+        if (auxStream_)
+        {
+            cudaStreamSynchronize(auxStream_);
+            cudaStreamDestroy(auxStream_);
+            cudaEventDestroy(forkEvent_);
+            cudaEventDestroy(joinEvent_);
+        }
+    }
 #endif
 };
 

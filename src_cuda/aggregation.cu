@@ -165,8 +165,10 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 
 template <int PPT>
 void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, const PipelineParams& p,
-              PtrStepSz<ushort> sum, cudaStream_t stream)
+              PtrStepSz<ushort> sum, cudaStream_t stream, cudaStream_t aux, cudaEvent_t fork, cudaEvent_t join)
 {
+    cudaSafeCall(cudaEventRecord(fork, stream));
+    cudaSafeCall(cudaStreamWaitEvent(aux, fork, 0));
     const int W = censusL.cols, H = censusL.rows;
     // Horizontal lines: one warp per block, the row in shared memory (2 ints + 1 short per pixel).
     const size_t smem = (size_t)W * (2 * sizeof(int) + sizeof(short)) + 16;
@@ -175,31 +177,34 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> p
     {
         if (smem > 48 * 1024)
             cudaSafeCall(cudaFuncSetAttribute(pathKernel<PPT, true>, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smemMax));
-        pathKernel<PPT, true><<<dim3(H, 2), 32, smem, stream>>>(censusL, censusR, prior16, p, sum, 0);
+        pathKernel<PPT, true><<<dim3(H, 2), 32, smem, aux>>>(censusL, censusR, prior16, p, sum, 0);
     }
     else  // rows wider than ~16000 pixels: read them through the caches
-        pathKernel<PPT, false><<<dim3((H + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, 2), 32 * WARPS_PER_BLOCK, 0, stream>>>(
+        pathKernel<PPT, false><<<dim3((H + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, 2), 32 * WARPS_PER_BLOCK, 0, aux>>>(
             censusL, censusR, prior16, p, sum, 0);
     cudaSafeCall(cudaGetLastError());
+    cudaSafeCall(cudaEventRecord(join, aux));
     // The other directions: vertical (and the four diagonals), several warps per block.
     const int maxLines = p.numPaths == 8 ? W + H - 1 : W;
     const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths - 2);
     pathKernel<PPT, false><<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, prior16, p, sum, 2);
     cudaSafeCall(cudaGetLastError());
+    cudaSafeCall(cudaStreamWaitEvent(stream, join, 0));
 }
 
 } // namespace
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream,
+                    cudaStream_t aux, cudaEvent_t fork, cudaEvent_t join)
 {
     cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPaths<1>(censusL, censusR, prior16, p, sum, stream); break;
-    case 2: runPaths<2>(censusL, censusR, prior16, p, sum, stream); break;
-    case 3: runPaths<3>(censusL, censusR, prior16, p, sum, stream); break;
-    default: runPaths<4>(censusL, censusR, prior16, p, sum, stream); break;
+    case 1: runPaths<1>(censusL, censusR, prior16, p, sum, stream, aux, fork, join); break;
+    case 2: runPaths<2>(censusL, censusR, prior16, p, sum, stream, aux, fork, join); break;
+    case 3: runPaths<3>(censusL, censusR, prior16, p, sum, stream, aux, fork, join); break;
+    default: runPaths<4>(censusL, censusR, prior16, p, sum, stream, aux, fork, join); break;
     }
 }
 

@@ -24,9 +24,12 @@ void censusTransform(PtrStepSz<uchar> img8, PtrStepSz<ushort> img16, PtrStepSz<i
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
-//! All paths, matching cost computed on the fly; sum: rows = image rows, cols = width * numDisparities.
+/** All paths, matching cost computed on the fly; sum: rows = image rows, cols = width * numDisparities. The
+horizontal paths run on `aux` alongside the others (forked and joined with the two events), so the call stays
+asynchronous and graph-capturable. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream,
+                    cudaStream_t aux, cudaEvent_t fork, cudaEvent_t join);
 
 //! rightKey (rows x width, int) must be filled with -1 (0xFFFFFFFF) beforehand.
 void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
