@@ -3,6 +3,7 @@
 
 // Stereo-LiDAR consistency check, CUDA twin of src/consistency_check.cpp, fused with the conversion to the output
 // format (what StereoLidarSGMImpl::writeOutput does on the CPU). With dispInt empty it only converts (semidensify).
+// Tile coordinates are packed in 16 bits each (images below 32768 pixels a side).
 
 #include "opencv2/lidarsgm.hpp"
 #include "pipeline_cuda.hpp"
@@ -10,19 +11,48 @@
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
+/* One block = 32 x 8 pixels. For the LiDAR test it first lists the sparse points of its tile (the pixels plus rc on
+ every side) in shared memory, so a pixel scans the few points there instead of its whole (2 rc + 1)^2 window. The
+ test is "does any point qualify", so the list's order, which depends on thread timing, cannot change the result. */
 __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
                             PtrStepSz<short> sparse16, PipelineParams p, PtrStepSz<short> out16, PtrStepSz<float> out32)
 {
-    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
+    __shared__ int count;
+    typedef StereoLidarSGM S;
     const int W = disp16.cols, H = disp16.rows;
+    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
+    const bool useStereo = p.check == S::CHECK_STEREO || p.check == S::CHECK_STEREO_LIDAR;
+    const bool useLidar = dispInt.data && (p.check == S::CHECK_CAMERA_LIDAR || p.check == S::CHECK_STEREO_LIDAR);
+    const int rc = p.checkRadius, tc = p.checkThreshold16;
+    if (useLidar)
+    {
+        if (tid == 0)
+            count = 0;
+        __syncthreads();
+        const int tx0 = blockIdx.x * blockDim.x - rc, ty0 = blockIdx.y * blockDim.y - rc;
+        const int tw = blockDim.x + 2 * rc, th = blockDim.y + 2 * rc;
+        for (int i = tid; i < tw * th; i += nthreads)
+        {
+            const int tx = tx0 + i % tw, ty = ty0 + i / tw;
+            if (tx < 0 || ty < 0 || tx >= W || ty >= H)
+                continue;
+            const int v = sparse16(ty, tx);
+            if (v != NO_DISP)
+            {
+                const int k = atomicAdd(&count, 1);
+                points[2 * k] = (ty << 16) | tx;
+                points[2 * k + 1] = v;
+            }
+        }
+        __syncthreads();
+    }
     if (x >= W || y >= H)
         return;
-    typedef StereoLidarSGM S;
     int v = disp16(y, x);
     if (v != NO_DISP && dispInt.data && p.check != S::CHECK_NONE)
     {
-        const bool useStereo = p.check == S::CHECK_STEREO || p.check == S::CHECK_STEREO_LIDAR;
-        const bool useLidar = p.check == S::CHECK_CAMERA_LIDAR || p.check == S::CHECK_STEREO_LIDAR;
         bool ok = false;
         if (useStereo)
         {
@@ -36,19 +66,15 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
         }
         if (!ok && useLidar)
         {
-            const int rc = p.checkRadius, tc = p.checkThreshold16;
-            const int r0 = ::max(0, y - rc), r1 = ::min(H - 1, y + rc), c0 = ::max(0, x - rc), c1 = ::min(W - 1, x + rc);
-            for (int q = r0; q <= r1 && !ok; q++)
+            const int n = count;
+            for (int k = 0; k < n; k++)
             {
-                const short* s = sparse16.ptr(q);
-                for (int c = c0; c <= c1; c++)
+                const int pos = points[2 * k];
+                const int px = pos & 0xFFFF, py = pos >> 16;
+                if (abs(px - x) <= rc && abs(py - y) <= rc && abs(v - points[2 * k + 1]) <= tc)
                 {
-                    const int sv = s[c];
-                    if (sv != NO_DISP && abs(v - sv) <= tc)
-                    {
-                        ok = true;
-                        break;
-                    }
+                    ok = true;
+                    break;
                 }
             }
         }
@@ -67,7 +93,10 @@ void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStep
 {
     const dim3 block(32, 8);
     const dim3 grid(cv::cuda::device::divUp(disp16.cols, block.x), cv::cuda::device::divUp(disp16.rows, block.y));
-    checkKernel<<<grid, block, 0, stream>>>(disp16, dispInt, rightKey, sparse16, p, out16, out32);
+    const size_t smem = (size_t)(block.x + 2 * p.checkRadius) * (block.y + 2 * p.checkRadius) * 2 * sizeof(int);
+    if (smem > 48 * 1024)  // rc up to 64: at most (32 + 128) x (8 + 128) points, 174 KB
+        cudaSafeCall(cudaFuncSetAttribute(checkKernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
+    checkKernel<<<grid, block, smem, stream>>>(disp16, dispInt, rightKey, sparse16, p, out16, out32);
     cudaSafeCall(cudaGetLastError());
 }
 

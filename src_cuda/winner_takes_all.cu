@@ -37,22 +37,35 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         rkey[i] = 0xFFFFFFFFu;
     __syncthreads();
 
+    // Load the costs of all of this warp's pixels first: four independent loads in flight instead of one.
+    unsigned v[PIXELS_PER_WARP][MAX_D / 32];
+#pragma unroll
+    for (int i = 0; i < PIXELS_PER_WARP; i++)
+    {
+        const int x = x0 + warp + WARPS * i;
+        const ushort* s = sum.ptr(y) + (size_t)::min(x, W - 1) * D;
+#pragma unroll
+        for (int j = 0; j < MAX_D / 32; j++)
+        {
+            const int d = lane + 32 * j;
+            v[i][j] = d < D && x < W ? (unsigned)s[d] : 0xFFFFu;
+        }
+    }
+#pragma unroll
     for (int i = 0; i < PIXELS_PER_WARP; i++)
     {
         const int x = x0 + warp + WARPS * i;
         if (x >= W)
             break;
         const ushort* s = sum.ptr(y) + (size_t)x * D;
-        unsigned v[MAX_D / 32];
         unsigned best = 0xFFFFFFFFu;
 #pragma unroll
         for (int j = 0; j < MAX_D / 32; j++)
         {
             const int d = lane + 32 * j;
-            v[j] = d < D ? (unsigned)s[d] : 0xFFFFu;
             if (d < D)
             {
-                const unsigned key = (v[j] << 16) | (unsigned)d;
+                const unsigned key = (v[i][j] << 16) | (unsigned)d;
                 best = ::min(best, key);
                 const int xr = x - minD - d;
                 if (xr >= 0 && xr < W)
@@ -70,7 +83,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
             {
                 const int d = lane + 32 * j;
                 if (d < D && (d < bd - 1 || d > bd + 1))
-                    second = ::min(second, v[j]);
+                    second = ::min(second, v[i][j]);
             }
             second = __reduce_min_sync(0xFFFFFFFFu, second);
             valid = second == 0xFFFFFFFFu || minv * 1024 <= p.uniqueness1024 * (int)second;
