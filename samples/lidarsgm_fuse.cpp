@@ -67,7 +67,9 @@ const char* kHelp =
     "  --timing N          time N runs per frame and compare with cv::StereoSGBM MODE_HH (same process)\n"
     "  --cuda 1            run on the GPU (GpuMat in and out); with --timing: CUDA-event medians against\n"
     "                      cv::cuda::StereoSGM, and the device memory one instance holds\n"
-    "  --threads N         cv::setNumThreads\n";
+    "  --threads N         cv::setNumThreads\n"
+    "  --resize WxH        (speed runs) scale the frame to W x H first\n"
+    "  --rounds N          (GPU timing) repeat the whole timing table N times, to show the spread\n";
 
 int modeFromName(const std::string& s)
 {
@@ -186,15 +188,15 @@ int cudaTiming(const Options& o, const Frame& f, int reps)
     printf("device: %s, %dx%d, %d disparities, %d paths, median of %d CUDA-event timings (ms)\n", info.name(),
            f.left.cols, f.left.rows, ndisp, o.i("paths", 8), reps);
     const int modes[3] = { Matcher::MODE_SDSGM, Matcher::MODE_DSGM, Matcher::MODE_SGM };
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < 3 * o.i("rounds", 1); k++)
     {
-        Ptr<Matcher> m = makeMatcher(o, modes[k], check, ndisp);
+        Ptr<Matcher> m = makeMatcher(o, modes[k % 3], check, ndisp);
         const size_t before = info.freeMemory();
         m->compute(gl, gr, gs, gd);
         cuda::Stream::Null().waitForCompletion();
         const size_t after = info.freeMemory();
         const double ms = eventMedian([&](cuda::Stream& st) { m->compute(gl, gr, gs, gd, st); }, reps);
-        printf("| lidarsgm %-5s | %8.3f ms | device memory held %.1f MB |\n", modeLabel(modes[k]), ms,
+        printf("| lidarsgm %-5s | %8.3f ms | device memory held %.1f MB |\n", modeLabel(modes[k % 3]), ms,
                before > after ? (before - after) / 1048576.0 : 0.0);
     }
 #ifdef LIDARSGM_HAVE_CUDASTEREO
@@ -541,7 +543,22 @@ int main(int argc, char** argv)
             return runMiddlebury(o);
         Frame f;
         if (o.has("kitti-frame"))
+        {
             f = loadKittiFrame(o.str("kitti-frame"), o.str("id", "000002"));
+            if (o.has("resize"))
+            {
+                // Speed runs at other sizes: the frame scaled (LiDAR disparities scaled with the width).
+                int w = 0, h = 0;
+                if (sscanf(o.str("resize").c_str(), "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0)
+                    CV_Error(Error::StsBadArg, "--resize takes WIDTHxHEIGHT");
+                const double sx = (double)w / f.left.cols;
+                resize(f.left, f.left, Size(w, h), 0, 0, INTER_LINEAR);
+                resize(f.right, f.right, Size(w, h), 0, 0, INTER_LINEAR);
+                resize(f.sparse, f.sparse, Size(w, h), 0, 0, INTER_NEAREST);
+                f.sparse *= sx;
+                f.gt.release();
+            }
+        }
         else if (o.has("left") && o.has("right"))
         {
             f.name = o.str("left");

@@ -413,10 +413,10 @@ private:
         namespace ci = cuda_impl;
         g_censusL_.create(sz, CV_32SC1);
         g_censusR_.create(sz, CV_32SC1);
-        ci::censusTransform(L.depth() == CV_8U ? ptr<uchar>(L) : cuda::PtrStepSz<uchar>(),
-                            L.depth() == CV_16U ? ptr<ushort>(L) : cuda::PtrStepSz<ushort>(), g_censusL_, st);
-        ci::censusTransform(R.depth() == CV_8U ? ptr<uchar>(R) : cuda::PtrStepSz<uchar>(),
-                            R.depth() == CV_16U ? ptr<ushort>(R) : cuda::PtrStepSz<ushort>(), g_censusR_, st);
+        const bool u8 = L.depth() == CV_8U;
+        ci::censusTransform(u8 ? ptr<uchar>(L) : cuda::PtrStepSz<uchar>(), u8 ? ptr<uchar>(R) : cuda::PtrStepSz<uchar>(),
+                            u8 ? cuda::PtrStepSz<ushort>() : ptr<ushort>(L), u8 ? cuda::PtrStepSz<ushort>() : ptr<ushort>(R),
+                            g_censusL_, g_censusR_, st);
         if (!Sp.empty())
         {
             g_sparse16_.create(sz, CV_16SC1);

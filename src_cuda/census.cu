@@ -9,11 +9,8 @@
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 template <typename T>
-__global__ void censusKernel(PtrStepSz<T> img, PtrStepSz<int> census)
+__device__ __forceinline__ void censusAt(const PtrStepSz<T>& img, PtrStepSz<int>& census, int x, int y)
 {
-    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    if (x >= img.cols || y >= img.rows)
-        return;
     const int rx = CENSUS_WIDTH / 2, ry = CENSUS_HEIGHT / 2;
     unsigned c = 0;
     for (int dy = -ry; dy <= 0; dy++)
@@ -31,14 +28,28 @@ __global__ void censusKernel(PtrStepSz<T> img, PtrStepSz<int> census)
     census(y, x) = (int)c;
 }
 
-void censusTransform(PtrStepSz<uchar> img8, PtrStepSz<ushort> img16, PtrStepSz<int> census, cudaStream_t stream)
+//! Both images in one launch: blockIdx.z picks the image.
+template <typename T>
+__global__ void censusKernel(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<int> censusL, PtrStepSz<int> censusR)
+{
+    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x >= left.cols || y >= left.rows)
+        return;
+    if (blockIdx.z == 0)
+        censusAt(left, censusL, x, y);
+    else
+        censusAt(right, censusR, x, y);
+}
+
+void censusTransform(PtrStepSz<uchar> left8, PtrStepSz<uchar> right8, PtrStepSz<ushort> left16,
+                     PtrStepSz<ushort> right16, PtrStepSz<int> censusL, PtrStepSz<int> censusR, cudaStream_t stream)
 {
     const dim3 block(32, 8);
-    const dim3 grid(cv::cuda::device::divUp(census.cols, block.x), cv::cuda::device::divUp(census.rows, block.y));
-    if (img8.data)
-        censusKernel<uchar><<<grid, block, 0, stream>>>(img8, census);
+    const dim3 grid(cv::cuda::device::divUp(censusL.cols, block.x), cv::cuda::device::divUp(censusL.rows, block.y), 2);
+    if (left8.data)
+        censusKernel<uchar><<<grid, block, 0, stream>>>(left8, right8, censusL, censusR);
     else
-        censusKernel<ushort><<<grid, block, 0, stream>>>(img16, census);
+        censusKernel<ushort><<<grid, block, 0, stream>>>(left16, right16, censusL, censusR);
     cudaSafeCall(cudaGetLastError());
 }
 

@@ -19,7 +19,9 @@ using cv::cuda::PtrStepSz;
 void convertSparse(PtrStepSz<ushort> sparse16u, PtrStepSz<float> sparse32f, int minDisparity, int numDisparities,
                    PtrStepSz<short> sparse16, cudaStream_t stream);
 
-void censusTransform(PtrStepSz<uchar> img8, PtrStepSz<ushort> img16, PtrStepSz<int> census, cudaStream_t stream);
+//! Both images; the 8-bit or the 16-bit pair is given, the other left empty.
+void censusTransform(PtrStepSz<uchar> left8, PtrStepSz<uchar> right8, PtrStepSz<ushort> left16,
+                     PtrStepSz<ushort> right16, PtrStepSz<int> censusL, PtrStepSz<int> censusR, cudaStream_t stream);
 
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);

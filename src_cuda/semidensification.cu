@@ -2,41 +2,64 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Semidensification, CUDA twin of src/semidensification.cpp: the same candidate order (census cost, squared
-// distance, row, column), so ties resolve identically. One thread per pixel scans its window.
+// distance, row, column), so ties resolve identically.
 
 #include "pipeline_cuda.hpp"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
+/* One block = 32 x 8 pixels: the sparse points of its tile (plus rs on every side) are listed in shared memory in
+ raster order (each row's points by one warp, rows in turn), so each pixel visits only those points. The choice uses
+ the full key (cost, squared distance, row, column), so it does not depend on the order of the list. */
 __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                                 int rs, int Ts, PtrStepSz<short> out)
 {
-    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    extern __shared__ int points[];   // (y << 16 | x), value
+    __shared__ int count;
     const int W = out.cols, H = out.rows;
+    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
+    if (tid == 0)
+        count = 0;
+    __syncthreads();
+    const int tx0 = blockIdx.x * blockDim.x - rs, ty0 = blockIdx.y * blockDim.y - rs;
+    const int tw = blockDim.x + 2 * rs, th = blockDim.y + 2 * rs;
+    for (int i = tid; i < tw * th; i += nthreads)
+    {
+        const int tx = tx0 + i % tw, ty = ty0 + i / tw;
+        if (tx < 0 || ty < 0 || tx >= W || ty >= H)
+            continue;
+        const int v = sparse16(ty, tx);
+        if (v != NO_DISP)
+        {
+            const int k = atomicAdd(&count, 1);
+            points[2 * k] = (ty << 16) | tx;
+            points[2 * k + 1] = v;
+        }
+    }
+    __syncthreads();
     if (x >= W || y >= H)
         return;
     const unsigned l = (unsigned)censusL(y, x);
     const int* R = censusR.ptr(y);
     int bestCost = INT_MAX, bestDist = INT_MAX, bestRow = INT_MAX, bestCol = INT_MAX;
     short bestVal = NO_DISP;
-    const int r0 = ::max(0, y - rs), r1 = ::min(H - 1, y + rs), c0 = ::max(0, x - rs), c1 = ::min(W - 1, x + rs);
-    for (int q = r0; q <= r1; q++)
+    const int n = count;
+    for (int k = 0; k < n; k++)
     {
-        const short* s = sparse16.ptr(q);
-        for (int c = c0; c <= c1; c++)
+        const int pos = points[2 * k];
+        const int c = pos & 0xFFFF, q = pos >> 16;
+        if (abs(c - x) > rs || abs(q - y) > rs)
+            continue;
+        const short v = (short)points[2 * k + 1];
+        const int xr = ::min(::max(x - roundDisp16(v), 0), W - 1);
+        const int cost = popcount32(l ^ (unsigned)R[xr]);
+        const int dist = (c - x) * (c - x) + (q - y) * (q - y);
+        if (cost < bestCost || (cost == bestCost && (dist < bestDist ||
+            (dist == bestDist && (q < bestRow || (q == bestRow && c < bestCol))))))
         {
-            const short v = s[c];
-            if (v == NO_DISP)
-                continue;
-            const int xr = ::min(::max(x - roundDisp16(v), 0), W - 1);
-            const int cost = popcount32(l ^ (unsigned)R[xr]);
-            const int dist = (c - x) * (c - x) + (q - y) * (q - y);
-            if (cost < bestCost || (cost == bestCost && (dist < bestDist ||
-                (dist == bestDist && (q < bestRow || (q == bestRow && c < bestCol))))))
-            {
-                bestCost = cost; bestDist = dist; bestRow = q; bestCol = c; bestVal = v;
-            }
+            bestCost = cost; bestDist = dist; bestRow = q; bestCol = c; bestVal = v;
         }
     }
     out(y, x) = bestCost < Ts ? bestVal : sparse16(y, x);
@@ -47,8 +70,11 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
 {
     const dim3 block(32, 8);
     const dim3 grid(cv::cuda::device::divUp(semidense16.cols, block.x), cv::cuda::device::divUp(semidense16.rows, block.y));
-    semidenseKernel<<<grid, block, 0, stream>>>(censusL, censusR, sparse16, p.semidenseRadius, p.semidenseThreshold,
-                                                semidense16);
+    const int rs = p.semidenseRadius;
+    const size_t smem = (size_t)(block.x + 2 * rs) * (block.y + 2 * rs) * 2 * sizeof(int);
+    if (smem > 48 * 1024)  // rs up to 32: at most 96 x 72 points, 54 KB
+        cudaSafeCall(cudaFuncSetAttribute(semidenseKernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
+    semidenseKernel<<<grid, block, smem, stream>>>(censusL, censusR, sparse16, rs, p.semidenseThreshold, semidense16);
     cudaSafeCall(cudaGetLastError());
 }
 

@@ -24,10 +24,15 @@ grep -E "^\[  FAILED|^\[  PASSED|^\[     SKIP|Failure" "$OUT/tests.log" | sort |
 for id in 000002 000046; do
   $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda 1 --modes sgm,dsgm,sdsgm
 done
-$B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50
+$B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 --rounds ${ROUNDS:-1}
+if [ "${SIZES:-0}" = 1 ]; then
+  for sz in 1920x1080 3840x2160; do
+    $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
+  done
+fi
 if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
   # Per-kernel durations of one SDSGM call (the second: the first includes module loading).
-  ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 7 --launch-count 8 \
+  ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 6 --launch-count 7 \
       $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
