@@ -170,25 +170,27 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> p
     cudaSafeCall(cudaEventRecord(fork, stream));
     cudaSafeCall(cudaStreamWaitEvent(aux, fork, 0));
     const int W = censusL.cols, H = censusL.rows;
-    // Horizontal lines: one warp per block, the row in shared memory (2 ints + 1 short per pixel).
+    // Horizontal lines: one warp per block, the row in shared memory (2 ints + 1 short per pixel). Their 1242-step
+    // walks are the critical path, so they are launched first, on the caller's stream; the other directions
+    // (many short lines) go on the auxiliary stream beside them.
     const size_t smem = (size_t)W * (2 * sizeof(int) + sizeof(short)) + 16;
     const size_t smemMax = 160 * 1024;
     if (smem <= smemMax)
     {
         if (smem > 48 * 1024)
             cudaSafeCall(cudaFuncSetAttribute(pathKernel<PPT, true>, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smemMax));
-        pathKernel<PPT, true><<<dim3(H, 2), 32, smem, aux>>>(censusL, censusR, prior16, p, sum, 0);
+        pathKernel<PPT, true><<<dim3(H, 2), 32, smem, stream>>>(censusL, censusR, prior16, p, sum, 0);
     }
     else  // rows wider than ~16000 pixels: read them through the caches
-        pathKernel<PPT, false><<<dim3((H + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, 2), 32 * WARPS_PER_BLOCK, 0, aux>>>(
+        pathKernel<PPT, false><<<dim3((H + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, 2), 32 * WARPS_PER_BLOCK, 0, stream>>>(
             censusL, censusR, prior16, p, sum, 0);
     cudaSafeCall(cudaGetLastError());
-    cudaSafeCall(cudaEventRecord(join, aux));
     // The other directions: vertical (and the four diagonals), several warps per block.
     const int maxLines = p.numPaths == 8 ? W + H - 1 : W;
     const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths - 2);
-    pathKernel<PPT, false><<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, prior16, p, sum, 2);
+    pathKernel<PPT, false><<<grid, 32 * WARPS_PER_BLOCK, 0, aux>>>(censusL, censusR, prior16, p, sum, 2);
     cudaSafeCall(cudaGetLastError());
+    cudaSafeCall(cudaEventRecord(join, aux));
     cudaSafeCall(cudaStreamWaitEvent(stream, join, 0));
 }
 

@@ -27,8 +27,8 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
 /** All paths, matching cost computed on the fly; sum: rows = image rows, cols = width * numDisparities. The
-horizontal paths run on `aux` alongside the others (forked and joined with the two events), so the call stays
-asynchronous and graph-capturable. */
+other directions run on `aux` beside the horizontal ones (forked and joined with the two events), so the call
+stays asynchronous and graph-capturable. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
                     const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream,
                     cudaStream_t aux, cudaEvent_t fork, cudaEvent_t join);
