@@ -30,6 +30,10 @@ if [ "${SIZES:-0}" = 1 ]; then
     $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
   done
 fi
+if [ "${PERF:-0}" = 1 ]; then
+  OPENCV_TEST_DATA_PATH=testdata $B/opencv_perf_lidarsgm --gtest_filter='*CUDA*' --perf_min_samples=30 2>&1 \
+    | grep -E "^\[ PERF|Lidarsgm_KITTI_CUDA.*(compute|StereoSGM).*[0-9]+\.[0-9]+" | tail -20
+fi
 if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
   # Per-kernel durations of one SDSGM call (the second: the first includes module loading).
   ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 6 --launch-count 7 \

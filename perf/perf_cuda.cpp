@@ -1,0 +1,81 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// CUDA path on KITTI frame 000002 (inputs and output on the GPU), against cv::cuda::StereoSGM in the same process.
+// Skipped where no CUDA device exists.
+#include "perf_precomp.hpp"
+#include "lidarsgm_eval.hpp"
+#include "opencv2/core/cuda.hpp"
+#ifdef HAVE_OPENCV_CUDASTEREO
+#include "opencv2/cudastereo.hpp"
+#endif
+
+namespace opencv_test { namespace {
+
+using cv::lidarsgm::StereoLidarSGM;
+
+static void requireDevice()
+{
+#ifndef HAVE_CUDA
+    throw SkipTestException("built without CUDA");
+#else
+    if (cv::cuda::getCudaEnabledDeviceCount() <= 0)
+        throw SkipTestException("no CUDA device");
+#endif
+}
+
+static void kittiOnGpu(cuda::GpuMat& l, cuda::GpuMat& r, cuda::GpuMat& s)
+{
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    Mat left = imread(dir + "/image_2/000002_10.png", IMREAD_GRAYSCALE), right = imread(dir + "/image_3/000002_10.png", IMREAD_GRAYSCALE);
+    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
+    Mat sparse;
+    cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/000002.bin"), c.P2,
+                                           c.lidarToCamera, c.focalBaseline, left.size(), sparse);
+    l.upload(left);
+    r.upload(right);
+    s.upload(sparse);
+}
+
+CV_ENUM(CudaFusionMode, StereoLidarSGM::MODE_SGM, StereoLidarSGM::MODE_DSGM, StereoLidarSGM::MODE_SDSGM)
+typedef perf::TestBaseWithParam<tuple<CudaFusionMode, int, int> > Lidarsgm_KITTI_CUDA;
+
+PERF_TEST_P(Lidarsgm_KITTI_CUDA, compute,
+            testing::Combine(CudaFusionMode::all(), testing::Values(4, 8), testing::Values(128, 256)))
+{
+    requireDevice();
+    cuda::GpuMat l, r, s, d;
+    kittiOnGpu(l, r, s);
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, get<2>(GetParam()), 10, 120, 5, 160, 0.7, get<0>(GetParam()));
+    m->setNumPaths(get<1>(GetParam()));
+    cuda::Stream stream;
+    m->compute(l, r, s, d, stream);
+    stream.waitForCompletion();
+    TEST_CYCLE()
+    {
+        m->compute(l, r, s, d, stream);
+        stream.waitForCompletion();
+    }
+    SANITY_CHECK_NOTHING();
+}
+
+#ifdef HAVE_OPENCV_CUDASTEREO
+typedef perf::TestBaseWithParam<int> Lidarsgm_KITTI_CUDA_Anchor;
+PERF_TEST_P(Lidarsgm_KITTI_CUDA_Anchor, opencv_cuda_StereoSGM_128, testing::Values(4, 8))
+{
+    requireDevice();
+    cuda::GpuMat l, r, s, d;
+    kittiOnGpu(l, r, s);
+    Ptr<cuda::StereoSGM> sgm = cuda::createStereoSGM(0, 128, 10, 120, 5,
+                                                      GetParam() == 8 ? cuda::StereoSGM::MODE_HH : cuda::StereoSGM::MODE_HH4);
+    cuda::Stream stream;
+    sgm->compute(l, r, d, stream);
+    stream.waitForCompletion();
+    TEST_CYCLE()
+    {
+        sgm->compute(l, r, d, stream);
+        stream.waitForCompletion();
+    }
+    SANITY_CHECK_NOTHING();
+}
+#endif
+
+}} // namespace
