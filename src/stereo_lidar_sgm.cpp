@@ -446,14 +446,7 @@ private:
         }
 
         g_sum_.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
-        if (!auxStream_)
-        {
-            // Created once per instance: the horizontal paths run on this stream beside the others.
-            cudaCheck(cudaStreamCreateWithFlags(&auxStream_, cudaStreamNonBlocking));
-            cudaCheck(cudaEventCreateWithFlags(&forkEvent_, cudaEventDisableTiming));
-            cudaCheck(cudaEventCreateWithFlags(&joinEvent_, cudaEventDisableTiming));
-        }
-        ci::aggregateCosts(g_censusL_, g_censusR_, ptr<short>(prior), p, g_sum_, st, auxStream_, forkEvent_, joinEvent_);
+        ci::aggregateCosts(g_censusL_, g_censusR_, ptr<short>(prior), p, g_sum_, st);
         g_disp16_.create(sz, CV_16SC1);
         g_dispInt_.create(sz, CV_16SC1);
         g_rightKey_.create(sz, CV_32SC1);
@@ -480,20 +473,6 @@ private:
     Mat censusL_, censusR_, sparse16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
 #ifdef HAVE_CUDA
     cuda::GpuMat g_censusL_, g_censusR_, g_sparse16_, g_semidense16_, g_sum_, g_disp16_, g_dispInt_, g_rightKey_;
-    cudaStream_t auxStream_ = nullptr;
-    cudaEvent_t forkEvent_ = nullptr, joinEvent_ = nullptr;
-
-public:
-    ~StereoLidarSGMImpl() CV_OVERRIDE
-    {
-        if (auxStream_)
-        {
-            cudaStreamSynchronize(auxStream_);
-            cudaStreamDestroy(auxStream_);
-            cudaEventDestroy(forkEvent_);
-            cudaEventDestroy(joinEvent_);
-        }
-    }
 #endif
 };
 

@@ -43,16 +43,18 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
 /* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 32-bit reductions on
  pairs of 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for that), so no
  carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
- The loads for the next pixel are issued before the current step's recurrence, to hide their latency. */
-template <int PPT, bool ROW_IN_SMEM>
+ The horizontal lines (1 row each, the longest walks: they are the critical path) stage their row of right census
+ strings in shared memory when it fits (rowSmem); the left census and prior are warp-uniform loads. The loads for
+ the next pixel are issued before the current step's recurrence, to hide their latency. */
+template <int PPT>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PipelineParams p, PtrStepSz<ushort> sum, int firstDir)
+                           PipelineParams p, PtrStepSz<ushort> sum, bool rowSmem)
 {
     const int DPT = 2 * PPT;
     const int dirs[8][2] = { {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, 1}, {1, -1}, {-1, -1} };
-    const int dx = dirs[firstDir + blockIdx.y][0], dy = dirs[firstDir + blockIdx.y][1];
-    const int lane = threadIdx.x & 31;
-    const int line = blockIdx.x * (blockDim.x >> 5) + (threadIdx.x >> 5);
+    const int dx = dirs[blockIdx.y][0], dy = dirs[blockIdx.y][1];
+    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
+    const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int x, y;
     if (!lineStart(line, dx, dy, W, H, x, y))
@@ -61,37 +63,26 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     const int d0 = lane * DPT;
     const bool active = d0 < D;   // D is a multiple of 16, so pairs never straddle D
 
-    // Horizontal lines (one warp per block) walk 1 row: stage its census strings and prior in shared memory, so
-    // each step's loads are short. Other directions read through the caches.
     extern __shared__ int rowBuf[];
-    const int* rowL = censusL.ptr(y);
+    const bool staged = rowSmem && dy == 0;
     const int* rowR = censusR.ptr(y);
-    const short* rowP = prior16.data ? prior16.ptr(y) : nullptr;
-    if (ROW_IN_SMEM)
+    if (staged)
     {
-        int* sL = rowBuf;
-        int* sR = rowBuf + W;
-        short* sP = (short*)(rowBuf + 2 * W);
+        int* sR = rowBuf + warp * W;
         for (int i = lane; i < W; i += 32)
-        {
-            sL[i] = rowL[i];
             sR[i] = rowR[i];
-            sP[i] = rowP ? rowP[i] : NO_DISP;
-        }
         __syncwarp();
-        rowL = sL; rowR = sR; rowP = sP;
+        rowR = sR;
     }
-#define LIDARSGM_CENSUS_L(yy, xx) (ROW_IN_SMEM ? rowL[xx] : censusL(yy, xx))
-#define LIDARSGM_CENSUS_R(yy, xx) (ROW_IN_SMEM ? rowR[xx] : censusR(yy, xx))
-#define LIDARSGM_PRIOR(yy, xx) (ROW_IN_SMEM ? (int)rowP[xx] : (prior16.data ? (int)prior16(yy, xx) : (int)NO_DISP))
 
-    // Values of the current pixel, loaded one step ahead.
-    unsigned l = (unsigned)LIDARSGM_CENSUS_L(y, x);
-    int pr = LIDARSGM_PRIOR(y, x);
+    // Values of the current pixel, loaded one step ahead. A horizontal line stays on row y; the others move.
+    unsigned l = (unsigned)censusL(y, x);
+    int pr = prior16.data ? prior16(y, x) : NO_DISP;
     unsigned r[DPT];
 #pragma unroll
     for (int j = 0; j < DPT; j++)
-        r[j] = (unsigned)LIDARSGM_CENSUS_R(y, ::min(::max(x - minD - d0 - j, 0), W - 1));
+        r[j] = (unsigned)(staged ? rowR[::min(::max(x - minD - d0 - j, 0), W - 1)]
+                                 : censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1)));
 
     int L[DPT];
     int minPrev = 0;
@@ -113,11 +104,12 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         const bool more = x >= 0 && x < W && y >= 0 && y < H;
         if (more)
         {
-            l = (unsigned)LIDARSGM_CENSUS_L(y, x);
-            pr = LIDARSGM_PRIOR(y, x);
+            l = (unsigned)censusL(y, x);
+            pr = prior16.data ? prior16(y, x) : NO_DISP;
 #pragma unroll
             for (int j = 0; j < DPT; j++)
-                r[j] = (unsigned)LIDARSGM_CENSUS_R(y, ::min(::max(x - minD - d0 - j, 0), W - 1));
+                r[j] = (unsigned)(staged ? rowR[::min(::max(x - minD - d0 - j, 0), W - 1)]
+                                         : censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1)));
         }
         if (start)
         {
@@ -158,55 +150,35 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         if (!more)
             break;
     }
-#undef LIDARSGM_CENSUS_L
-#undef LIDARSGM_CENSUS_R
-#undef LIDARSGM_PRIOR
 }
 
 template <int PPT>
 void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, const PipelineParams& p,
-              PtrStepSz<ushort> sum, cudaStream_t stream, cudaStream_t aux, cudaEvent_t fork, cudaEvent_t join)
+              PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    cudaSafeCall(cudaEventRecord(fork, stream));
-    cudaSafeCall(cudaStreamWaitEvent(aux, fork, 0));
     const int W = censusL.cols, H = censusL.rows;
-    // Horizontal lines: one warp per block, the row in shared memory (2 ints + 1 short per pixel). Their 1242-step
-    // walks are the critical path, so they are launched first, on the caller's stream; the other directions
-    // (many short lines) go on the auxiliary stream beside them.
-    const size_t smem = (size_t)W * (2 * sizeof(int) + sizeof(short)) + 16;
-    const size_t smemMax = 160 * 1024;
-    if (smem <= smemMax)
-    {
-        if (smem > 48 * 1024)
-            cudaSafeCall(cudaFuncSetAttribute(pathKernel<PPT, true>, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smemMax));
-        pathKernel<PPT, true><<<dim3(H, 2), 32, smem, stream>>>(censusL, censusR, prior16, p, sum, 0);
-    }
-    else  // rows wider than ~16000 pixels: read them through the caches
-        pathKernel<PPT, false><<<dim3((H + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, 2), 32 * WARPS_PER_BLOCK, 0, stream>>>(
-            censusL, censusR, prior16, p, sum, 0);
+    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
+    const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths);
+    // Every block gets the shared memory of 4 rows; up to 24 KB (rows up to 1536 pixels) it costs no occupancy
+    // worth having, beyond that the rows are read through the caches.
+    const size_t smem = (size_t)WARPS_PER_BLOCK * W * sizeof(int);
+    const bool rowSmem = smem <= 24 * 1024;
+    pathKernel<PPT><<<grid, 32 * WARPS_PER_BLOCK, rowSmem ? smem : 0, stream>>>(censusL, censusR, prior16, p, sum, rowSmem);
     cudaSafeCall(cudaGetLastError());
-    // The other directions: vertical (and the four diagonals), several warps per block.
-    const int maxLines = p.numPaths == 8 ? W + H - 1 : W;
-    const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths - 2);
-    pathKernel<PPT, false><<<grid, 32 * WARPS_PER_BLOCK, 0, aux>>>(censusL, censusR, prior16, p, sum, 2);
-    cudaSafeCall(cudaGetLastError());
-    cudaSafeCall(cudaEventRecord(join, aux));
-    cudaSafeCall(cudaStreamWaitEvent(stream, join, 0));
 }
 
 } // namespace
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream,
-                    cudaStream_t aux, cudaEvent_t fork, cudaEvent_t join)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPaths<1>(censusL, censusR, prior16, p, sum, stream, aux, fork, join); break;
-    case 2: runPaths<2>(censusL, censusR, prior16, p, sum, stream, aux, fork, join); break;
-    case 3: runPaths<3>(censusL, censusR, prior16, p, sum, stream, aux, fork, join); break;
-    default: runPaths<4>(censusL, censusR, prior16, p, sum, stream, aux, fork, join); break;
+    case 1: runPaths<1>(censusL, censusR, prior16, p, sum, stream); break;
+    case 2: runPaths<2>(censusL, censusR, prior16, p, sum, stream); break;
+    case 3: runPaths<3>(censusL, censusR, prior16, p, sum, stream); break;
+    default: runPaths<4>(censusL, censusR, prior16, p, sum, stream); break;
     }
 }
 

@@ -26,12 +26,9 @@ void censusTransform(PtrStepSz<uchar> left8, PtrStepSz<uchar> right8, PtrStepSz<
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
-/** All paths, matching cost computed on the fly; sum: rows = image rows, cols = width * numDisparities. The
-other directions run on `aux` beside the horizontal ones (forked and joined with the two events), so the call
-stays asynchronous and graph-capturable. */
+//! All paths, matching cost computed on the fly; sum: rows = image rows, cols = width * numDisparities.
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream,
-                    cudaStream_t aux, cudaEvent_t fork, cudaEvent_t join);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
 
 //! rightKey (rows x width, int) must be filled with -1 (0xFFFFFFFF) beforehand.
 void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
