@@ -51,8 +51,11 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                            PipelineParams p, PtrStepSz<ushort> sum, bool rowSmem)
 {
     const int DPT = 2 * PPT;
-    const int dirs[8][2] = { {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, 1}, {1, -1}, {-1, -1} };
-    const int dx = dirs[blockIdx.y][0], dy = dirs[blockIdx.y][1];
+    // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
+    // indexed by blockIdx would live in local memory).
+    const int dir = blockIdx.y;
+    const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
+    const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
     const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
     const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
