@@ -30,9 +30,18 @@ if [ "${SIZES:-0}" = 1 ]; then
     $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
   done
 fi
+if [ "${SANITIZE:-0}" = 1 ] && command -v compute-sanitizer >/dev/null; then
+  # The small-image CUDA tests (random sizes, ROI, graph capture) under memcheck and racecheck.
+  for tool in memcheck racecheck; do
+    timeout 200 compute-sanitizer --tool $tool --error-exitcode 99 env OPENCV_TEST_DATA_PATH=testdata \
+      $B/opencv_test_lidarsgm --gtest_filter='*CUDA_Random*:*roi_input*' > "$OUT/sanitize_$tool.log" 2>&1
+    echo "compute-sanitizer $tool: exit $? ($(grep -E 'ERROR SUMMARY|RACECHECK SUMMARY' "$OUT/sanitize_$tool.log" | tail -1)) $(grep -E '^\[  (PASSED|FAILED)' "$OUT/sanitize_$tool.log" | head -1)"
+  done
+fi
 if [ "${PERF:-0}" = 1 ]; then
   OPENCV_TEST_DATA_PATH=testdata $B/opencv_perf_lidarsgm --gtest_filter='*CUDA*' --perf_min_samples=30 2>&1 \
-    | grep -E "^\[ PERF|Lidarsgm_KITTI_CUDA.*(compute|StereoSGM).*[0-9]+\.[0-9]+" | tail -20
+    > "$OUT/perf_cuda.log" 2>&1
+  grep -E "^\[ RUN|PERFSTAT" "$OUT/perf_cuda.log" | paste - - | sed -E 's/.*Lidarsgm_KITTI_CUDA[_A-Za-z]*\.([a-zA-Z_0-9]+)\/[0-9]+, where GetParam\(\) = (.*) \[ PERFSTAT.*median=([0-9.]+).*/\1 \2 median \3 ms/' | head -20
 fi
 if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
   # Per-kernel durations of one SDSGM call (the second: the first includes module loading).
