@@ -33,8 +33,8 @@ fi
 if [ "${SANITIZE:-0}" = 1 ] && command -v compute-sanitizer >/dev/null; then
   # The small-image CUDA tests (random sizes, ROI, graph capture) under memcheck and racecheck.
   for tool in memcheck racecheck; do
-    timeout 200 compute-sanitizer --tool $tool --error-exitcode 99 env OPENCV_TEST_DATA_PATH=testdata \
-      $B/opencv_test_lidarsgm --gtest_filter='*CUDA_Random*:*roi_input*' > "$OUT/sanitize_$tool.log" 2>&1
+    timeout ${SAN_TIMEOUT:-200} compute-sanitizer --tool $tool --error-exitcode 99 env OPENCV_TEST_DATA_PATH=testdata \
+      $B/opencv_test_lidarsgm --gtest_filter="${SAN_FILTER:-*CUDA_Random*:*roi_input*}" > "$OUT/sanitize_$tool.log" 2>&1
     echo "compute-sanitizer $tool: exit $? ($(grep -E 'ERROR SUMMARY|RACECHECK SUMMARY' "$OUT/sanitize_$tool.log" | tail -1)) $(grep -E '^\[  (PASSED|FAILED)' "$OUT/sanitize_$tool.log" | head -1)"
   done
 fi
