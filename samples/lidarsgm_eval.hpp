@@ -12,6 +12,7 @@
 #include "opencv2/imgcodecs.hpp"
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -236,6 +237,46 @@ inline ErrorStats evaluate(const cv::Mat& est, const cv::Mat& gt, Outlier isOutl
             }
         }
     return s;
+}
+
+/** A Middlebury scene folder in one of the layouts of ../shared/data/middlebury (2003: im2/im6 + disp2 / 4;
+2005-06 half size: view1/view5 + disp1 / 2; 2014: im0/im1 + disp0.pfm; 2006 full size: aloeL/aloeR + aloeGT).
+Images are read as grey; the ground truth as float pixels with -1 for "unknown". False if no layout matches. */
+inline bool loadMiddlebury(const std::string& sceneDir, cv::Mat& left, cv::Mat& right, cv::Mat& gt)
+{
+    struct Layout { const char *l, *r, *gt; double scale; };
+    static const Layout layouts[] = { {"im2.png", "im6.png", "disp2.png", 4.0}, {"view1.png", "view5.png", "disp1.png", 2.0},
+                                      {"im0.png", "im1.png", "disp0.pfm", 1.0}, {"aloeL.jpg", "aloeR.jpg", "aloeGT.png", 1.0} };
+    for (size_t i = 0; i < sizeof(layouts) / sizeof(layouts[0]); i++)
+    {
+        const std::string g = sceneDir + "/" + layouts[i].gt;
+        if (!std::ifstream(g.c_str()).good())
+            continue;
+        cv::Mat raw = cv::imread(g, cv::IMREAD_UNCHANGED);
+        left = cv::imread(sceneDir + "/" + layouts[i].l, cv::IMREAD_GRAYSCALE);
+        right = cv::imread(sceneDir + "/" + layouts[i].r, cv::IMREAD_GRAYSCALE);
+        if (raw.empty() || left.empty() || right.empty())
+            return false;
+        raw.convertTo(gt, CV_32F, 1.0 / layouts[i].scale);
+        if (raw.depth() == CV_32F)
+            gt.setTo(-1.f, ~(raw < std::numeric_limits<float>::infinity()));  // PFM: inf = unknown
+        else
+            gt.setTo(-1.f, raw == 0);
+        return true;
+    }
+    return false;
+}
+
+//! The paper's indoor protocol: a fraction of the ground-truth pixels drawn with a fixed seed, as CV_32F (0 = none).
+inline cv::Mat sampleGroundTruth(const cv::Mat& gt, double fraction, uint64 seed)
+{
+    cv::RNG rng(seed);
+    cv::Mat sparse(gt.size(), CV_32F, cv::Scalar::all(0));
+    for (int y = 0; y < gt.rows; y++)
+        for (int x = 0; x < gt.cols; x++)
+            if (gt.at<float>(y, x) > 0 && rng.uniform(0.0, 1.0) < fraction)
+                sparse.at<float>(y, x) = gt.at<float>(y, x);
+    return sparse;
 }
 
 /** The KITTI devkit's disparity colour map (black-blue-magenta-red-yellow-white ramp over [0, maxDisp]); pixels with

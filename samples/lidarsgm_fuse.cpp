@@ -416,30 +416,8 @@ int runKitti(const Options& o)
 // ---- Middlebury folder -------------------------------------------------------------------------------------------
 bool loadMiddleburyScene(const std::string& dir, const std::string& name, Frame& f)
 {
-    struct Layout { const char *l, *r, *gt; double scale; };
-    static const Layout layouts[] = { {"im2.png", "im6.png", "disp2.png", 4.0}, {"view1.png", "view5.png", "disp1.png", 2.0},
-                                      {"im0.png", "im1.png", "disp0.pfm", 1.0}, {"aloeL.jpg", "aloeR.jpg", "aloeGT.png", 1.0} };
-    const std::string base = dir + "/" + name + "/";
-    for (size_t i = 0; i < sizeof(layouts) / sizeof(layouts[0]); i++)
-    {
-        if (!std::ifstream((base + layouts[i].gt).c_str()).good())
-            continue;
-        Mat gt = imread(base + layouts[i].gt, IMREAD_UNCHANGED);
-        if (gt.empty())
-            continue;
-        f.name = name;
-        f.left = readGrey(base + layouts[i].l);
-        f.right = readGrey(base + layouts[i].r);
-        Mat g;
-        gt.convertTo(g, CV_32F, 1.0 / layouts[i].scale);
-        if (gt.depth() == CV_32F)
-            g.setTo(-1.f, ~(gt < std::numeric_limits<float>::infinity()));  // PFM: inf = unknown
-        else
-            g.setTo(-1.f, gt == 0);
-        f.gt = g;
-        return true;
-    }
-    return false;
+    f.name = name;
+    return loadMiddlebury(dir + "/" + name, f.left, f.right, f.gt);
 }
 
 int runMiddlebury(const Options& o)
@@ -480,13 +458,7 @@ int runMiddlebury(const Options& o)
         double maxGt = 0;
         minMaxLoc(f.gt, nullptr, &maxGt);
         const int ndisp = std::min(256, std::max(64, ((int)std::ceil(maxGt) + 1 + 15) / 16 * 16));
-        // 1 % of the ground-truth pixels, drawn with a fixed seed.
-        RNG rng((uint64)seed);
-        f.sparse = Mat(f.gt.size(), CV_32F, Scalar::all(0));
-        for (int y = 0; y < f.gt.rows; y++)
-            for (int x = 0; x < f.gt.cols; x++)
-                if (f.gt.at<float>(y, x) > 0 && rng.uniform(0.0, 1.0) < 0.01)
-                    f.sparse.at<float>(y, x) = f.gt.at<float>(y, x);
+        f.sparse = sampleGroundTruth(f.gt, 0.01, (uint64)seed);  // 1 % of the ground truth, fixed seed
         for (size_t k = 0; k < modes.size(); k++)
         {
             Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check, ndisp);

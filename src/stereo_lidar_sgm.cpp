@@ -488,3 +488,21 @@ Ptr<StereoLidarSGM> StereoLidarSGM::load(const String& filename, const String& o
 }
 
 }} // namespace cv::lidarsgm
+
+namespace cv { namespace cuda {
+
+void computeStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left, InputArray right,
+                           InputArray sparseDisparity, OutputArray disparity, Stream& stream)
+{
+    CV_CheckFalse(matcher.empty(), "lidarsgm: the matcher is empty");
+    matcher->compute(left, right, sparseDisparity, disparity, stream);
+}
+
+void semidensifyStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left, InputArray right,
+                               InputArray sparseDisparity, OutputArray semidense, Stream& stream)
+{
+    CV_CheckFalse(matcher.empty(), "lidarsgm: the matcher is empty");
+    matcher->semidensify(left, right, sparseDisparity, semidense, stream);
+}
+
+}} // namespace cv::cuda

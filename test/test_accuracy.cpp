@@ -103,12 +103,8 @@ TEST(Lidarsgm_Accuracy, middlebury_cones_1_percent)
     Mat gt;
     raw.convertTo(gt, CV_32F, 0.25);
     gt.setTo(-1.f, raw == 0);
-    RNG rng(1);  // the tool's default seed: same sampling as `lidarsgm_fuse --middlebury`
-    Mat sparse(gt.size(), CV_32F, Scalar::all(0));
-    for (int y = 0; y < gt.rows; y++)
-        for (int x = 0; x < gt.cols; x++)
-            if (gt.at<float>(y, x) > 0 && rng.uniform(0.0, 1.0) < 0.01)
-                sparse.at<float>(y, x) = gt.at<float>(y, x);
+    // The tool's default seed: the same sampling as `lidarsgm_fuse --middlebury`.
+    Mat sparse = sampleGroundTruth(gt, 0.01, 1);
     BadN bad2 = { 2.f };
     ErrorStats res[2];
     const int modes[2] = { StereoLidarSGM::MODE_SGM, StereoLidarSGM::MODE_SDSGM };

@@ -107,6 +107,46 @@ INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_CUDA_Random,
                     make_tuple(Size(53, 1), 64, 3), make_tuple(Size(97, 61), 64, 0), make_tuple(Size(333, 111), 128, -7),
                     make_tuple(Size(257, 190), 256, 0), make_tuple(Size(130, 77), 48, 2)));
 
+// Every shared KITTI frame and Middlebury scene (LIDARSGM_SHARED_DATA, set by the README's test command to
+// ../shared/data): CPU and CUDA outputs equal. KITTI frames use sparse16/<id>.png when present (pre-projected raw
+// scans, for machines the scans cannot travel to), else project velodyne/<id>.bin.
+TEST(Lidarsgm_CUDA, shared_data_bit_exact)
+{
+    requireCudaDevice();
+    const char* env = getenv("LIDARSGM_SHARED_DATA");
+    if (!env || !std::ifstream((std::string(env) + "/kitti2015_lidar/frames.txt").c_str()).good())
+        throw SkipTestException("LIDARSGM_SHARED_DATA does not point at the shared data");
+    const std::string kitti = std::string(env) + "/kitti2015_lidar";
+    std::ifstream list((kitti + "/frames.txt").c_str());
+    std::string id;
+    int frames = 0;
+    while (list >> id)
+    {
+        Mat l = imread(kitti + "/image_2/" + id + "_10.png", IMREAD_GRAYSCALE), r = imread(kitti + "/image_3/" + id + "_10.png", IMREAD_GRAYSCALE);
+        Mat s = imread(kitti + "/sparse16/" + id + ".png", IMREAD_UNCHANGED);
+        if (s.empty())
+        {
+            lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(kitti + "/calib.txt");
+            cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(kitti + "/velodyne/" + id + ".bin"),
+                                                   c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s, CV_16U);
+        }
+        ASSERT_FALSE(l.empty() || r.empty() || s.empty()) << id;
+        for (int mode = 0; mode < 3; mode++)
+            compareCpuGpu(StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode), l, r, s, "KITTI " + id + format(" mode %d", mode));
+        frames++;
+    }
+    EXPECT_EQ(20, frames);
+    const char* scenes[] = { "Aloe", "Cloth3", "Motorcycle_quarter", "Reindeer", "Wood2", "cone" };
+    for (int i = 0; i < 6; i++)
+    {
+        Mat l, r, gt;
+        ASSERT_TRUE(lidarsgm_eval::loadMiddlebury(std::string(env) + "/middlebury/" + scenes[i], l, r, gt)) << scenes[i];
+        Mat s = lidarsgm_eval::sampleGroundTruth(gt, 0.01, 1);
+        for (int mode = 0; mode < 3; mode++)
+            compareCpuGpu(StereoLidarSGM::create(0, 256, 10, 120, 5, 160, 0.7, mode), l, r, s, format("%s mode %d", scenes[i], mode));
+    }
+}
+
 TEST(Lidarsgm_CUDA, roi_input)
 {
     requireCudaDevice();

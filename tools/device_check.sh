@@ -14,12 +14,18 @@ mkdir -p "$SRC/opencv/modules/python/test" && touch "$SRC/opencv/modules/python/
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 date -u
 t0=$(date +%s)
-cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=OFF -DLIDARSGM_WITH_CUDA=ON \
+cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=${PY:-OFF} -DLIDARSGM_WITH_CUDA=ON \
   > "$OUT/configure.log" 2>&1 || { tail -40 "$OUT/configure.log"; exit 1; }
 cmake --build build-device > "$OUT/build.log" 2>&1 || { grep -E "error|FAILED" "$OUT/build.log" | head -30; exit 1; }
 echo "build: $(( $(date +%s) - t0 )) s"
 B=$CACHE/build-cuda90/bin
+# The shared data travels packed (tools/make_device_data.py) when .device/shared exists.
+[ -d .device/shared ] && export LIDARSGM_SHARED_DATA=$PWD/.device/shared
 OPENCV_TEST_DATA_PATH=testdata $B/opencv_test_lidarsgm --gtest_filter="${1:-*CUDA*}" > "$OUT/tests.log" 2>&1 || true
+if [ "${PY:-OFF}" = ON ]; then
+  PYTHONPATH=$CACHE/build-cuda90/python_loader:$SRC/opencv/modules/python/test OPENCV_PYTEST_LIDARSGM_DATA=$PWD/testdata \
+    python3 -m unittest discover -v -s modules/lidarsgm/misc/python/test -p "test_*.py" 2>&1 | tail -8
+fi
 grep -E "^\[  FAILED|^\[  PASSED|^\[     SKIP|Failure" "$OUT/tests.log" | sort | uniq -c | head -40
 for id in 000002 000046; do
   $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda 1 --modes sgm,dsgm,sdsgm

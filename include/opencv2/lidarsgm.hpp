@@ -201,4 +201,25 @@ CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray project
 
 }} // namespace cv::lidarsgm
 
+namespace cv { namespace cuda {
+
+//! @addtogroup lidarsgm
+//! @{
+
+/** @brief CUDA path of cv::lidarsgm::StereoLidarSGM::compute, for the Python bindings (which give GpuMat variants only
+to declarations in namespace cv::cuda): `disp = cv2.cuda.computeStereoLidarSGM(matcher, gpuLeft, gpuRight, gpuSparse)`.
+C++ users call matcher->compute(...) with GpuMats directly. Inputs and output are cv::cuda::GpuMat. */
+CV_EXPORTS_W void computeStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left,
+                                        InputArray right, InputArray sparseDisparity, OutputArray disparity,
+                                        Stream& stream = Stream::Null());
+
+//! @brief CUDA path of cv::lidarsgm::StereoLidarSGM::semidensify, for the Python bindings (see computeStereoLidarSGM).
+CV_EXPORTS_W void semidensifyStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left,
+                                            InputArray right, InputArray sparseDisparity, OutputArray semidense,
+                                            Stream& stream = Stream::Null());
+
+//! @}
+
+}} // namespace cv::cuda
+
 #endif // OPENCV_LIDARSGM_HPP

@@ -98,6 +98,23 @@ class lidarsgm_test(NewOpenCVTests):
         finally:
             os.remove(path)
 
+    def test_cuda_gpumat(self):
+        if not hasattr(cv, 'cuda') or cv.cuda.getCudaEnabledDeviceCount() <= 0:
+            self.skipTest('no CUDA device')
+        left, right, sparse, _ = self.load_frame()
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        cpu = m.compute(left, right, sparse)
+        gl, gr, gs = cv.cuda_GpuMat(left), cv.cuda_GpuMat(right), cv.cuda_GpuMat(sparse)
+        gd = cv.cuda.computeStereoLidarSGM(m, gl, gr, gs)
+        self.assertIsInstance(gd, cv.cuda_GpuMat)
+        np.testing.assert_array_equal(gd.download(), cpu)
+        stream = cv.cuda_Stream()
+        gd = cv.cuda.computeStereoLidarSGM(m, gl, gr, gs, stream=stream)
+        stream.waitForCompletion()
+        np.testing.assert_array_equal(gd.download(), cpu)
+        semi = cv.cuda.semidensifyStereoLidarSGM(m, gl, gr, gs)
+        np.testing.assert_array_equal(semi.download(), m.semidensify(left, right, sparse))
+
     def test_bad_input(self):
         m = cv.lidarsgm.StereoLidarSGM.create()
         colour = np.zeros((40, 60, 3), np.uint8)
