@@ -22,7 +22,8 @@ static void requireDevice()
 #endif
 }
 
-static void kittiOnGpu(cuda::GpuMat& l, cuda::GpuMat& r, cuda::GpuMat& s)
+//! KITTI frame 000002 on the GPU, at its own size or scaled (LiDAR disparities scaled with the width).
+static void kittiOnGpu(cuda::GpuMat& l, cuda::GpuMat& r, cuda::GpuMat& s, Size size = Size())
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
     Mat left = imread(dir + "/image_2/000002_10.png", IMREAD_GRAYSCALE), right = imread(dir + "/image_3/000002_10.png", IMREAD_GRAYSCALE);
@@ -30,22 +31,32 @@ static void kittiOnGpu(cuda::GpuMat& l, cuda::GpuMat& r, cuda::GpuMat& s)
     Mat sparse;
     cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/000002.bin"), c.P2,
                                            c.lidarToCamera, c.focalBaseline, left.size(), sparse);
+    if (size.area() > 0 && size != left.size())
+    {
+        const double sx = (double)size.width / left.cols;
+        resize(left, left, size, 0, 0, INTER_LINEAR);
+        resize(right, right, size, 0, 0, INTER_LINEAR);
+        resize(sparse, sparse, size, 0, 0, INTER_NEAREST);
+        sparse *= sx;
+    }
     l.upload(left);
     r.upload(right);
     s.upload(sparse);
 }
 
 CV_ENUM(CudaFusionMode, StereoLidarSGM::MODE_SGM, StereoLidarSGM::MODE_DSGM, StereoLidarSGM::MODE_SDSGM)
-typedef perf::TestBaseWithParam<tuple<CudaFusionMode, int, int> > Lidarsgm_KITTI_CUDA;
+typedef perf::TestBaseWithParam<tuple<Size, CudaFusionMode, int, int> > Lidarsgm_KITTI_CUDA;
 
+// KITTI size and 1080p (the KITTI frame scaled), every mode, 4/8 paths, 128/256 disparities.
 PERF_TEST_P(Lidarsgm_KITTI_CUDA, compute,
-            testing::Combine(CudaFusionMode::all(), testing::Values(4, 8), testing::Values(128, 256)))
+            testing::Combine(testing::Values(Size(1242, 375), Size(1920, 1080)), CudaFusionMode::all(),
+                             testing::Values(4, 8), testing::Values(128, 256)))
 {
     requireDevice();
     cuda::GpuMat l, r, s, d;
-    kittiOnGpu(l, r, s);
-    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, get<2>(GetParam()), 10, 120, 5, 160, 0.7, get<0>(GetParam()));
-    m->setNumPaths(get<1>(GetParam()));
+    kittiOnGpu(l, r, s, get<0>(GetParam()));
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, get<3>(GetParam()), 10, 120, 5, 160, 0.7, get<1>(GetParam()));
+    m->setNumPaths(get<2>(GetParam()));
     cuda::Stream stream;
     m->compute(l, r, s, d, stream);
     stream.waitForCompletion();

@@ -29,16 +29,26 @@ static const KittiInput& kittiFrame()
 
 CV_ENUM(FusionMode, StereoLidarSGM::MODE_SGM, StereoLidarSGM::MODE_DSGM, StereoLidarSGM::MODE_SDSGM)
 
-typedef tuple<FusionMode, int, int> ModePathsDisp;
-typedef perf::TestBaseWithParam<ModePathsDisp> Lidarsgm_KITTI;
+typedef tuple<Size, FusionMode, int, int> SizeModePathsDisp;
+typedef perf::TestBaseWithParam<SizeModePathsDisp> Lidarsgm_KITTI;
 
-// KITTI frame 000002 (1242x375), CPU path.
+// KITTI frame 000002 (1242x375) and the same frame scaled to 1080p, CPU path.
 PERF_TEST_P(Lidarsgm_KITTI, compute,
-            testing::Combine(FusionMode::all(), testing::Values(4, 8), testing::Values(128, 256)))
+            testing::Combine(testing::Values(Size(1242, 375), Size(1920, 1080)), FusionMode::all(),
+                             testing::Values(4, 8), testing::Values(128, 256)))
 {
-    const KittiInput& in = kittiFrame();
-    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, get<2>(GetParam()), 10, 120, 5, 160, 0.7, get<0>(GetParam()));
-    m->setNumPaths(get<1>(GetParam()));
+    KittiInput in = kittiFrame();
+    const Size size = get<0>(GetParam());
+    if (size != in.left.size())
+    {
+        const double sx = (double)size.width / in.left.cols;
+        resize(in.left, in.left, size, 0, 0, INTER_LINEAR);
+        resize(in.right, in.right, size, 0, 0, INTER_LINEAR);
+        resize(in.sparse, in.sparse, size, 0, 0, INTER_NEAREST);
+        in.sparse *= sx;
+    }
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, get<3>(GetParam()), 10, 120, 5, 160, 0.7, get<1>(GetParam()));
+    m->setNumPaths(get<2>(GetParam()));
     Mat disp;
     m->compute(in.left, in.right, in.sparse, disp);  // allocate buffers outside the timed loop
     TEST_CYCLE() m->compute(in.left, in.right, in.sparse, disp);

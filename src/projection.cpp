@@ -5,6 +5,10 @@
 
 #include "precomp.hpp"
 #include "pipeline.hpp"
+#ifdef HAVE_CUDA
+#  include "opencv2/core/cuda_stream_accessor.hpp"
+#  include "pipeline_cuda.hpp"
+#endif
 
 namespace cv { namespace lidarsgm {
 
@@ -37,37 +41,13 @@ Matx34d toMatx34(InputArray m, const char* name)
 
 } // namespace
 
-void projectPointsToDisparity(InputArray _points, InputArray _projection, InputArray _lidarToCamera,
-                              double focalBaseline, Size imageSize, OutputArray _sparse, int dtype)
+//! Checks the calibration arguments and returns projection * lidarToCamera (3x4).
+static Matx34d checkedProjection(InputArray _projection, InputArray _lidarToCamera, double focalBaseline, Size imageSize,
+                                 int dtype)
 {
-    CV_INSTRUMENT_REGION();
     CV_CheckTrue(dtype == CV_32F || dtype == CV_16U, "lidarsgm: projectPointsToDisparity: dtype must be CV_32F or CV_16U");
     CV_CheckTrue(imageSize.width > 0 && imageSize.height > 0, "lidarsgm: projectPointsToDisparity: imageSize must be positive");
     CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0, "lidarsgm: projectPointsToDisparity: focalBaseline must be finite and > 0");
-
-    Mat pts = _points.getMat();
-    CV_CheckTrue(pts.empty() || pts.depth() == CV_32F, "lidarsgm: points must be CV_32F (N x 3, N x 4, or N x 1 with 3 or 4 channels)");
-    int dims = 0, n = 0;
-    if (!pts.empty())
-    {
-        if (pts.channels() == 1 && (pts.cols == 3 || pts.cols == 4))
-        {
-            dims = pts.cols;
-            n = pts.rows;
-        }
-        else if ((pts.channels() == 3 || pts.channels() == 4) && (pts.cols == 1 || pts.rows == 1))
-        {
-            dims = pts.channels();
-            n = (int)pts.total();
-            pts = pts.reshape(1, n);
-        }
-        else
-            CV_Error_(Error::StsBadSize, ("lidarsgm: points must be N x 3 or N x 4 (or N x 1 with 3 or 4 channels), got %dx%d with %d channels",
-                                          pts.rows, pts.cols, pts.channels()));
-        if (!pts.isContinuous())
-            pts = pts.clone();
-    }
-
     const Matx34d P = toMatx34(_projection, "projection");
     const Matx34d T = toMatx34(_lidarToCamera, "lidarToCamera");
     {
@@ -80,10 +60,54 @@ void projectPointsToDisparity(InputArray _points, InputArray _projection, InputA
         CV_CheckTrue(orthErr < 1e-3 && std::abs(determinant(R) - 1.0) < 1e-3,
                      "lidarsgm: lidarToCamera must be a rigid transform (its 3x3 block a rotation)");
     }
-    const Matx34d PT = Matx34d(Matx44d(P(0, 0), P(0, 1), P(0, 2), P(0, 3), P(1, 0), P(1, 1), P(1, 2), P(1, 3),
-                                       P(2, 0), P(2, 1), P(2, 2), P(2, 3), 0, 0, 0, 1).get_minor<3, 4>(0, 0) *
-                               Matx44d(T(0, 0), T(0, 1), T(0, 2), T(0, 3), T(1, 0), T(1, 1), T(1, 2), T(1, 3),
-                                       T(2, 0), T(2, 1), T(2, 2), T(2, 3), 0, 0, 0, 1));
+    return Matx44d(P(0, 0), P(0, 1), P(0, 2), P(0, 3), P(1, 0), P(1, 1), P(1, 2), P(1, 3),
+                   P(2, 0), P(2, 1), P(2, 2), P(2, 3), 0, 0, 0, 1).get_minor<3, 4>(0, 0) *
+           Matx44d(T(0, 0), T(0, 1), T(0, 2), T(0, 3), T(1, 0), T(1, 1), T(1, 2), T(1, 3),
+                   T(2, 0), T(2, 1), T(2, 2), T(2, 3), 0, 0, 0, 1);
+}
+
+//! Number of points and floats per point of an N x 3 / N x 4 (or N x 1 with 3 or 4 channels) CV_32F array.
+static void pointLayout(int rows, int cols, int channels, int depth, bool empty, int& n, int& stride)
+{
+    n = 0;
+    stride = 0;
+    if (empty)
+        return;
+    CV_CheckTrue(depth == CV_32F, "lidarsgm: points must be CV_32F (N x 3, N x 4, or N x 1 with 3 or 4 channels)");
+    if (channels == 1 && (cols == 3 || cols == 4))
+    {
+        n = rows;
+        stride = cols;
+    }
+    else if ((channels == 3 || channels == 4) && (cols == 1 || rows == 1))
+    {
+        n = rows * cols;
+        stride = channels;
+    }
+    else
+        CV_Error_(Error::StsBadSize, ("lidarsgm: points must be N x 3 or N x 4 (or N x 1 with 3 or 4 channels), got %dx%d with %d channels",
+                                      rows, cols, channels));
+}
+
+void projectPointsToDisparity(InputArray _points, InputArray _projection, InputArray _lidarToCamera,
+                              double focalBaseline, Size imageSize, OutputArray _sparse, int dtype)
+{
+    CV_INSTRUMENT_REGION();
+    if (_points.kind() == _InputArray::CUDA_GPU_MAT)
+    {
+        cuda::projectPointsToDisparity(_points, _projection, _lidarToCamera, focalBaseline, imageSize, _sparse, dtype);
+        return;
+    }
+    const Matx34d PT = checkedProjection(_projection, _lidarToCamera, focalBaseline, imageSize, dtype);
+    Mat pts = _points.getMat();
+    int n = 0, stride = 0;
+    pointLayout(pts.rows, pts.cols, pts.channels(), pts.depth(), pts.empty(), n, stride);
+    if (n > 0)
+    {
+        pts = pts.reshape(1, n);
+        if (!pts.isContinuous())
+            pts = pts.clone();
+    }
 
     // Nearest point wins: keep the largest disparity per pixel.
     Mat disp(imageSize, CV_32FC1, Scalar::all(0));
@@ -106,7 +130,6 @@ void projectPointsToDisparity(InputArray _points, InputArray _projection, InputA
         if (d > dst)
             dst = d;
     }
-    CV_UNUSED(dims);
 
     if (dtype == CV_32F)
         disp.copyTo(_sparse);
@@ -126,3 +149,33 @@ void projectPointsToDisparity(InputArray _points, InputArray _projection, InputA
 }
 
 }} // namespace cv::lidarsgm
+
+namespace cv { namespace cuda {
+
+void projectPointsToDisparity(InputArray points, InputArray projection, InputArray lidarToCamera,
+                              double focalBaseline, Size imageSize, OutputArray sparseDisparity, int dtype, Stream& stream)
+{
+    CV_INSTRUMENT_REGION();
+    if (points.kind() != _InputArray::CUDA_GPU_MAT)
+        CV_Error(Error::StsBadArg, "lidarsgm: cv::cuda::projectPointsToDisparity needs the points in a cv::cuda::GpuMat");
+#ifndef HAVE_CUDA
+    CV_UNUSED(projection); CV_UNUSED(lidarToCamera); CV_UNUSED(focalBaseline); CV_UNUSED(imageSize);
+    CV_UNUSED(sparseDisparity); CV_UNUSED(dtype); CV_UNUSED(stream);
+    CV_Error(Error::GpuNotSupported, "lidarsgm: GpuMat input needs the CUDA path, but lidarsgm was built without CUDA");
+#else
+    const Matx34d PT = cv::lidarsgm::checkedProjection(projection, lidarToCamera, focalBaseline, imageSize, dtype);
+    const GpuMat pts = points.getGpuMat();
+    int n = 0, stride = 0;
+    cv::lidarsgm::pointLayout(pts.rows, pts.cols, pts.channels(), pts.depth(), pts.empty(), n, stride);
+    CV_CheckTrue(n == 0 || pts.isContinuous(), "lidarsgm: the points GpuMat must be continuous");
+    sparseDisparity.create(imageSize, dtype == CV_32F ? CV_32FC1 : CV_16UC1);
+    GpuMat out = sparseDisparity.getGpuMat();
+    // CV_16U output needs the float map first: a temporary (this function keeps no buffers between calls).
+    GpuMat disp = dtype == CV_32F ? out : GpuMat(imageSize, CV_32FC1);
+    cv::lidarsgm::detail::cuda_impl::projectPoints(n ? pts.ptr<float>() : nullptr, n, stride, PT.val, focalBaseline, disp,
+                                                   dtype == CV_16U ? PtrStepSz<ushort>(out) : PtrStepSz<ushort>(),
+                                                   StreamAccessor::getStream(stream));
+#endif
+}
+
+}} // namespace cv::cuda

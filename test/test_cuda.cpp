@@ -147,6 +147,34 @@ TEST(Lidarsgm_CUDA, shared_data_bit_exact)
     }
 }
 
+TEST(Lidarsgm_CUDA, projection_bit_exact)
+{
+    requireCudaDevice();
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
+    const char* ids[] = { "000002", "000046" };
+    for (int i = 0; i < 2; i++)
+    {
+        Mat pts4 = lidarsgm_eval::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin");
+        Mat pts3 = pts4.colRange(0, 3).clone();
+        for (int dtype = 0; dtype < 2; dtype++)
+        {
+            const int t = dtype ? CV_16U : CV_32F;
+            Mat cpu, gpuOut;
+            cv::lidarsgm::projectPointsToDisparity(pts4, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), cpu, t);
+            cuda::GpuMat g4(pts4), g3(pts3), gd;
+            cv::lidarsgm::projectPointsToDisparity(g4, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), gd, t);
+            gd.download(gpuOut);
+            EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF)) << ids[i] << " dtype " << t;
+            cuda::Stream stream;
+            cv::cuda::projectPointsToDisparity(g3, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), gd, t, stream);
+            stream.waitForCompletion();
+            gd.download(gpuOut);
+            EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF)) << ids[i] << " N x 3, dtype " << t;
+        }
+    }
+}
+
 TEST(Lidarsgm_CUDA, roi_input)
 {
     requireCudaDevice();
