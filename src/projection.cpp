@@ -167,12 +167,13 @@ void projectPointsToDisparity(InputArray points, InputArray projection, InputArr
     const GpuMat pts = points.getGpuMat();
     int n = 0, stride = 0;
     cv::lidarsgm::pointLayout(pts.rows, pts.cols, pts.channels(), pts.depth(), pts.empty(), n, stride);
-    CV_CheckTrue(n == 0 || pts.isContinuous(), "lidarsgm: the points GpuMat must be continuous");
+    // Point i starts a row of its own (N x k, N x 1 x C: rows may be pitched) or sits in the single row (1 x N x C).
+    const int strideFloats = n == 0 ? 0 : (pts.rows == n ? (int)(pts.step / sizeof(float)) : stride);
     sparseDisparity.create(imageSize, dtype == CV_32F ? CV_32FC1 : CV_16UC1);
     GpuMat out = sparseDisparity.getGpuMat();
     // CV_16U output needs the float map first: a temporary (this function keeps no buffers between calls).
     GpuMat disp = dtype == CV_32F ? out : GpuMat(imageSize, CV_32FC1);
-    cv::lidarsgm::detail::cuda_impl::projectPoints(n ? pts.ptr<float>() : nullptr, n, stride, PT.val, focalBaseline, disp,
+    cv::lidarsgm::detail::cuda_impl::projectPoints(n ? pts.ptr<float>() : nullptr, n, strideFloats, PT.val, focalBaseline, disp,
                                                    dtype == CV_16U ? PtrStepSz<ushort>(out) : PtrStepSz<ushort>(),
                                                    StreamAccessor::getStream(stream));
 #endif

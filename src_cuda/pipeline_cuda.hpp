@@ -39,7 +39,7 @@ void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStep
                       PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> out16,
                       PtrStepSz<float> out32, cudaStream_t stream);
 
-/** LiDAR points (float, `stride` floats apart, x y z first) to a sparse disparity map: disp (CV_32F, written, 0 =
+/** LiDAR points (float, each `stride` floats after the previous, x y z first) to a sparse disparity map: disp (CV_32F, written, 0 =
 none); with out16 given, also its KITTI 16-bit encoding. PT = projection * lidarToCamera, row-major 3x4. */
 void projectPoints(const float* points, int n, int stride, const double PT[12], double focalBaseline,
                    PtrStepSz<float> disp, PtrStepSz<ushort> out16, cudaStream_t stream);

@@ -30,7 +30,7 @@ grep -E "^\[  FAILED|^\[  PASSED|^\[     SKIP|Failure" "$OUT/tests.log" | sort |
 for id in 000002 000046; do
   $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda 1 --modes sgm,dsgm,sdsgm
 done
-$B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 --rounds ${ROUNDS:-1}
+[ "${TIMING:-1}" = 1 ] && $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 --rounds ${ROUNDS:-1}
 if [ "${SIZES:-0}" = 1 ]; then
   for sz in 1920x1080 3840x2160; do
     $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"

@@ -218,7 +218,7 @@ CV_EXPORTS_W void semidensifyStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarS
                                             InputArray right, InputArray sparseDisparity, OutputArray semidense,
                                             Stream& stream = Stream::Null());
 
-/** @brief CUDA version of cv::lidarsgm::projectPointsToDisparity: points (N x 3 / N x 4 CV_32F, continuous) and the
+/** @brief CUDA version of cv::lidarsgm::projectPointsToDisparity: points (N x 3 / N x 4 CV_32F) and the
 output are cv::cuda::GpuMat; the result equals the CPU version's bit for bit. cv::lidarsgm::projectPointsToDisparity
 given a GpuMat calls this on the default stream. */
 CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray projection, InputArray lidarToCamera,
