@@ -434,14 +434,13 @@ int runMiddlebury(const Options& o)
         if (slash != std::string::npos && rel.find('/', slash + 1) == std::string::npos)
             folders.insert(rel.substr(0, slash));
     }
-    std::vector<std::string> scenes;
+    std::vector<Frame> scenes;
     for (std::set<std::string>::const_iterator it = folders.begin(); it != folders.end(); ++it)
     {
         Frame f;
         if (loadMiddleburyScene(dir, *it, f))
-            scenes.push_back(*it);
+            scenes.push_back(f);
     }
-    std::sort(scenes.begin(), scenes.end());
     const std::vector<std::string> modes = split(o.str("modes", "sgm,dsgm,sdsgm"));
     const int check = checkFromName(o.str("check", "stereo-lidar"));
     const int seed = o.i("seed", 1);
@@ -453,8 +452,7 @@ int runMiddlebury(const Options& o)
     std::vector<ErrorStats> sums(modes.size());
     for (size_t s = 0; s < scenes.size(); s++)
     {
-        Frame f;
-        loadMiddleburyScene(dir, scenes[s], f);
+        Frame& f = scenes[s];
         double maxGt = 0;
         minMaxLoc(f.gt, nullptr, &maxGt);
         const int ndisp = std::min(256, std::max(64, ((int)std::ceil(maxGt) + 1 + 15) / 16 * 16));
@@ -468,7 +466,7 @@ int runMiddlebury(const Options& o)
             BadN bad = { badN };
             ErrorStats st = evaluate(disparityToFloat(disp, o.i("min-disparity", 0)), f.gt, bad);
             sums[k].add(st);
-            printf("| %-20s | %5d | %-6s | %6.2f %% | %9.2f %% | %7.2f %% |\n", scenes[s].c_str(), ndisp,
+            printf("| %-20s | %5d | %-6s | %6.2f %% | %9.2f %% | %7.2f %% |\n", f.name.c_str(), ndisp,
                    modeLabel(modeFromName(modes[k])), st.coverage(), st.coveredError(), st.totalError());
         }
     }

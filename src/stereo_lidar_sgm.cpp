@@ -95,7 +95,7 @@ public:
         CV_INSTRUMENT_REGION();
         if (isGpuInput(left) || isGpuInput(right) || isGpuInput(sparse))
         {
-            computeCuda(left, right, sparse, disparity, nullptr);
+            runCuda(left, right, sparse, disparity, nullptr, false);
             return;
         }
         AutoLock lock(mutex_);  // one call at a time per instance: the work buffers are members
@@ -135,7 +135,7 @@ public:
     void compute(InputArray left, InputArray right, InputArray sparse, OutputArray disparity,
                  cuda::Stream& stream) CV_OVERRIDE
     {
-        computeCuda(left, right, sparse, disparity, &stream);
+        runCuda(left, right, sparse, disparity, &stream, false);
     }
 
     void semidensify(InputArray left, InputArray right, InputArray sparse, OutputArray semidense) CV_OVERRIDE
@@ -143,7 +143,7 @@ public:
         CV_INSTRUMENT_REGION();
         if (isGpuInput(left) || isGpuInput(right) || isGpuInput(sparse))
         {
-            semidensifyCuda(left, right, sparse, semidense, nullptr);
+            runCuda(left, right, sparse, semidense, nullptr, true);
             return;
         }
         AutoLock lock(mutex_);
@@ -162,7 +162,7 @@ public:
     void semidensify(InputArray left, InputArray right, InputArray sparse, OutputArray semidense,
                      cuda::Stream& stream) CV_OVERRIDE
     {
-        semidensifyCuda(left, right, sparse, semidense, &stream);
+        runCuda(left, right, sparse, semidense, &stream, true);
     }
 
     // ---- parameters ------------------------------------------------------------------------------------------
@@ -359,18 +359,6 @@ private:
         }
     }
 
-    // stream == nullptr: the default stream. (Not cuda::Stream::Null() up front: that needs a working driver.)
-    void computeCuda(InputArray left, InputArray right, InputArray sparse, OutputArray disparity,
-                     cuda::Stream* stream)
-    {
-        runCuda(left, right, sparse, disparity, stream, false);
-    }
-    void semidensifyCuda(InputArray left, InputArray right, InputArray sparse, OutputArray semidense,
-                         cuda::Stream* stream)
-    {
-        runCuda(left, right, sparse, semidense, stream, true);
-    }
-
 #ifdef HAVE_CUDA
     static void cudaCheck(cudaError_t err)
     {
@@ -384,7 +372,9 @@ private:
         return m.empty() ? cuda::PtrStepSz<T>() : cuda::PtrStepSz<T>(m);
     }
 
-    /* The CUDA pipeline, in the same order as compute(). Work buffers are members and only (re)allocated when the
+    /* The CUDA pipeline, in the same order as compute(); semidenseOnly stops after semidensification. streamPtr ==
+    nullptr means the default stream (not cuda::Stream::Null() up front: that needs a working driver, and the CPU
+    entry points call this only when given GpuMats). Work buffers are members and only (re)allocated when the
     size, disparity count or types change; everything else is enqueued on the stream without synchronising. */
     void runCuda(InputArray left, InputArray right, InputArray sparse, OutputArray out, cuda::Stream* streamPtr,
                  bool semidenseOnly)
