@@ -90,6 +90,14 @@ public:
         checkRelations();
     }
 
+#ifdef HAVE_CUDA
+    ~StereoLidarSGMImpl()
+    {
+        if (g_done_)
+            cudaEventDestroy(g_done_);
+    }
+#endif
+
     void compute(InputArray left, InputArray right, InputArray sparse, OutputArray disparity) CV_OVERRIDE
     {
         CV_INSTRUMENT_REGION();
@@ -399,6 +407,7 @@ private:
             checkSparseInfo(Sp.type(), Sp.size(), L.size());
 
         cudaStream_t st = streamPtr ? cuda::StreamAccessor::getStream(*streamPtr) : 0;
+        orderAfterLastCall(st);
         const Size sz = L.size();
         namespace ci = cuda_impl;
         g_censusL_.create(sz, CV_32SC1);
@@ -432,6 +441,7 @@ private:
         {
             ci::consistencyCheck(g_semidense16_, cuda::PtrStepSz<short>(), cuda::PtrStepSz<int>(),
                                  cuda::PtrStepSz<short>(), p, o16, o32, st);
+            markCallEnd(st);
             return;
         }
 
@@ -443,6 +453,39 @@ private:
         cudaCheck(cudaMemset2DAsync(g_rightKey_.data, g_rightKey_.step, 0xFF, sz.width * sizeof(int), sz.height, st));
         ci::winnerTakesAll(g_sum_, sz.width, p, g_disp16_, g_dispInt_, g_rightKey_, st);
         ci::consistencyCheck(g_disp16_, g_dispInt_, g_rightKey_, ptr<short>(g_sparse16_), p, o16, o32, st);
+        markCallEnd(st);
+    }
+
+    /* The work buffers are members, so a call must not start on the GPU before the previous call of this instance
+    has finished with them. On the same stream that holds by stream order; on another stream the new stream first
+    waits (on the GPU, not the host) for an event recorded at the end of the previous call. Inside a CUDA graph
+    capture there is no event to wait for or record: a captured call must follow calls on the stream it captures
+    (see the class documentation). */
+    void orderAfterLastCall(cudaStream_t st)
+    {
+        cudaStreamCaptureStatus capture = cudaStreamCaptureStatusNone;
+        cudaCheck(cudaStreamIsCapturing(st, &capture));
+        if (capture != cudaStreamCaptureStatusNone)
+        {
+            if (g_done_ && st != g_lastStream_)
+                CV_Error(Error::StsBadArg, "lidarsgm: a call captured into a CUDA graph must follow this instance's "
+                                           "previous call on the same stream (the work buffers are shared)");
+            return;
+        }
+        if (g_done_ && st != g_lastStream_)
+            cudaCheck(cudaStreamWaitEvent(st, g_done_, 0));
+    }
+
+    void markCallEnd(cudaStream_t st)
+    {
+        g_lastStream_ = st;
+        cudaStreamCaptureStatus capture = cudaStreamCaptureStatusNone;
+        cudaCheck(cudaStreamIsCapturing(st, &capture));
+        if (capture != cudaStreamCaptureStatusNone)
+            return;
+        if (!g_done_)
+            cudaCheck(cudaEventCreateWithFlags(&g_done_, cudaEventDisableTiming));
+        cudaCheck(cudaEventRecord(g_done_, st));
     }
 #else
     void runCuda(InputArray, InputArray, InputArray, OutputArray, cuda::Stream*, bool)
@@ -463,6 +506,8 @@ private:
     Mat censusL_, censusR_, sparse16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
 #ifdef HAVE_CUDA
     cuda::GpuMat g_censusL_, g_censusR_, g_sparse16_, g_semidense16_, g_sum_, g_disp16_, g_dispInt_, g_rightKey_;
+    cudaEvent_t g_done_ = nullptr;     //!< recorded at the end of the last call
+    cudaStream_t g_lastStream_ = 0;    //!< the stream of the last call
 #endif
 };
 

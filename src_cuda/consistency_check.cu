@@ -6,14 +6,13 @@
 // Tile coordinates are packed in 16 bits each (images below 32768 pixels a side).
 
 #include "opencv2/lidarsgm.hpp"
-#include "pipeline_cuda.hpp"
+#include "sparse_window.cuh"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
-/* One block = 32 x 8 pixels. For the LiDAR test it first lists the sparse points of its tile (the pixels plus rc on
- every side) in shared memory, so a pixel scans the few points there instead of its whole (2 rc + 1)^2 window. The
- test is "does any point qualify", so the list's order, which depends on thread timing, cannot change the result. */
+/* One block = 32 x 8 pixels. For the LiDAR test each pixel scans the sparse points of its block's tile
+ (sparse_window.cuh). The test is "does any point qualify", so the list's order cannot change the result. */
 __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
                             PtrStepSz<short> sparse16, PipelineParams p, PtrStepSz<short> out16, PtrStepSz<float> out32)
 {
@@ -22,32 +21,10 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
     typedef StereoLidarSGM S;
     const int W = disp16.cols, H = disp16.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
     const bool useStereo = p.check == S::CHECK_STEREO || p.check == S::CHECK_STEREO_LIDAR;
     const bool useLidar = dispInt.data && (p.check == S::CHECK_CAMERA_LIDAR || p.check == S::CHECK_STEREO_LIDAR);
     const int rc = p.checkRadius, tc = p.checkThreshold16;
-    if (useLidar)
-    {
-        if (tid == 0)
-            count = 0;
-        __syncthreads();
-        const int tx0 = blockIdx.x * blockDim.x - rc, ty0 = blockIdx.y * blockDim.y - rc;
-        const int tw = blockDim.x + 2 * rc, th = blockDim.y + 2 * rc;
-        for (int i = tid; i < tw * th; i += nthreads)
-        {
-            const int tx = tx0 + i % tw, ty = ty0 + i / tw;
-            if (tx < 0 || ty < 0 || tx >= W || ty >= H)
-                continue;
-            const int v = sparse16(ty, tx);
-            if (v != NO_DISP)
-            {
-                const int k = atomicAdd(&count, 1);
-                points[2 * k] = (ty << 16) | tx;
-                points[2 * k + 1] = v;
-            }
-        }
-        __syncthreads();
-    }
+    const int n = useLidar ? listTilePoints(sparse16, rc, points, &count) : 0;
     if (x >= W || y >= H)
         return;
     int v = disp16(y, x);
@@ -66,7 +43,6 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
         }
         if (!ok && useLidar)
         {
-            const int n = count;
             for (int k = 0; k < n; k++)
             {
                 const int pos = points[2 * k];
@@ -93,7 +69,7 @@ void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStep
 {
     const dim3 block(32, 8);
     const dim3 grid(cv::cuda::device::divUp(disp16.cols, block.x), cv::cuda::device::divUp(disp16.rows, block.y));
-    const size_t smem = (size_t)(block.x + 2 * p.checkRadius) * (block.y + 2 * p.checkRadius) * 2 * sizeof(int);
+    const size_t smem = tilePointsBytes(block.x, block.y, p.checkRadius);
     if (smem > 48 * 1024)  // rc up to 64: at most (32 + 128) x (8 + 128) points, 174 KB
         cudaSafeCall(cudaFuncSetAttribute(checkKernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
     checkKernel<<<grid, block, smem, stream>>>(disp16, dispInt, rightKey, sparse16, p, out16, out32);

@@ -4,14 +4,13 @@
 // Semidensification, CUDA twin of src/semidensification.cpp: the same candidate order (census cost, squared
 // distance, row, column), so ties resolve identically.
 
-#include "pipeline_cuda.hpp"
+#include "sparse_window.cuh"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
-/* One block = 32 x 8 pixels: the sparse points of its tile (plus rs on every side) are listed in shared memory in
- raster order (each row's points by one warp, rows in turn), so each pixel visits only those points. The choice uses
- the full key (cost, squared distance, row, column), so it does not depend on the order of the list. */
+/* One block = 32 x 8 pixels; each pixel visits the sparse points of its block's tile (sparse_window.cuh). The choice
+ uses the full key (cost, squared distance, row, column), so it does not depend on the order of the list. */
 __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                                 int rs, int Ts, PtrStepSz<short> out)
 {
@@ -19,33 +18,13 @@ __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, 
     __shared__ int count;
     const int W = out.cols, H = out.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
-    if (tid == 0)
-        count = 0;
-    __syncthreads();
-    const int tx0 = blockIdx.x * blockDim.x - rs, ty0 = blockIdx.y * blockDim.y - rs;
-    const int tw = blockDim.x + 2 * rs, th = blockDim.y + 2 * rs;
-    for (int i = tid; i < tw * th; i += nthreads)
-    {
-        const int tx = tx0 + i % tw, ty = ty0 + i / tw;
-        if (tx < 0 || ty < 0 || tx >= W || ty >= H)
-            continue;
-        const int v = sparse16(ty, tx);
-        if (v != NO_DISP)
-        {
-            const int k = atomicAdd(&count, 1);
-            points[2 * k] = (ty << 16) | tx;
-            points[2 * k + 1] = v;
-        }
-    }
-    __syncthreads();
+    const int n = listTilePoints(sparse16, rs, points, &count);
     if (x >= W || y >= H)
         return;
     const unsigned l = (unsigned)censusL(y, x);
     const int* R = censusR.ptr(y);
     int bestCost = INT_MAX, bestDist = INT_MAX, bestRow = INT_MAX, bestCol = INT_MAX;
     short bestVal = NO_DISP;
-    const int n = count;
     for (int k = 0; k < n; k++)
     {
         const int pos = points[2 * k];
@@ -71,7 +50,7 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
     const dim3 block(32, 8);
     const dim3 grid(cv::cuda::device::divUp(semidense16.cols, block.x), cv::cuda::device::divUp(semidense16.rows, block.y));
     const int rs = p.semidenseRadius;
-    const size_t smem = (size_t)(block.x + 2 * rs) * (block.y + 2 * rs) * 2 * sizeof(int);
+    const size_t smem = tilePointsBytes(block.x, block.y, rs);
     if (smem > 48 * 1024)  // rs up to 32: at most 96 x 72 points, 54 KB
         cudaSafeCall(cudaFuncSetAttribute(semidenseKernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
     semidenseKernel<<<grid, block, smem, stream>>>(censusL, censusR, sparse16, rs, p.semidenseThreshold, semidense16);

@@ -45,29 +45,41 @@ static void compareCpuGpu(const Ptr<StereoLidarSGM>& m, const Mat& l, const Mat&
     }
 }
 
-TEST(Lidarsgm_CUDA, kitti_frames_bit_exact)
+static void loadKittiFrame(const std::string& id, Mat& l, Mat& r, Mat& s)
 {
-    requireCudaDevice();
     const std::string dir = cvtest::findDataDirectory("kitti");
     lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
-    const char* ids[] = { "000002", "000046" };
-    for (int i = 0; i < 2; i++)
-    {
-        Mat l = imread(dir + "/image_2/" + ids[i] + "_10.png", IMREAD_GRAYSCALE);
-        Mat r = imread(dir + "/image_3/" + ids[i] + "_10.png", IMREAD_GRAYSCALE);
-        Mat s;
-        cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin"),
-                                               c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s);
-        for (int mode = 0; mode < 3; mode++)
-            for (int check = 0; check < 4; check++)
-                for (int paths = 4; paths <= 8; paths += 4)
-                {
-                    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode, check);
-                    m->setNumPaths(paths);
-                    compareCpuGpu(m, l, r, s, format("frame %s mode %d check %d paths %d", ids[i], mode, check, paths));
-                }
-    }
+    l = imread(dir + "/image_2/" + id + "_10.png", IMREAD_GRAYSCALE);
+    r = imread(dir + "/image_3/" + id + "_10.png", IMREAD_GRAYSCALE);
+    ASSERT_FALSE(l.empty() || r.empty()) << id;
+    cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/" + id + ".bin"),
+                                           c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s);
 }
+
+// Both shipped frames x every mode x every check x 4/8 paths; one test per combination, named for it, so a
+// sanitizer run can pick a few (racecheck takes about half a minute per KITTI-size combination).
+typedef testing::TestWithParam<tuple<int, int, int, int> > Lidarsgm_CUDA_Kitti;
+TEST_P(Lidarsgm_CUDA_Kitti, bit_exact)
+{
+    requireCudaDevice();
+    const char* ids[] = { "000002", "000046" };
+    const int frame = get<0>(GetParam()), mode = get<1>(GetParam()), check = get<2>(GetParam()), paths = get<3>(GetParam());
+    Mat l, r, s;
+    loadKittiFrame(ids[frame], l, r, s);
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode, check);
+    m->setNumPaths(paths);
+    compareCpuGpu(m, l, r, s, format("frame %s mode %d check %d paths %d", ids[frame], mode, check, paths));
+}
+static std::string kittiName(const testing::TestParamInfo<tuple<int, int, int, int> >& info)
+{
+    const char* modes[] = { "SGM", "DSGM", "SDSGM" };
+    const char* checks[] = { "none", "stereo", "camera_lidar", "stereo_lidar" };
+    return format("f%s_%s_%s_p%d", get<0>(info.param) ? "000046" : "000002", modes[get<1>(info.param)],
+                  checks[get<2>(info.param)], get<3>(info.param));
+}
+INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_CUDA_Kitti,
+    testing::Combine(testing::Values(0, 1), testing::Values(0, 1, 2), testing::Values(0, 1, 2, 3), testing::Values(4, 8)),
+    kittiName);
 
 typedef testing::TestWithParam<tuple<Size, int, int> > Lidarsgm_CUDA_Random;
 TEST_P(Lidarsgm_CUDA_Random, bit_exact)
@@ -192,6 +204,173 @@ TEST(Lidarsgm_CUDA, roi_input)
     m->compute(gl(roi), gr(roi), gs(roi), gd);  // non-contiguous GpuMat views
     gd.download(gpuOut);
     EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF));
+}
+
+// One instance, calls on two streams without synchronising in between: the instance orders them on the GPU, so each
+// output equals the CPU result (without that ordering the second call overwrites buffers the first still reads).
+TEST(Lidarsgm_CUDA, one_instance_two_streams)
+{
+    requireCudaDevice();
+    Mat l[2], r[2], s[2], cpu[2];
+    loadKittiFrame("000002", l[0], r[0], s[0]);
+    loadKittiFrame("000046", l[1], r[1], s[1]);
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+    for (int i = 0; i < 2; i++)
+        m->compute(l[i], r[i], s[i], cpu[i]);
+    cuda::GpuMat gl[2], gr[2], gs[2], gd[6];
+    for (int i = 0; i < 2; i++)
+    {
+        gl[i].upload(l[i]); gr[i].upload(r[i]); gs[i].upload(s[i]);
+    }
+    cuda::Stream st[2];
+    for (int round = 0; round < 3; round++)
+        for (int i = 0; i < 2; i++)
+            m->compute(gl[i], gr[i], gs[i], gd[2 * round + i], st[(i + round) % 2]);
+    st[0].waitForCompletion();
+    st[1].waitForCompletion();
+    for (int k = 0; k < 6; k++)
+    {
+        Mat out;
+        gd[k].download(out);
+        EXPECT_EQ(0, cvtest::norm(cpu[k % 2], out, NORM_INF)) << "call " << k;
+    }
+#ifdef HAVE_CUDA
+    // A graph capture on another stream than the previous call's is refused with a message, not left to luck.
+    cudaStream_t cs = cuda::StreamAccessor::getStream(st[1]);
+    m->compute(gl[0], gr[0], gs[0], gd[0], st[0]);
+    ASSERT_EQ(cudaSuccess, cudaStreamBeginCapture(cs, cudaStreamCaptureModeThreadLocal));
+    std::string msg;
+    try { m->compute(gl[0], gr[0], gs[0], gd[0], st[1]); }
+    catch (const cv::Exception& e) { msg = e.what(); }
+    cudaGraph_t graph = nullptr;
+    EXPECT_EQ(cudaSuccess, cudaStreamEndCapture(cs, &graph));
+    if (graph)
+        cudaGraphDestroy(graph);
+    EXPECT_NE(std::string::npos, msg.find("same stream")) << msg;
+    st[0].waitForCompletion();
+#endif
+}
+
+// Several instances on several threads, each on its own stream, at once: the same outputs as alone.
+TEST(Lidarsgm_CUDA, instances_on_threads)
+{
+    requireCudaDevice();
+    Mat l[2], r[2], s[2];
+    loadKittiFrame("000002", l[0], r[0], s[0]);
+    loadKittiFrame("000046", l[1], r[1], s[1]);
+    const int T = 6;
+    std::vector<Mat> expected(T);
+    for (int t = 0; t < T; t++)
+        StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, t % 3)->compute(l[t % 2], r[t % 2], s[t % 2], expected[t]);
+    std::vector<double> err(T, -1);
+    std::vector<std::string> failure(T);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < T; t++)
+        threads.emplace_back([&, t] {
+            try
+            {
+                Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, t % 3);
+                cuda::Stream stream;
+                cuda::GpuMat gl(l[t % 2]), gr(r[t % 2]), gs(s[t % 2]), gd;
+                double worst = 0;
+                for (int k = 0; k < 10; k++)
+                {
+                    m->compute(gl, gr, gs, gd, stream);
+                    Mat out;
+                    gd.download(out, stream);
+                    stream.waitForCompletion();
+                    worst = std::max(worst, cvtest::norm(expected[t], out, NORM_INF));
+                }
+                err[t] = worst;
+            }
+            catch (const std::exception& e) { failure[t] = e.what(); }
+        });
+    for (auto& th : threads)
+        th.join();
+    for (int t = 0; t < T; t++)
+        EXPECT_EQ(0, err[t]) << "thread " << t << " " << failure[t];
+}
+
+// Sizes, disparity ranges and output types change between calls of one instance: each result equals a fresh
+// instance's CPU result.
+TEST(Lidarsgm_CUDA, size_change_between_calls)
+{
+    requireCudaDevice();
+    const Size sizes[] = { Size(320, 240), Size(1242, 375), Size(7, 5), Size(320, 240), Size(97, 300) };
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 64);
+    RNG rng(5);
+    for (int i = 0; i < 5; i++)
+    {
+        Mat l(sizes[i], CV_8UC1), r(sizes[i], CV_8UC1), s(sizes[i], CV_32FC1, Scalar::all(0));
+        rng.fill(l, RNG::UNIFORM, 0, 256);
+        rng.fill(r, RNG::UNIFORM, 0, 256);
+        for (int k = 0; k < sizes[i].area() / 25 + 1; k++)
+            s.at<float>(rng.uniform(0, l.rows), rng.uniform(0, l.cols)) = (float)rng.uniform(1.0, 60.0);
+        m->setNumDisparities(i % 2 ? 128 : 64);
+        m->setOutputType(i % 2 ? CV_32F : CV_16S);
+        compareCpuGpu(m, l, r, s, format("call %d", i));
+    }
+}
+
+// 3840x2160 with 256 disparities: runs, and equals the CPU.
+TEST(Lidarsgm_CUDA, size_3840x2160)
+{
+    requireCudaDevice();
+    Mat l, r, s;
+    loadKittiFrame("000002", l, r, s);
+    resize(l, l, Size(3840, 2160), 0, 0, INTER_LINEAR);
+    resize(r, r, Size(3840, 2160), 0, 0, INTER_LINEAR);
+    Mat s4k(Size(3840, 2160), CV_32FC1, Scalar::all(0));
+    for (int y = 0; y < s.rows; y++)
+        for (int x = 0; x < s.cols; x++)
+            if (s.at<float>(y, x) > 0)
+                s4k.at<float>(y * 2160 / 375, x * 3840 / 1242) = s.at<float>(y, x) * 3840.f / 1242.f;
+    compareCpuGpu(StereoLidarSGM::create(0, 256), l, r, s4k, "3840x2160");
+}
+
+// Device memory does not grow over 1000 calls with changing sizes, disparity ranges, modes, compute/semidensify and
+// a new instance every 100 calls: measured at calls 299 and 899, where the live instance is in the same state
+// (same mode, same last size), it is the same.
+TEST(Lidarsgm_CUDA, memory_does_not_grow)
+{
+    requireCudaDevice();
+#ifdef HAVE_CUDA
+    const Size sizes[] = { Size(1242, 375), Size(640, 480), Size(97, 61), Size(1, 1), Size(333, 111), Size(1920, 1080) };
+    const int numDs[] = { 128, 64, 256, 16, 128, 256 };
+    std::vector<cuda::GpuMat> gl(6), gr(6), gs(6);
+    RNG rng(9);
+    for (int i = 0; i < 6; i++)
+    {
+        Mat l(sizes[i], CV_8UC1), r(sizes[i], CV_8UC1), s(sizes[i], CV_32FC1, Scalar::all(0));
+        rng.fill(l, RNG::UNIFORM, 0, 256);
+        rng.fill(r, RNG::UNIFORM, 0, 256);
+        for (int k = 0; k < sizes[i].area() / 25 + 1; k++)
+            s.at<float>(rng.uniform(0, l.rows), rng.uniform(0, l.cols)) = (float)rng.uniform(1.0, 60.0);
+        gl[i].upload(l); gr[i].upload(r); gs[i].upload(s);
+    }
+    Ptr<StereoLidarSGM> m;
+    cuda::Stream stream;
+    cuda::GpuMat out;
+    size_t freeAfterWarmUp = 0, freeNow = 0, total = 0;
+    for (int call = 0; call < 1000; call++)
+    {
+        if (call % 100 == 0)
+            m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, (call / 100) % 3);
+        const int i = call % 6;
+        m->setNumDisparities(numDs[i]);
+        if ((call / 6) % 5 == 2)
+            m->semidensify(gl[i], gr[i], gs[i], out, stream);
+        else
+            m->compute(gl[i], gr[i], gs[i], out, stream);
+        if (call == 299 || call == 899)
+        {
+            stream.waitForCompletion();
+            ASSERT_EQ(cudaSuccess, cudaMemGetInfo(call == 299 ? &freeAfterWarmUp : &freeNow, &total));
+        }
+    }
+    stream.waitForCompletion();
+    EXPECT_GE(freeNow, freeAfterWarmUp) << "device memory grew by " << (freeAfterWarmUp - freeNow) << " bytes";
+#endif
 }
 
 // compute(..., stream) must be truly asynchronous once buffers exist: capture it into a CUDA graph (capture fails on

@@ -6,5 +6,6 @@
 #include "opencv2/lidarsgm.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
+#include <thread>
 
 #endif

@@ -37,12 +37,21 @@ if [ "${SIZES:-0}" = 1 ]; then
   done
 fi
 if [ "${SANITIZE:-0}" = 1 ] && command -v compute-sanitizer >/dev/null; then
-  # The small-image CUDA tests (random sizes, ROI, graph capture) under memcheck and racecheck.
-  for tool in memcheck racecheck; do
-    timeout ${SAN_TIMEOUT:-200} compute-sanitizer --tool $tool --error-exitcode 99 env OPENCV_TEST_DATA_PATH=testdata \
-      $B/opencv_test_lidarsgm --gtest_filter="${SAN_FILTER:-*CUDA_Random*:*roi_input*}" > "$OUT/sanitize_$tool.log" 2>&1
-    echo "compute-sanitizer $tool: exit $? ($(grep -E 'ERROR SUMMARY|RACECHECK SUMMARY' "$OUT/sanitize_$tool.log" | tail -1)) $(grep -E '^\[  (PASSED|FAILED)' "$OUT/sanitize_$tool.log" | head -1)"
-  done
+  # memcheck over MEM_FILTER and racecheck over RACE_FILTER, at the same time; racecheck split into RACE_SHARDS
+  # processes (gtest sharding). Racecheck takes about half a minute per KITTI-size configuration, so its default set
+  # is every small-image test plus one KITTI-size configuration per kernel variant (mode, check, paths).
+  MEM_FILTER=${MEM_FILTER:-'*CUDA*-*shared_data*'}
+  RACE_FILTER=${RACE_FILTER:-'*CUDA_Random*:*roi_input*:*projection*:*graph*:*Kitti*f000002_SDSGM_stereo_lidar_p8*:*Kitti*f000002_DSGM_camera_lidar_p4*:*Kitti*f000002_SGM_stereo_p8*:*Kitti*f000002_SGM_none_p4*'}
+  san() {  # tool filter shard shards
+    local log="$OUT/sanitize_$1_$3.log"
+    timeout ${SAN_TIMEOUT:-200} compute-sanitizer --tool $1 --error-exitcode 99 env OPENCV_TEST_DATA_PATH=testdata \
+      GTEST_TOTAL_SHARDS=$4 GTEST_SHARD_INDEX=$3 $B/opencv_test_lidarsgm --gtest_filter="$2" > "$log" 2>&1
+    echo "compute-sanitizer $1 shard $3/$4: exit $? ($(grep -E 'ERROR SUMMARY|RACECHECK SUMMARY' "$log" | tail -1))" \
+         "$(grep -cE '^\[       OK' "$log") OK, $(grep -E '^\[  (PASSED|FAILED)' "$log" | head -1)"
+  }
+  for ((k = 0; k < ${RACE_SHARDS:-1}; k++)); do san racecheck "$RACE_FILTER" $k ${RACE_SHARDS:-1} & done
+  [ "$MEM_FILTER" != none ] && san memcheck "$MEM_FILTER" 0 1 &
+  wait
 fi
 if [ "${PERF:-0}" = 1 ]; then
   OPENCV_TEST_DATA_PATH=testdata $B/opencv_perf_lidarsgm --gtest_filter='*CUDA*' --perf_min_samples=30 2>&1 \

@@ -51,6 +51,13 @@ Costs are integers. The energy is scaled by one factor K, the largest for which 
 to the nearest integer, and the census term K (1 - alpha) H (K H in plain SGM) is computed with the weight carried
 to 1/256 and rounded per term. Scaling the whole energy does not change the minimiser, the uniqueness ratio or the
 parabola, so alpha is honoured as given (0.7 stays 0.7, to within 1/256 of a cost unit) rather than quantised.
+
+Threads and streams: one instance serialises its own calls (a mutex) because its work buffers are members; use one
+instance per thread for parallel work. On the CUDA path, calls of one instance on different cv::cuda::Stream objects
+are ordered on the GPU: a call on another stream than the previous call first waits (cudaStreamWaitEvent, no host
+synchronisation) until the previous call has finished with the buffers, so results are as if the calls ran alone.
+A call captured into a CUDA graph must follow a call of the same instance, at the same size, on the capturing
+stream, and the graph must not be replayed while the instance runs other calls.
  */
 class CV_EXPORTS_W StereoLidarSGM : public Algorithm
 {
