@@ -79,10 +79,16 @@ static LIDARSGM_HD int popcount32(unsigned v)
 //! Integer disparity (pixels) of a 1/16-pixel value, rounded to nearest (halves up).
 static LIDARSGM_HD int roundDisp16(int d16) { return (d16 + 8) >> 4; }
 
+/** Whether a 1/16-pixel sparse value is kept as a measurement for the search range [lo, hi] (whole pixels): the value
+itself must not lie below lo (so no output, semidense maps included, falls below minDisparity) and its rounded integer
+disparity must not lie above hi (so it indexes the cost volume). */
+static LIDARSGM_HD bool sparseInRange(int d16, int lo, int hi) { return d16 >= lo * 16 && roundDisp16(d16) <= hi; }
+
 // ---- CPU stages (exported for the per-stage unit tests; not part of the public API) ------------------------------------------------------------------------------------------------
 
 /** Sparse input (CV_16UC1 x256 or CV_32FC1 pixels) to the internal CV_16SC1 1/16-pixel map with NO_DISP for "none".
-Values whose rounded integer disparity lies outside [minDisparity, minDisparity + numDisparities) become NO_DISP. */
+Values below minDisparity, or whose rounded integer disparity is above minDisparity + numDisparities - 1, become
+NO_DISP (sparseInRange). */
 CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat& sparse16);
 
 //! Census transform (CV_8UC1 or CV_16UC1 in, CV_32SC1 bit strings out); pixels outside the image are clamped.

@@ -30,7 +30,7 @@ void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat&
                     // The comparison is false for NaN; the upper bound keeps the cast in range.
                     if (v > 0.f && v < 1536.f)
                         d16 = (int)std::floor(v * 16.0 + 0.5);
-                    if (d16 != NO_DISP && (roundDisp16(d16) < lo || roundDisp16(d16) > hi))
+                    if (d16 != NO_DISP && !sparseInRange(d16, lo, hi))
                         d16 = NO_DISP;
                     dst[x] = (short)d16;
                 }
@@ -42,7 +42,7 @@ void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat&
                 {
                     const int v = src[x];
                     int d16 = v == 0 ? NO_DISP : (v + 8) >> 4;
-                    if (d16 != NO_DISP && (roundDisp16(d16) < lo || roundDisp16(d16) > hi))
+                    if (d16 != NO_DISP && !sparseInRange(d16, lo, hi))
                         d16 = NO_DISP;
                     dst[x] = (short)d16;
                 }

@@ -26,7 +26,7 @@ __global__ void convertSparseKernel(PtrStepSz<ushort> s16u, PtrStepSz<float> s32
         if (v > 0.f && v < 1536.f)
             d16 = (int)floor((double)v * 16.0 + 0.5);
     }
-    if (d16 != NO_DISP && (roundDisp16(d16) < lo || roundDisp16(d16) > hi))
+    if (d16 != NO_DISP && !sparseInRange(d16, lo, hi))
         d16 = NO_DISP;
     out(y, x) = (short)d16;
 }

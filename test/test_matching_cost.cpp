@@ -139,6 +139,16 @@ TEST(Lidarsgm_SparseInput, conversion_rules)
     EXPECT_EQ(NO_DISP, s16.at<short>(0, 0));
     EXPECT_EQ(161, s16.at<short>(0, 1));
     EXPECT_EQ(NO_DISP, s16.at<short>(0, 2));
+
+    // The range ends, minDisparity 10, 16 disparities: [10, 25.5) is kept at 1/16 pixel.
+    Mat e = (Mat_<float>(1, 6) << 9.96f, 10.0f, 25.4f, 25.45f, 25.5f, 9.97f);
+    convertSparse(e, 10, 16, s16);
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 0));  // 159.4 -> 159 < 160: below minDisparity
+    EXPECT_EQ(160, s16.at<short>(0, 1));
+    EXPECT_EQ(406, s16.at<short>(0, 2));      // 406.4 -> 406, rounds to 25
+    EXPECT_EQ(407, s16.at<short>(0, 3));      // 407.2 -> 407, rounds to 25
+    EXPECT_EQ(NO_DISP, s16.at<short>(0, 4));  // 408 rounds to 26: outside the search range
+    EXPECT_EQ(160, s16.at<short>(0, 5));      // 159.52 -> 160 (to 1/16 first): exactly minDisparity, kept
 }
 
 }} // namespace

@@ -39,8 +39,16 @@ namespace lidarsgm {
 Input images: rectified, 8-bit or 16-bit, single channel, same size and type. Colour images are refused (convert
 with cv::cvtColor). Sparse disparity: CV_16UC1 in KITTI encoding (value / 256 pixels, 0 = no measurement) or
 CV_32FC1 in pixels (0, negative, NaN and infinite values = no measurement); values are taken to 1/16 pixel
-(rounded to nearest) and those outside [minDisparity, minDisparity + numDisparities) are ignored as no measurement.
-The sparse disparity is left-view disparity: left pixel (x, y) matches right pixel (x - d, y).
+(rounded to nearest); values below minDisparity, or at or above minDisparity + numDisparities - 1/2 (they would
+round out of the search range), are ignored as no measurement. The sparse disparity is left-view disparity: left
+pixel (x, y) matches right pixel (x - d, y).
+
+Borders and small images: any size from 1x1 up is accepted, including images narrower than the disparity range or
+smaller than the census window. Image coordinates outside the image are clamped (replicated border) for the census
+window, and a right pixel x - d left of (or right of) the image is taken from the nearest column, so every pixel gets
+a matching cost at every disparity; the left-right check rejects a disparity whose right pixel lies outside the
+image. Output values are invalid or lie in [minDisparity, minDisparity + numDisparities - 1]. CPU and CUDA follow the
+same rules.
 
 Output: by default CV_16SC1 with 4 fractional bits (disparity x 16) and invalid pixels set to
 (minDisparity - 1) * 16, as cv::StereoSGBM, so cv::reprojectImageTo3D and the ximgproc filters accept it; with
