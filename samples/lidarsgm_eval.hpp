@@ -10,6 +10,7 @@
 #include "opencv2/core.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -123,6 +124,24 @@ inline cv::Mat toKittiPng(const cv::Mat& dispFloat)
     return out;
 }
 
+//! A float disparity map (-1 = invalid) as PFM, invalid pixels written as +inf (the Middlebury convention).
+inline bool writePfm(const std::string& path, const cv::Mat& dispFloat)
+{
+    cv::Mat d = dispFloat.clone();
+    d.setTo(std::numeric_limits<float>::infinity(), dispFloat < 0);
+    return cv::imwrite(path, d);
+}
+
+//! A CV_16S matcher output as raw little-endian int16, rows top to bottom, no header (numpy.fromfile(p, '<i2')).
+inline bool writeRawS16(const std::string& path, const cv::Mat& disp16)
+{
+    CV_Assert(disp16.type() == CV_16SC1);
+    std::ofstream out(path.c_str(), std::ios::binary);
+    for (int y = 0; y < disp16.rows && out; y++)
+        out.write(disp16.ptr<char>(y), (std::streamsize)disp16.cols * 2);
+    return (bool)out;
+}
+
 /** The KITTI devkit's background interpolation, on a float map with d < 0 meaning "missing": in each row, a gap with
 valid pixels on both sides takes the smaller of those two values; then each row's first and last valid values are
 copied out to its ends; then, column by column, the first and last valid values to the top and bottom. */
@@ -230,9 +249,8 @@ inline ErrorStats evaluate(const cv::Mat& est, const cv::Mat& gt, Outlier isOutl
             }
             if (total)
             {
-                const float di = ipol.at<float>(y, x);
-                // A map with no estimate at all stays empty after interpolation: every pixel is then an outlier.
-                if (di < 0 || isOutlier(di, g))
+                // As the devkit: a pixel the interpolation could not fill keeps -1 and is scored as such.
+                if (isOutlier(ipol.at<float>(y, x), g))
                     s.totalBad++;
             }
         }
@@ -308,6 +326,42 @@ inline cv::Mat colorizeDisparity(const cv::Mat& disp, float maxDisp)
             for (int c = 0; c < 3; c++)
                 px[2 - c] = cv::saturate_cast<uchar>((w * ramp[i][c] + (1 - w) * ramp[i + 1][c]) * 255);
         }
+    return out;
+}
+
+/** LiDAR points over the image: the (grey) image, each sparse disparity (CV_32F pixels, > 0) drawn as a 3x3 dot in
+the KITTI disparity colours, nearest points (largest disparity) on top. */
+inline cv::Mat overlayPoints(const cv::Mat& image, const cv::Mat& sparse, float maxDisp)
+{
+    cv::Mat grey8, out;
+    if (image.depth() == CV_16U)
+        image.convertTo(grey8, CV_8U, 1.0 / 256);
+    else
+        grey8 = image;
+    if (grey8.channels() == 1)
+        cv::cvtColor(grey8, out, cv::COLOR_GRAY2BGR);
+    else
+        out = grey8.clone();
+    cv::Mat colours = colorizeDisparity(sparse, maxDisp);
+    std::vector<std::pair<float, cv::Point> > pts;
+    for (int y = 0; y < sparse.rows; y++)
+        for (int x = 0; x < sparse.cols; x++)
+            if (sparse.at<float>(y, x) > 0)
+                pts.push_back(std::make_pair(sparse.at<float>(y, x), cv::Point(x, y)));
+    std::sort(pts.begin(), pts.end(), [](const std::pair<float, cv::Point>& a, const std::pair<float, cv::Point>& b) {
+        return a.first < b.first; });
+    for (size_t i = 0; i < pts.size(); i++)
+    {
+        const cv::Point p = pts[i].second;
+        const cv::Vec3b c = colours.at<cv::Vec3b>(p);
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++)
+            {
+                const cv::Point q(p.x + dx, p.y + dy);
+                if (q.x >= 0 && q.y >= 0 && q.x < out.cols && q.y < out.rows)
+                    out.at<cv::Vec3b>(q) = c;
+            }
+    }
     return out;
 }
 

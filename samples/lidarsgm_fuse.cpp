@@ -13,6 +13,7 @@
 #include "opencv2/lidarsgm.hpp"
 #include "opencv2/calib3d.hpp"
 #include "opencv2/core/utility.hpp"
+#include "opencv2/core/utils/filesystem.hpp"
 #include "lidarsgm_eval.hpp"
 #include "opencv2/core/cuda.hpp"
 #ifdef LIDARSGM_HAVE_CUDASTEREO
@@ -41,9 +42,32 @@ struct Options
         std::map<std::string, std::string>::const_iterator it = kv.find(k);
         return it == kv.end() ? def : it->second;
     }
-    int i(const std::string& k, int def) const { return has(k) ? std::atoi(str(k).c_str()) : def; }
-    double d(const std::string& k, double def) const { return has(k) ? std::atof(str(k).c_str()) : def; }
+    int i(const std::string& k, int def) const
+    {
+        if (!has(k))
+            return def;
+        char* end = nullptr;
+        const long v = std::strtol(str(k).c_str(), &end, 10);
+        if (str(k).empty() || *end != '\0' || v < INT_MIN || v > INT_MAX)
+            CV_Error(Error::StsBadArg, "--" + k + " takes an integer, got '" + str(k) + "'");
+        return (int)v;
+    }
+    double d(const std::string& k, double def) const
+    {
+        if (!has(k))
+            return def;
+        char* end = nullptr;
+        const double v = std::strtod(str(k).c_str(), &end);
+        if (str(k).empty() || *end != '\0')
+            CV_Error(Error::StsBadArg, "--" + k + " takes a number, got '" + str(k) + "'");
+        return v;
+    }
 };
+
+const char* const kOptions[] = { "kitti-frame", "id", "left", "right", "sparse", "velodyne", "calib", "kitti",
+    "middlebury", "gt", "out", "format", "modes", "check", "table5", "num-disparities", "min-disparity", "P1", "P2",
+    "Q1", "Q2", "alpha", "uniqueness", "lr-max-diff", "paths", "subpixel", "rs", "Ts", "rc", "Tc", "seed", "bad",
+    "timing", "cuda", "threads", "resize", "rounds", "quiet" };
 
 const char* kHelp =
     "lidarsgm_fuse: stereo-LiDAR fusion by semi-global matching (SGM / DSGM / SDSGM)\n"
@@ -56,20 +80,28 @@ const char* kHelp =
     "  --middlebury DIR               benchmark every scene folder of DIR (1 % of the ground truth as sparse input)\n"
     "Options:\n"
     "  --gt G              ground truth for a single frame (KITTI PNG)\n"
-    "  --out DIR           write disparity.png (KITTI 16-bit), disparity_color.png, sparse_color.png,\n"
-    "                      semidense_color.png, error.png (with ground truth) for a single frame\n"
+    "  --out DIR           write per frame (folder runs: DIR/<frame>/): disparity[_mode].png|.pfm|.s16,\n"
+    "                      disparity[_mode]_color.png (KITTI colours), error[_mode].png (KITTI error colours, with\n"
+    "                      ground truth), semidense.png + semidense_color.png (SDSGM), lidar_points.png (the\n"
+    "                      LiDAR points over the left image)\n"
+    "  --format LIST       disparity file formats, comma list of kitti (16-bit PNG, d * 256, 0 = invalid), pfm\n"
+    "                      (float, invalid = inf), s16 (the matcher's raw CV_16S x16, little-endian, no header)\n"
+    "                      (default kitti)\n"
+    "  --quiet 1           no progress line on folder runs\n"
     "  --modes LIST        comma list of sgm, dsgm, sdsgm (default: sdsgm for a frame, all for a folder)\n"
     "  --check C           none | stereo | camera-lidar | stereo-lidar (default stereo-lidar)\n"
     "  --table5            also run SDSGM with each consistency check (the paper's Table V)\n"
     "  --num-disparities N --min-disparity N --P1 N --P2 N --Q1 N --Q2 N --alpha A --uniqueness U\n"
     "  --lr-max-diff N --paths 4|8 --subpixel 0|1 --rs N --Ts N --rc N --Tc T   algorithm parameters\n"
     "  --seed N            random seed of the Middlebury sampling (default 1)\n"
+    "  --bad N             Middlebury error threshold in pixels (default 2: bad-2)\n"
     "  --timing N          time N runs per frame and compare with cv::StereoSGBM MODE_HH (same process)\n"
     "  --cuda 1            run on the GPU (GpuMat in and out); with --timing: CUDA-event medians against\n"
     "                      cv::cuda::StereoSGM, and the device memory one instance holds\n"
     "  --threads N         cv::setNumThreads\n"
     "  --resize WxH        (speed runs) scale the frame to W x H first\n"
-    "  --rounds N          (GPU timing) repeat the whole timing table N times, to show the spread\n";
+    "  --rounds N          (GPU timing) repeat the whole timing table N times, to show the spread\n"
+    "Exit codes: 0 done, 1 error (unreadable input, bad value, ...), 2 bad command line.\n";
 
 int modeFromName(const std::string& s)
 {
@@ -153,6 +185,72 @@ Frame loadKittiFrame(const std::string& dir, const std::string& id)
     return f;
 }
 
+/* Everything --out asks for, for one frame and one mode: the disparity in the requested formats, its colour
+picture, and with ground truth the error picture. */
+void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const Mat& disp16,
+                    int minD, int numD, const Mat& gt)
+{
+    const Mat d = disparityToFloat(disp16, minD);
+    const std::vector<std::string> formats = split(o.str("format", "kitti"));
+    for (size_t i = 0; i < formats.size(); i++)
+    {
+        bool ok;
+        if (formats[i] == "kitti")
+            ok = imwrite(dir + "/disparity" + suffix + ".png", toKittiPng(d));
+        else if (formats[i] == "pfm")
+            ok = writePfm(dir + "/disparity" + suffix + ".pfm", d);
+        else if (formats[i] == "s16")
+            ok = writeRawS16(dir + "/disparity" + suffix + ".s16", disp16);
+        else
+            CV_Error(Error::StsBadArg, "unknown --format '" + formats[i] + "' (kitti, pfm, s16)");
+        if (!ok)
+            CV_Error(Error::StsError, "cannot write " + dir + "/disparity" + suffix + " (" + formats[i] + ")");
+    }
+    if (!imwrite(dir + "/disparity" + suffix + "_color.png", colorizeDisparity(d, (float)(minD + numD))))
+        CV_Error(Error::StsError, "cannot write " + dir + "/disparity" + suffix + "_color.png");
+    if (!gt.empty())
+        imwrite(dir + "/error" + suffix + ".png", colorizeError(interpolateBackground(d), gt));
+}
+
+//! The frame's own pictures: LiDAR points over the left image, and (SDSGM) the semidense map.
+void writeInputs(const std::string& dir, const Frame& f, const Ptr<Matcher>& sdsgm, int minD, bool semidense)
+{
+    if (f.sparse.empty())
+        return;
+    Mat s;
+    f.sparse.convertTo(s, CV_32F, f.sparse.depth() == CV_16U ? 1.0 / 256 : 1.0);
+    s.setTo(0.f, ~(s > 0));
+    const float maxD = (float)(minD + sdsgm->getNumDisparities());
+    if (!imwrite(dir + "/lidar_points.png", overlayPoints(f.left, s, maxD)))
+        CV_Error(Error::StsError, "cannot write " + dir + "/lidar_points.png");
+    if (semidense)
+    {
+        Mat semi;
+        sdsgm->semidensify(f.left, f.right, f.sparse, semi);
+        const Mat sf = disparityToFloat(semi, minD);
+        imwrite(dir + "/semidense.png", toKittiPng(sf));
+        imwrite(dir + "/semidense_color.png", colorizeDisparity(sf, maxD));
+    }
+}
+
+void makeDir(const std::string& dir)
+{
+    utils::fs::createDirectories(dir);
+    if (!utils::fs::isDirectory(dir))
+        CV_Error(Error::StsError, "cannot create the output folder " + dir);
+}
+
+//! The progress line of folder runs (stderr): frames done, frames per second, time left.
+void progress(const Options& o, size_t done, size_t total, double seconds)
+{
+    if (o.has("quiet"))
+        return;
+    const double fps = done / std::max(seconds, 1e-9);
+    fprintf(stderr, "\r[%zu/%zu] frames, %.2f frames/s, %.0f s left   ", done, total, fps, (total - done) / fps);
+    if (done == total)
+        fprintf(stderr, "\n");
+}
+
 double medianMs(std::vector<double> v)
 {
     std::sort(v.begin(), v.end());
@@ -230,6 +328,8 @@ int runFrame(const Options& o, Frame& f)
     const int check = checkFromName(o.str("check", "stereo-lidar"));
     const std::string out = o.str("out");
     const int minD = o.i("min-disparity", 0);
+    if (!out.empty())
+        makeDir(out);
     for (size_t k = 0; k < modes.size(); k++)
     {
         const int mode = modeFromName(modes[k]);
@@ -252,7 +352,7 @@ int runFrame(const Options& o, Frame& f)
             m->compute(f.left, f.right, f.sparse, disp);
             tm.stop();
         }
-        Mat d = disparityToFloat(disp, minD);
+        const Mat d = disparityToFloat(disp, minD);
         printf("%s %-6s check %-12s %s %8.1f ms", f.name.c_str(), modeLabel(mode), checkLabel(check),
                o.has("cuda") ? "CUDA" : "CPU ", tm.getTimeMilli());
         if (!f.gt.empty())
@@ -263,27 +363,14 @@ int runFrame(const Options& o, Frame& f)
         }
         printf("\n");
         if (!out.empty())
-        {
-            const std::string suffix = modes.size() > 1 ? "_" + modes[k] : "";
-            imwrite(out + "/disparity" + suffix + ".png", toKittiPng(d));
-            imwrite(out + "/disparity" + suffix + "_color.png", colorizeDisparity(d, (float)m->getNumDisparities()));
-            if (!f.gt.empty())
-                imwrite(out + "/error" + suffix + ".png", colorizeError(interpolateBackground(d), f.gt));
-            if (mode == Matcher::MODE_SDSGM && !f.sparse.empty())
-            {
-                Mat semi;
-                m->semidensify(f.left, f.right, f.sparse, semi);
-                imwrite(out + "/semidense_color.png", colorizeDisparity(disparityToFloat(semi, minD), (float)m->getNumDisparities()));
-            }
-        }
+            writeDisparity(o, out, modes.size() > 1 ? "_" + modes[k] : "", disp, minD, m->getNumDisparities(), f.gt);
     }
-    if (!out.empty() && !f.sparse.empty())
+    if (!out.empty())
     {
-        Mat s;
-        f.sparse.convertTo(s, CV_32F, f.sparse.depth() == CV_16U ? 1.0 / 256 : 1.0);
-        s.setTo(-1.f, ~(s > 0));
-        imwrite(out + "/sparse_color.png", colorizeDisparity(s, 128.f));
-        printf("wrote %s/disparity*.png (KITTI 16-bit) and colour pictures\n", out.c_str());
+        writeInputs(out, f, makeMatcher(o, Matcher::MODE_SDSGM, check, 128), minD,
+                    std::find(modes.begin(), modes.end(), "sdsgm") != modes.end());
+        printf("wrote %s/: disparity (%s), colour and error pictures, LiDAR points\n", out.c_str(),
+               o.str("format", "kitti").c_str());
     }
 
     const int reps = o.i("timing", 0);
@@ -361,6 +448,9 @@ int runKitti(const Options& o)
     lidar.label = "LiDAR points alone";
     semi.label = "semidense map (SDSGM input)";
 
+    const std::string out = o.str("out");
+    if (ids.empty())
+        CV_Error(Error::StsObjectNotFound, dir + "/frames.txt lists no frame");
     TickMeter total;
     total.start();
     for (size_t n = 0; n < ids.size(); n++)
@@ -368,6 +458,9 @@ int runKitti(const Options& o)
         Frame f = loadKittiFrame(dir, ids[n]);
         if (f.gt.empty())
             CV_Error(Error::StsObjectNotFound, "no ground truth for frame " + ids[n]);
+        const std::string frameOut = out.empty() ? "" : out + "/" + ids[n];
+        if (!frameOut.empty())
+            makeDir(frameOut);
         for (size_t k = 0; k < modes.size(); k++)
         {
             Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check, 128);
@@ -378,6 +471,8 @@ int runKitti(const Options& o)
             tm.stop();
             rows[k].stats.add(evaluate(disparityToFloat(disp, minD), f.gt, isD1Outlier));
             rows[k].ms.push_back(tm.getTimeMilli());
+            if (!frameOut.empty())
+                writeDisparity(o, frameOut, "_" + modes[k], disp, minD, m->getNumDisparities(), f.gt);
         }
         if (table5)
             for (int c = 0; c < 4; c++)
@@ -394,13 +489,12 @@ int runKitti(const Options& o)
         Mat sd;
         m->semidensify(f.left, f.right, f.sparse, sd);
         semi.stats.add(evaluate(disparityToFloat(sd, minD), f.gt, isD1Outlier, false));
+        if (!frameOut.empty())
+            writeInputs(frameOut, f, m, minD, true);
         total.stop();
-        const double fps = (n + 1) / total.getTimeSec();
-        fprintf(stderr, "\r[%zu/%zu] frames, %.2f frames/s, %.0f s left   ", n + 1, ids.size(), fps,
-                (ids.size() - n - 1) / fps);
+        progress(o, n + 1, ids.size(), total.getTimeSec());
         total.start();
     }
-    fprintf(stderr, "\n");
     char title[256];
     snprintf(title, sizeof(title), "KITTI %s: %zu frames, D1 (KITTI devkit rules), sums over frames, %d threads",
              dir.c_str(), ids.size(), getNumThreads());
@@ -447,12 +541,22 @@ int runMiddlebury(const Options& o)
     const float badN = (float)o.d("bad", 2.0);
     printf("Middlebury %s: 1 %% of the ground truth as sparse input (seed %d), bad-%.0f errors, check %s\n",
            dir.c_str(), seed, badN, checkLabel(check));
-    printf("| %-20s | ndisp | %-6s | coverage | covered bad | total bad |\n", "scene", "mode");
-    printf("|----------------------|-------|--------|----------|-------------|-----------|\n");
+    if (scenes.empty())
+        CV_Error(Error::StsObjectNotFound, "no Middlebury scene (im0/im1/disp0.pfm, im2/im6/disp2.png, "
+                                           "view1/view5/disp1.png) in the folders of " + dir);
+    printf("| %-20s | ndisp | %-6s | coverage | covered bad | total bad |       ms |\n", "scene", "mode");
+    printf("|----------------------|-------|--------|----------|-------------|-----------|----------|\n");
     std::vector<ErrorStats> sums(modes.size());
+    std::vector<std::vector<double> > times(modes.size());
+    const std::string out = o.str("out");
+    TickMeter total;
+    total.start();
     for (size_t s = 0; s < scenes.size(); s++)
     {
         Frame& f = scenes[s];
+        const std::string frameOut = out.empty() ? "" : out + "/" + f.name;
+        if (!frameOut.empty())
+            makeDir(frameOut);
         double maxGt = 0;
         minMaxLoc(f.gt, nullptr, &maxGt);
         const int ndisp = std::min(256, std::max(64, ((int)std::ceil(maxGt) + 1 + 15) / 16 * 16));
@@ -462,17 +566,40 @@ int runMiddlebury(const Options& o)
             Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check, ndisp);
             m->setNumDisparities(o.i("num-disparities", ndisp));
             Mat disp;
+            TickMeter tm;
+            tm.start();
             m->compute(f.left, f.right, f.sparse, disp);
+            tm.stop();
+            times[k].push_back(tm.getTimeMilli());
             BadN bad = { badN };
-            ErrorStats st = evaluate(disparityToFloat(disp, o.i("min-disparity", 0)), f.gt, bad);
+            const int minD = o.i("min-disparity", 0);
+            ErrorStats st = evaluate(disparityToFloat(disp, minD), f.gt, bad);
             sums[k].add(st);
-            printf("| %-20s | %5d | %-6s | %6.2f %% | %9.2f %% | %7.2f %% |\n", f.name.c_str(), ndisp,
-                   modeLabel(modeFromName(modes[k])), st.coverage(), st.coveredError(), st.totalError());
+            printf("| %-20s | %5d | %-6s | %6.2f %% | %9.2f %% | %7.2f %% | %8.1f |\n", f.name.c_str(), ndisp,
+                   modeLabel(modeFromName(modes[k])), st.coverage(), st.coveredError(), st.totalError(), tm.getTimeMilli());
+            fflush(stdout);
+            if (!frameOut.empty())
+            {
+                writeDisparity(o, frameOut, "_" + modes[k], disp, minD, m->getNumDisparities(), Mat());
+                if (k == 0)
+                    writeInputs(frameOut, f, makeMatcher(o, Matcher::MODE_SDSGM, check, ndisp), minD, true);
+            }
         }
+        total.stop();
+        progress(o, s + 1, scenes.size(), total.getTimeSec());
+        total.start();
     }
+    char title[256];
+    snprintf(title, sizeof(title), "Middlebury %s: %zu scenes, bad-%g (sums over scenes), %d threads", dir.c_str(),
+             scenes.size(), badN, getNumThreads());
+    std::vector<Row> rows(modes.size());
     for (size_t k = 0; k < modes.size(); k++)
-        printf("| %-20s | %5s | %-6s | %6.2f %% | %9.2f %% | %7.2f %% |\n", "all scenes (sums)", "-",
-               modeLabel(modeFromName(modes[k])), sums[k].coverage(), sums[k].coveredError(), sums[k].totalError());
+    {
+        rows[k].label = std::string(modeLabel(modeFromName(modes[k]))) + " (" + checkLabel(check) + ")";
+        rows[k].stats = sums[k];
+        rows[k].ms = times[k];
+    }
+    printTable(title, format("bad-%g", badN).c_str(), rows);
     return 0;
 }
 
@@ -499,6 +626,11 @@ int main(int argc, char** argv)
         if (!flag && i + 1 >= argc)
         {
             fprintf(stderr, "lidarsgm_fuse: option --%s needs a value (see --help)\n", a.c_str());
+            return 2;
+        }
+        if (std::find(std::begin(kOptions), std::end(kOptions), a) == std::end(kOptions))
+        {
+            fprintf(stderr, "lidarsgm_fuse: unknown option --%s (see --help)\n", a.c_str());
             return 2;
         }
         o.kv[a] = flag ? "1" : argv[++i];
@@ -559,7 +691,7 @@ int main(int argc, char** argv)
     }
     catch (const cv::Exception& e)
     {
-        fprintf(stderr, "lidarsgm_fuse: %s\n", e.what());
+        fprintf(stderr, "lidarsgm_fuse: error: %s\n", e.err.c_str());
         return 1;
     }
 }

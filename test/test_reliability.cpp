@@ -158,6 +158,8 @@ TEST(Lidarsgm_Reliability, size_change_between_calls)
     }
 }
 
+// A shipped KITTI frame and its projected scan, cropped to its middle 600 columns (keeps the tests quick under the
+// sanitizers while every stage still runs on real data).
 static void loadShippedFrame(const std::string& id, Mat& l, Mat& r, Mat& s)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
@@ -167,9 +169,13 @@ static void loadShippedFrame(const std::string& id, Mat& l, Mat& r, Mat& s)
     ASSERT_FALSE(l.empty() || r.empty()) << id;
     cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/" + id + ".bin"),
                                            c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s);
+    const Rect crop(320, 0, 600, l.rows);
+    l = l(crop).clone();
+    r = r(crop).clone();
+    s = s(crop).clone();
 }
 
-// The same input gives the same output, run after run and for 1, 2, 3, 4 and 8 worker threads.
+// The same input gives the same output, run after run and for 1, 2, 3 and 8 worker threads.
 TEST(Lidarsgm_Reliability, deterministic_over_runs_and_thread_counts)
 {
     Mat l, r, s;
@@ -182,18 +188,15 @@ TEST(Lidarsgm_Reliability, deterministic_over_runs_and_thread_counts)
         setNumThreads(1);
         m->compute(l, r, s, ref);
         m->semidensify(l, r, s, semiRef);
-        const int threads[] = { 2, 3, 4, 8, 1 };
+        const int threads[] = { 2, 3, 8, 8 };  // the last one twice: run after run
         for (int t : threads)
         {
             setNumThreads(t);
-            for (int run = 0; run < 2; run++)
-            {
-                Mat d, semi;
-                m->compute(l, r, s, d);
-                m->semidensify(l, r, s, semi);
-                EXPECT_EQ(0, cvtest::norm(ref, d, NORM_INF)) << "mode " << mode << " threads " << t << " run " << run;
-                EXPECT_EQ(0, cvtest::norm(semiRef, semi, NORM_INF)) << "mode " << mode << " threads " << t;
-            }
+            Mat d, semi;
+            m->compute(l, r, s, d);
+            m->semidensify(l, r, s, semi);
+            EXPECT_EQ(0, cvtest::norm(ref, d, NORM_INF)) << "mode " << mode << " threads " << t;
+            EXPECT_EQ(0, cvtest::norm(semiRef, semi, NORM_INF)) << "mode " << mode << " threads " << t;
         }
     }
     setNumThreads(saved);

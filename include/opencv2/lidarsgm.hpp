@@ -25,7 +25,34 @@ Dense disparity from a rectified stereo pair and a sparse (LiDAR) disparity map,
 5. the consistency check: a disparity survives the left-right check, or (stereo-LiDAR check) if some original sparse
    disparity within a (2 rc + 1)^2 window differs from it by at most Tc.
 
-The CPU path and the CUDA path compute the same integer arithmetic and give identical outputs.
+Semi-global aggregation follows @cite Hirschmuller2008.
+
+Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception naming the parameter):
+
+| parameter | meaning | range | default (paper) |
+| --- | --- | --- | --- |
+| minDisparity | smallest disparity searched | [-1024, 1024] | 0 |
+| numDisparities | disparities searched | multiple of 16 in [16, 256] | 128 |
+| P1, P2 | SGM penalties for a disparity change of 1 / more than 1 (census-bit units) | 0 <= P1 <= P2 <= 1000 | 10, 120 |
+| Q1, Q2 | DDC penalties for abs(d - s) = 1 / > 1 | 0 <= Q1 <= Q2 <= 1000 | 5, 160 |
+| alpha | weight of the DDC against the census cost | [0, 1] | 0.7 |
+| semidenseRadius (rs), semidenseThreshold (Ts) | semidensification window radius, census-cost threshold | [0, 32], [0, 32] | 6, 2 |
+| checkRadius (rc), checkThreshold (Tc) | LiDAR consistency-check window radius, disparity tolerance (pixels) | [0, 64], [0, 64] | 20, 2 |
+| uniquenessRatio | best cost <= ratio x lowest cost more than 1 disparity away, else invalid | (0, 1] (1 = off) | 0.95 |
+| LRMaxDiff | left-right check tolerance (pixels) | [0, 16] | 1 |
+| numPaths | aggregation paths | 4 or 8 | 8 |
+| subpixel | parabola fit | on/off | on |
+| mode | MODE_SGM, MODE_DSGM, MODE_SDSGM | | MODE_SDSGM |
+| consistencyCheck | CHECK_NONE, CHECK_STEREO, CHECK_CAMERA_LIDAR, CHECK_STEREO_LIDAR | | CHECK_STEREO_LIDAR |
+| outputType | CV_16S (disparity x 16) or CV_32F (pixels) | | CV_16S |
+
+Inputs: rectified 8- or 16-bit single-channel images of one size; a sparse disparity map of the left view of that
+size, CV_16UC1 (KITTI encoding, value / 256, 0 = none) or CV_32FC1 (pixels; 0, negative, NaN, infinite = none),
+for example from cv::lidarsgm::projectPointsToDisparity. Output: see StereoLidarSGM.
+
+CPU and CUDA: cv::Mat inputs run on the CPU (parallelised with cv::parallel_for_), cv::cuda::GpuMat inputs on the GPU
+(optionally asynchronously on a cv::cuda::Stream). Both compute the same integer arithmetic and give identical
+outputs, bit for bit, for every parameter, size and input type.
 */
 
 namespace cv {

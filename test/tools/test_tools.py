@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""The command-line tool (lidarsgm_lidarsgm_fuse) and the Python sample (samples/python/lidarsgm_fuse.py), run as a
+user runs them: outputs, formats, summary tables, progress, exit codes and messages on bad input.
+
+Environment (set by ctest): LIDARSGM_TOOL (the tool binary), LIDARSGM_TESTDATA (testdata/), PYTHONPATH with cv2.
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+import cv2 as cv
+
+TOOL = os.environ.get("LIDARSGM_TOOL", "")
+DATA = os.environ.get("LIDARSGM_TESTDATA", os.path.join(os.path.dirname(__file__), "..", "..", "testdata"))
+SAMPLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "samples", "python", "lidarsgm_fuse.py")
+KITTI = os.path.join(DATA, "kitti")
+METRICS = re.compile(r"coverage +([\d.]+) %  covered D1 +([\d.]+) %  total D1 +([\d.]+) %")
+
+
+def run(cmd):
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True, timeout=600)
+    return p.returncode, p.stdout, p.stderr
+
+
+@unittest.skipUnless(os.path.isfile(TOOL), "LIDARSGM_TOOL does not name the tool binary")
+class ToolTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="lidarsgm_tool_")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def test_frame_outputs_and_formats(self):
+        out = os.path.join(self.tmp, "out")
+        rc, so, se = run([TOOL, "--kitti-frame", KITTI, "--id", "000002", "--out", out, "--format", "kitti,pfm,s16"])
+        self.assertEqual(rc, 0, se)
+        m = METRICS.search(so)
+        self.assertIsNotNone(m, so)
+        for name in ["disparity.png", "disparity.pfm", "disparity.s16", "disparity_color.png", "error.png",
+                     "lidar_points.png", "semidense.png", "semidense_color.png"]:
+            self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
+        png = cv.imread(os.path.join(out, "disparity.png"), cv.IMREAD_UNCHANGED)
+        pfm = cv.imread(os.path.join(out, "disparity.pfm"), cv.IMREAD_UNCHANGED)
+        s16 = np.fromfile(os.path.join(out, "disparity.s16"), dtype="<i2").reshape(png.shape)
+        self.assertEqual(png.dtype, np.uint16)
+        self.assertEqual(pfm.dtype, np.float32)
+        valid = s16 > -16
+        # The three formats hold the same map: x16 integers, pixels, x256 (0 and inf = invalid).
+        np.testing.assert_array_equal(png[valid], s16[valid].astype(np.uint16) * 16 * (s16[valid] > 0))
+        np.testing.assert_array_equal(pfm[valid], s16[valid] / 16.0)
+        self.assertTrue(np.all(np.isinf(pfm[~valid])))
+        self.assertTrue(np.all(png[~valid] == 0))
+        # The error picture is black exactly where there is no ground truth.
+        gt = cv.imread(os.path.join(KITTI, "disp_occ_0", "000002_10.png"), cv.IMREAD_UNCHANGED)
+        err = cv.imread(os.path.join(out, "error.png"))
+        self.assertTrue(np.all(err[gt == 0] == 0))
+        self.assertTrue(np.all(err[gt > 0].max(axis=1) > 0))
+
+    def test_folder_summary_and_progress(self):
+        kitti = os.path.join(self.tmp, "kitti")
+        shutil.copytree(KITTI, kitti)
+        with open(os.path.join(kitti, "frames.txt"), "w") as f:
+            f.write("000002\n000046\n")
+        out = os.path.join(self.tmp, "out")
+        rc, so, se = run([TOOL, "--kitti", kitti, "--out", out, "--modes", "dsgm,sdsgm"])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("[2/2] frames", se)
+        self.assertRegex(so, r"\| DSGM \(stereo-lidar\) +\| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ \|")
+        self.assertRegex(so, r"\| SDSGM \(stereo-lidar\) +\| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ \|")
+        for fid in ["000002", "000046"]:
+            for name in ["disparity_dsgm.png", "disparity_sdsgm_color.png", "error_sdsgm.png", "lidar_points.png",
+                         "semidense_color.png"]:
+                self.assertTrue(os.path.isfile(os.path.join(out, fid, name)), fid + "/" + name)
+        # A one-frame folder gives the single-frame run's numbers (same matcher, same evaluator).
+        with open(os.path.join(kitti, "frames.txt"), "w") as f:
+            f.write("000046\n")
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1"])
+        self.assertEqual(rc, 0, se)
+        row = re.search(r"\| SDSGM \(stereo-lidar\) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+) %", so)
+        rc, so1, _ = run([TOOL, "--kitti-frame", KITTI, "--id", "000046"])
+        self.assertEqual(rc, 0)
+        self.assertEqual(row.groups(), METRICS.search(so1).groups())
+
+    def test_middlebury_folder(self):
+        rc, so, se = run([TOOL, "--middlebury", os.path.join(DATA, "middlebury"), "--modes", "sgm,sdsgm", "--quiet", "1"])
+        self.assertEqual(rc, 0, se)
+        self.assertRegex(so, r"\| cone +\| +\d+ \| SDSGM ")
+        self.assertRegex(so, r"\| SDSGM \(stereo-lidar\) +\| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ \|")
+        self.assertNotIn("frames/s", se)
+
+    def test_exit_codes_and_messages(self):
+        cases = [
+            (["--kitti-frame", os.path.join(self.tmp, "missing"), "--id", "000002"], 1, "cannot read image"),
+            (["--kitti", os.path.join(self.tmp, "missing")], 1, "frames.txt"),
+            (["--middlebury", self.tmp], 1, "no Middlebury scene"),
+            (["--left", os.path.join(KITTI, "image_2", "000002_10.png"), "--right",
+              os.path.join(KITTI, "image_3", "000002_10.png"), "--sparse", os.path.join(self.tmp, "none.png")],
+             1, "cannot read sparse disparity"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--num-disparities", "100"], 1, "numDisparities"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--num-disparities", "abc"], 1, "takes an integer"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--alpha", "1.5"], 1, "alpha"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--modes", "fast"], 1, "unknown mode"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--out", self.tmp, "--format", "jpg"], 1, "unknown --format"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--colour", "1"], 2, "unknown option --colour"),
+            (["--kitti-frame"], 2, "needs a value"),
+            (["stray"], 2, "unexpected argument"),
+            ([], 2, "give --kitti-frame"),
+        ]
+        for args, code, message in cases:
+            rc, so, se = run([TOOL] + args)
+            self.assertEqual(rc, code, " ".join(args) + "\n" + se)
+            self.assertIn(message, se, " ".join(args))
+        rc, so, se = run([TOOL, "--help"])
+        self.assertEqual(rc, 0)
+        self.assertIn("--format", so)
+
+
+class PythonSampleTest(unittest.TestCase):
+    def test_sample_matches_the_tool(self):
+        tmp = tempfile.mkdtemp(prefix="lidarsgm_pysample_")
+        try:
+            rc, so, se = run([sys.executable, SAMPLE, "--kitti-frame", KITTI, "--id", "000002", "--out", tmp])
+            self.assertEqual(rc, 0, se)
+            m = METRICS.search(so)
+            self.assertIsNotNone(m, so)
+            for name in ["disparity.png", "disparity_color.png", "lidar_points.png"]:
+                self.assertTrue(os.path.isfile(os.path.join(tmp, name)), name)
+            if os.path.isfile(TOOL):
+                out2 = os.path.join(tmp, "tool")
+                rc, so2, se2 = run([TOOL, "--kitti-frame", KITTI, "--id", "000002", "--out", out2])
+                self.assertEqual(rc, 0, se2)
+                # numpy evaluator == C++ evaluator, and the same disparity file.
+                self.assertEqual(m.groups(), METRICS.search(so2).groups())
+                a = cv.imread(os.path.join(tmp, "disparity.png"), cv.IMREAD_UNCHANGED)
+                b = cv.imread(os.path.join(out2, "disparity.png"), cv.IMREAD_UNCHANGED)
+                np.testing.assert_array_equal(a, b)
+                a = cv.imread(os.path.join(tmp, "disparity_color.png"))
+                b = cv.imread(os.path.join(out2, "disparity_color.png"))
+                # Same colour map; float32 (C++) and float64 (numpy) may round a channel differently by 1.
+                self.assertLessEqual(int(np.abs(a.astype(int) - b.astype(int)).max()), 1)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+    def test_sample_bad_input(self):
+        rc, so, se = run([sys.executable, SAMPLE, "--kitti-frame", "/nonexistent", "--id", "000002"])
+        self.assertEqual(rc, 1)
+        self.assertIn("cannot read image", se)
+        rc, so, se = run([sys.executable, SAMPLE, "--id", "000002"])
+        self.assertEqual(rc, 2)
+
+
+if __name__ == "__main__":
+    unittest.main()
