@@ -1,7 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // The CUDA path against the CPU path: bit for bit. These tests run where a CUDA device exists and skip otherwise.
-#include "test_precomp.hpp"
-#include "lidarsgm_eval.hpp"
+#include "test_common.hpp"
 #include "opencv2/core/cuda.hpp"
 #ifdef HAVE_CUDA
 #include "opencv2/core/cuda_stream_accessor.hpp"
@@ -45,17 +44,6 @@ static void compareCpuGpu(const Ptr<StereoLidarSGM>& m, const Mat& l, const Mat&
     }
 }
 
-static void loadKittiFrame(const std::string& id, Mat& l, Mat& r, Mat& s)
-{
-    const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
-    l = imread(dir + "/image_2/" + id + "_10.png", IMREAD_GRAYSCALE);
-    r = imread(dir + "/image_3/" + id + "_10.png", IMREAD_GRAYSCALE);
-    ASSERT_FALSE(l.empty() || r.empty()) << id;
-    cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/" + id + ".bin"),
-                                           c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s);
-}
-
 // Both shipped frames x every mode x every check x 4/8 paths; one test per combination, named for it, so a
 // sanitizer run can pick a few (racecheck takes about half a minute per KITTI-size combination).
 typedef testing::TestWithParam<tuple<int, int, int, int> > Lidarsgm_CUDA_Kitti;
@@ -65,7 +53,7 @@ TEST_P(Lidarsgm_CUDA_Kitti, bit_exact)
     const char* ids[] = { "000002", "000046" };
     const int frame = get<0>(GetParam()), mode = get<1>(GetParam()), check = get<2>(GetParam()), paths = get<3>(GetParam());
     Mat l, r, s;
-    loadKittiFrame(ids[frame], l, r, s);
+    loadKittiTestFrame(ids[frame], l, r, s);
     Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode, check);
     m->setNumPaths(paths);
     compareCpuGpu(m, l, r, s, format("frame %s mode %d check %d paths %d", ids[frame], mode, check, paths));
@@ -212,8 +200,8 @@ TEST(Lidarsgm_CUDA, one_instance_two_streams)
 {
     requireCudaDevice();
     Mat l[2], r[2], s[2], cpu[2];
-    loadKittiFrame("000002", l[0], r[0], s[0]);
-    loadKittiFrame("000046", l[1], r[1], s[1]);
+    loadKittiTestFrame("000002", l[0], r[0], s[0]);
+    loadKittiTestFrame("000046", l[1], r[1], s[1]);
     Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
     for (int i = 0; i < 2; i++)
         m->compute(l[i], r[i], s[i], cpu[i]);
@@ -256,8 +244,8 @@ TEST(Lidarsgm_CUDA, instances_on_threads)
 {
     requireCudaDevice();
     Mat l[2], r[2], s[2];
-    loadKittiFrame("000002", l[0], r[0], s[0]);
-    loadKittiFrame("000046", l[1], r[1], s[1]);
+    loadKittiTestFrame("000002", l[0], r[0], s[0]);
+    loadKittiTestFrame("000046", l[1], r[1], s[1]);
     const int T = 6;
     std::vector<Mat> expected(T);
     for (int t = 0; t < T; t++)
@@ -301,11 +289,8 @@ TEST(Lidarsgm_CUDA, size_change_between_calls)
     RNG rng(5);
     for (int i = 0; i < 5; i++)
     {
-        Mat l(sizes[i], CV_8UC1), r(sizes[i], CV_8UC1), s(sizes[i], CV_32FC1, Scalar::all(0));
-        rng.fill(l, RNG::UNIFORM, 0, 256);
-        rng.fill(r, RNG::UNIFORM, 0, 256);
-        for (int k = 0; k < sizes[i].area() / 25 + 1; k++)
-            s.at<float>(rng.uniform(0, l.rows), rng.uniform(0, l.cols)) = (float)rng.uniform(1.0, 60.0);
+        Mat l, r, s;
+        randomInputs(sizes[i], rng, l, r, s);
         m->setNumDisparities(i % 2 ? 128 : 64);
         m->setOutputType(i % 2 ? CV_32F : CV_16S);
         compareCpuGpu(m, l, r, s, format("call %d", i));
@@ -317,7 +302,7 @@ TEST(Lidarsgm_CUDA, size_3840x2160)
 {
     requireCudaDevice();
     Mat l, r, s;
-    loadKittiFrame("000002", l, r, s);
+    loadKittiTestFrame("000002", l, r, s);
     resize(l, l, Size(3840, 2160), 0, 0, INTER_LINEAR);
     resize(r, r, Size(3840, 2160), 0, 0, INTER_LINEAR);
     Mat s4k(Size(3840, 2160), CV_32FC1, Scalar::all(0));
@@ -341,11 +326,8 @@ TEST(Lidarsgm_CUDA, memory_does_not_grow)
     RNG rng(9);
     for (int i = 0; i < 6; i++)
     {
-        Mat l(sizes[i], CV_8UC1), r(sizes[i], CV_8UC1), s(sizes[i], CV_32FC1, Scalar::all(0));
-        rng.fill(l, RNG::UNIFORM, 0, 256);
-        rng.fill(r, RNG::UNIFORM, 0, 256);
-        for (int k = 0; k < sizes[i].area() / 25 + 1; k++)
-            s.at<float>(rng.uniform(0, l.rows), rng.uniform(0, l.cols)) = (float)rng.uniform(1.0, 60.0);
+        Mat l, r, s;
+        randomInputs(sizes[i], rng, l, r, s);
         gl[i].upload(l); gr[i].upload(r); gs[i].upload(s);
     }
     Ptr<StereoLidarSGM> m;

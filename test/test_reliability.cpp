@@ -1,8 +1,7 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // Reliability on the CPU path: hostile sizes, size changes, threads, determinism, and a seeded random ("fuzz") test
 // with a time budget. The CUDA twins are in test_cuda.cpp.
-#include "test_precomp.hpp"
-#include "lidarsgm_eval.hpp"
+#include "test_common.hpp"
 
 namespace opencv_test { namespace {
 
@@ -162,13 +161,7 @@ TEST(Lidarsgm_Reliability, size_change_between_calls)
 // sanitizers while every stage still runs on real data).
 static void loadShippedFrame(const std::string& id, Mat& l, Mat& r, Mat& s)
 {
-    const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
-    l = imread(dir + "/image_2/" + id + "_10.png", IMREAD_GRAYSCALE);
-    r = imread(dir + "/image_3/" + id + "_10.png", IMREAD_GRAYSCALE);
-    ASSERT_FALSE(l.empty() || r.empty()) << id;
-    cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/" + id + ".bin"),
-                                           c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s);
+    loadKittiTestFrame(id, l, r, s);
     const Rect crop(320, 0, 600, l.rows);
     l = l(crop).clone();
     r = r(crop).clone();
