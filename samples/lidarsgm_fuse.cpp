@@ -407,6 +407,15 @@ struct Row
     std::vector<double> ms;
 };
 
+//! One summary row per mode, labelled "MODE (check)".
+std::vector<Row> modeRows(const std::vector<std::string>& modes, int check)
+{
+    std::vector<Row> rows(modes.size());
+    for (size_t k = 0; k < modes.size(); k++)
+        rows[k].label = std::string(modeLabel(modeFromName(modes[k]))) + " (" + checkLabel(check) + ")";
+    return rows;
+}
+
 void printTable(const char* title, const char* metric, const std::vector<Row>& rows)
 {
     printf("\n%s\n", title);
@@ -438,9 +447,7 @@ int runKitti(const Options& o)
     const bool table5 = o.has("table5");
     const int minD = o.i("min-disparity", 0);
 
-    std::vector<Row> rows(modes.size());
-    for (size_t k = 0; k < modes.size(); k++)
-        rows[k].label = std::string(modeLabel(modeFromName(modes[k]))) + " (" + checkLabel(check) + ")";
+    std::vector<Row> rows = modeRows(modes, check);
     std::vector<Row> t5(4);
     for (int c = 0; c < 4; c++)
         t5[c].label = std::string("SDSGM (") + checkLabel(c) + ")";
@@ -546,9 +553,9 @@ int runMiddlebury(const Options& o)
                                            "view1/view5/disp1.png) in the folders of " + dir);
     printf("| %-20s | ndisp | %-6s | coverage | covered bad | total bad |       ms |\n", "scene", "mode");
     printf("|----------------------|-------|--------|----------|-------------|-----------|----------|\n");
-    std::vector<ErrorStats> sums(modes.size());
-    std::vector<std::vector<double> > times(modes.size());
+    std::vector<Row> rows = modeRows(modes, check);
     const std::string out = o.str("out");
+    const int minD = o.i("min-disparity", 0);
     TickMeter total;
     total.start();
     for (size_t s = 0; s < scenes.size(); s++)
@@ -563,18 +570,16 @@ int runMiddlebury(const Options& o)
         f.sparse = sampleGroundTruth(f.gt, 0.01, (uint64)seed);  // 1 % of the ground truth, fixed seed
         for (size_t k = 0; k < modes.size(); k++)
         {
-            Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check, ndisp);
-            m->setNumDisparities(o.i("num-disparities", ndisp));
+            Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check, ndisp);  // --num-disparities overrides ndisp
             Mat disp;
             TickMeter tm;
             tm.start();
             m->compute(f.left, f.right, f.sparse, disp);
             tm.stop();
-            times[k].push_back(tm.getTimeMilli());
+            rows[k].ms.push_back(tm.getTimeMilli());
             BadN bad = { badN };
-            const int minD = o.i("min-disparity", 0);
             ErrorStats st = evaluate(disparityToFloat(disp, minD), f.gt, bad);
-            sums[k].add(st);
+            rows[k].stats.add(st);
             printf("| %-20s | %5d | %-6s | %6.2f %% | %9.2f %% | %7.2f %% | %8.1f |\n", f.name.c_str(), ndisp,
                    modeLabel(modeFromName(modes[k])), st.coverage(), st.coveredError(), st.totalError(), tm.getTimeMilli());
             fflush(stdout);
@@ -592,13 +597,6 @@ int runMiddlebury(const Options& o)
     char title[256];
     snprintf(title, sizeof(title), "Middlebury %s: %zu scenes, bad-%g (sums over scenes), %d threads", dir.c_str(),
              scenes.size(), badN, getNumThreads());
-    std::vector<Row> rows(modes.size());
-    for (size_t k = 0; k < modes.size(); k++)
-    {
-        rows[k].label = std::string(modeLabel(modeFromName(modes[k]))) + " (" + checkLabel(check) + ")";
-        rows[k].stats = sums[k];
-        rows[k].ms = times[k];
-    }
     printTable(title, format("bad-%g", badN).c_str(), rows);
     return 0;
 }

@@ -407,7 +407,7 @@ private:
             checkSparseInfo(Sp.type(), Sp.size(), L.size());
 
         cudaStream_t st = streamPtr ? cuda::StreamAccessor::getStream(*streamPtr) : 0;
-        orderAfterLastCall(st);
+        const bool capturing = orderAfterLastCall(st);
         const Size sz = L.size();
         namespace ci = cuda_impl;
         g_censusL_.create(sz, CV_32SC1);
@@ -441,7 +441,7 @@ private:
         {
             ci::consistencyCheck(g_semidense16_, cuda::PtrStepSz<short>(), cuda::PtrStepSz<int>(),
                                  cuda::PtrStepSz<short>(), p, o16, o32, st);
-            markCallEnd(st);
+            markCallEnd(st, capturing);
             return;
         }
 
@@ -453,35 +453,33 @@ private:
         cudaCheck(cudaMemset2DAsync(g_rightKey_.data, g_rightKey_.step, 0xFF, sz.width * sizeof(int), sz.height, st));
         ci::winnerTakesAll(g_sum_, sz.width, p, g_disp16_, g_dispInt_, g_rightKey_, st);
         ci::consistencyCheck(g_disp16_, g_dispInt_, g_rightKey_, ptr<short>(g_sparse16_), p, o16, o32, st);
-        markCallEnd(st);
+        markCallEnd(st, capturing);
     }
 
     /* The work buffers are members, so a call must not start on the GPU before the previous call of this instance
     has finished with them. On the same stream that holds by stream order; on another stream the new stream first
     waits (on the GPU, not the host) for an event recorded at the end of the previous call. Inside a CUDA graph
     capture there is no event to wait for or record: a captured call must follow calls on the stream it captures
-    (see the class documentation). */
-    void orderAfterLastCall(cudaStream_t st)
+    (see the class documentation). Returns whether st is capturing. */
+    bool orderAfterLastCall(cudaStream_t st)
     {
         cudaStreamCaptureStatus capture = cudaStreamCaptureStatusNone;
         cudaCheck(cudaStreamIsCapturing(st, &capture));
-        if (capture != cudaStreamCaptureStatusNone)
+        const bool capturing = capture != cudaStreamCaptureStatusNone;
+        if (g_done_ && st != g_lastStream_)
         {
-            if (g_done_ && st != g_lastStream_)
+            if (capturing)
                 CV_Error(Error::StsBadArg, "lidarsgm: a call captured into a CUDA graph must follow this instance's "
                                            "previous call on the same stream (the work buffers are shared)");
-            return;
-        }
-        if (g_done_ && st != g_lastStream_)
             cudaCheck(cudaStreamWaitEvent(st, g_done_, 0));
+        }
+        return capturing;
     }
 
-    void markCallEnd(cudaStream_t st)
+    void markCallEnd(cudaStream_t st, bool capturing)
     {
         g_lastStream_ = st;
-        cudaStreamCaptureStatus capture = cudaStreamCaptureStatusNone;
-        cudaCheck(cudaStreamIsCapturing(st, &capture));
-        if (capture != cudaStreamCaptureStatusNone)
+        if (capturing)
             return;
         if (!g_done_)
             cudaCheck(cudaEventCreateWithFlags(&g_done_, cudaEventDisableTiming));

@@ -69,9 +69,7 @@ void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStep
 {
     const dim3 block(32, 8);
     const dim3 grid(cv::cuda::device::divUp(disp16.cols, block.x), cv::cuda::device::divUp(disp16.rows, block.y));
-    const size_t smem = tilePointsBytes(block.x, block.y, p.checkRadius);
-    if (smem > 48 * 1024)  // rc up to 64: at most (32 + 128) x (8 + 128) points, 174 KB
-        cudaSafeCall(cudaFuncSetAttribute(checkKernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
+    const size_t smem = tileKernelSmem(checkKernel, block, p.checkRadius);
     checkKernel<<<grid, block, smem, stream>>>(disp16, dispInt, rightKey, sparse16, p, out16, out32);
     cudaSafeCall(cudaGetLastError());
 }

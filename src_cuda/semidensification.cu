@@ -50,9 +50,7 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
     const dim3 block(32, 8);
     const dim3 grid(cv::cuda::device::divUp(semidense16.cols, block.x), cv::cuda::device::divUp(semidense16.rows, block.y));
     const int rs = p.semidenseRadius;
-    const size_t smem = tilePointsBytes(block.x, block.y, rs);
-    if (smem > 48 * 1024)  // rs up to 32: at most 96 x 72 points, 54 KB
-        cudaSafeCall(cudaFuncSetAttribute(semidenseKernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
+    const size_t smem = tileKernelSmem(semidenseKernel, block, rs);
     semidenseKernel<<<grid, block, smem, stream>>>(censusL, censusR, sparse16, rs, p.semidenseThreshold, semidense16);
     cudaSafeCall(cudaGetLastError());
 }

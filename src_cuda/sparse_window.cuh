@@ -9,6 +9,7 @@
 #define OPENCV_LIDARSGM_SPARSE_WINDOW_CUH
 
 #include "pipeline_cuda.hpp"
+#include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -16,6 +17,17 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 static inline size_t tilePointsBytes(int bw, int bh, int r)
 {
     return (size_t)(bw + 2 * r) * (bh + 2 * r) * 2 * sizeof(int);
+}
+
+/** Dynamic shared memory for a kernel whose blocks call listTilePoints with radius r; raises the kernel's limit where
+it needs more than the default 48 KB (rs up to 32: 54 KB; rc up to 64: 174 KB for 32 x 8 blocks). */
+template <typename Kernel>
+static size_t tileKernelSmem(Kernel kernel, dim3 block, int r)
+{
+    const size_t smem = tilePointsBytes(block.x, block.y, r);
+    if (smem > 48 * 1024)
+        cudaSafeCall(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
+    return smem;
 }
 
 /** Called by every thread of the block. Writes (y << 16 | x, value) pairs to points (coordinates below 32768) and
