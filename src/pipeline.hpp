@@ -57,6 +57,7 @@ struct PipelineParams
     int semidenseThreshold;//!< Ts
     int checkRadius;       //!< rc
     int checkThreshold16;  //!< round(Tc * 16)
+    int medianSize;        //!< 1 (off) or 3: the median filter before the check
     int mode;              //!< StereoLidarSGM::FusionMode
     int check;             //!< StereoLidarSGM::ConsistencyCheck
     CostWeights w;
@@ -83,6 +84,48 @@ static LIDARSGM_HD int roundDisp16(int d16) { return (d16 + 8) >> 4; }
 itself must not lie below lo (so no output, semidense maps included, falls below minDisparity) and its rounded integer
 disparity must not lie above hi (so it indexes the cost volume). */
 static LIDARSGM_HD bool sparseInRange(int d16, int lo, int hi) { return d16 >= lo * 16 && roundDisp16(d16) <= hi; }
+
+/* The 3x3 median of a disparity map: "no disparity" ranks above every value (so a pixel with 5 or more invalid
+neighbours stays invalid, as in the paper's public code), coordinates outside the image are clamped (the census'
+border rule). The median of 9 is taken as med3(max3(lows), med3(mids), min3(highs)) over the three columns of the
+window, each sorted (low, mid, high) first: exact, and the column sorts are shared by neighbouring pixels. */
+static LIDARSGM_HD int medianKey(int v) { return v == NO_DISP ? SHRT_MAX : v; }
+static LIDARSGM_HD int medianValue(int key) { return key == SHRT_MAX ? NO_DISP : key; }
+
+//! Min/max of scalars; the CPU's vector code passes its own with the same two members.
+struct ScalarMinMax
+{
+    static LIDARSGM_HD int lo(int a, int b) { return a < b ? a : b; }
+    static LIDARSGM_HD int hi(int a, int b) { return a < b ? b : a; }
+};
+
+//! Sorts a column of three: a <= b <= c afterwards.
+template <class M, typename T>
+static LIDARSGM_HD void sortColumn3(T& a, T& b, T& c)
+{
+    const T l = M::lo(a, b), h = M::hi(a, b);
+    const T h2 = M::hi(h, c);
+    const T m = M::lo(h, c);
+    a = M::lo(l, m);
+    b = M::hi(l, m);
+    c = h2;
+}
+
+template <class M, typename T>
+static LIDARSGM_HD T median3(T a, T b, T c)
+{
+    return M::hi(M::lo(a, b), M::lo(M::hi(a, b), c));
+}
+
+//! Median of nine from three sorted columns (low i, mid i, high i), i = left, centre, right.
+template <class M, typename T>
+static LIDARSGM_HD T medianOfColumns(T l0, T l1, T l2, T m0, T m1, T m2, T h0, T h1, T h2)
+{
+    const T maxLow = M::hi(M::hi(l0, l1), l2);
+    const T midMid = median3<M>(m0, m1, m2);
+    const T minHigh = M::lo(M::lo(h0, h1), h2);
+    return median3<M>(maxLow, midMid, minHigh);
+}
 
 // ---- CPU stages (exported for the per-stage unit tests; not part of the public API) ------------------------------------------------------------------------------------------------
 
@@ -113,6 +156,10 @@ disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness
 dispInt: the integer left disparity (NO_DISP where not unique);
 dispRight: the integer right-view disparity from the same volume (lowest cost along the diagonal x + d). */
 CV_EXPORTS void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight);
+
+/** 3x3 median of a CV_16SC1 disparity map (1/16 or whole pixels), "no disparity" ranked above every value,
+coordinates clamped at the border (medianKey, medianOfColumns). src and dst must differ. */
+CV_EXPORTS void medianFilter(const Mat& src, Mat& dst);
 
 /** Consistency check (paper Eq. 6), in place on disp16: left-right test (|dL - dR(x - dL)| <= lrMaxDiff) and/or the
 LiDAR test (some sparse16 value within the (2 rc + 1)^2 window is within checkThreshold16 of disp16). */

@@ -136,6 +136,15 @@ public:
         computeMatchingCost(censusL_, censusR_, prior, p, cost_);
         aggregateCosts(cost_, L.cols, p, sum_);
         winnerTakesAll(sum_, L.cols, p, disp16_, dispInt_, dispRight_);
+        if (p.medianSize == 3)
+        {
+            medianFilter(disp16_, med16_);
+            medianFilter(dispInt_, medInt_);
+            medianFilter(dispRight_, medRight_);
+            consistencyCheck(med16_, medInt_, medRight_, sparse16_, p);
+            writeOutput(med16_, disparity);
+            return;
+        }
         consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, p);
         writeOutput(disp16_, disparity);
     }
@@ -243,6 +252,12 @@ public:
                      "lidarsgm: consistency check must be CHECK_NONE (0), CHECK_STEREO (1), CHECK_CAMERA_LIDAR (2) or CHECK_STEREO_LIDAR (3)");
         check_ = v;
     }
+    int getMedianSize() const CV_OVERRIDE { return medianSize_; }
+    void setMedianSize(int v) CV_OVERRIDE
+    {
+        CV_CheckTrue(v == 1 || v == 3, "lidarsgm: medianSize must be 1 (off) or 3 (3x3 median)");
+        medianSize_ = v;
+    }
     int getOutputType() const CV_OVERRIDE { return outputType_; }
     void setOutputType(int v) CV_OVERRIDE
     {
@@ -263,7 +278,7 @@ public:
            << "uniquenessRatio" << uniquenessRatio_ << "lrMaxDiff" << lrMaxDiff_ << "numPaths" << numPaths_
            << "subpixel" << (int)subpixel_ << "semidenseRadius" << rs_ << "semidenseThreshold" << Ts_
            << "checkRadius" << rc_ << "checkThreshold" << Tc_ << "mode" << mode_ << "consistencyCheck" << check_
-           << "outputType" << outputType_;
+           << "outputType" << outputType_ << "medianSize" << medianSize_;
     }
 
     void read(const FileNode& fn) CV_OVERRIDE
@@ -288,6 +303,7 @@ public:
         setMode(readInt(fn, "mode", mode_));
         setConsistencyCheck(readInt(fn, "consistencyCheck", check_));
         setOutputType(readInt(fn, "outputType", outputType_));
+        setMedianSize(readInt(fn, "medianSize", medianSize_));
         checkRelations();
     }
 
@@ -331,6 +347,7 @@ private:
         p.semidenseThreshold = Ts_;
         p.checkRadius = rc_;
         p.checkThreshold16 = cvRound(Tc_ * 16);
+        p.medianSize = medianSize_;
         p.mode = mode_;
         p.check = check_;
         p.w = computeCostWeights(P1_, P2_, Q1_, Q2_, alpha_, numPaths_, mode_ != MODE_SGM);
@@ -439,7 +456,7 @@ private:
         cuda::PtrStepSz<float> o32 = outputType_ == CV_32F ? ptr<float>(o) : cuda::PtrStepSz<float>();
         if (semidenseOnly)
         {
-            ci::consistencyCheck(g_semidense16_, cuda::PtrStepSz<short>(), cuda::PtrStepSz<int>(),
+            ci::consistencyCheck(g_semidense16_, cuda::PtrStepSz<short>(), cuda::PtrStepSz<short>(),
                                  cuda::PtrStepSz<short>(), p, o16, o32, st);
             markCallEnd(st, capturing);
             return;
@@ -450,9 +467,19 @@ private:
         g_disp16_.create(sz, CV_16SC1);
         g_dispInt_.create(sz, CV_16SC1);
         g_rightKey_.create(sz, CV_32SC1);
-        cudaCheck(cudaMemset2DAsync(g_rightKey_.data, g_rightKey_.step, 0xFF, sz.width * sizeof(int), sz.height, st));
-        ci::winnerTakesAll(g_sum_, sz.width, p, g_disp16_, g_dispInt_, g_rightKey_, st);
-        ci::consistencyCheck(g_disp16_, g_dispInt_, g_rightKey_, ptr<short>(g_sparse16_), p, o16, o32, st);
+        g_dispRight_.create(sz, CV_16SC1);
+        ci::winnerTakesAll(g_sum_, sz.width, p, g_disp16_, g_dispInt_, g_rightKey_, g_dispRight_, st);
+        if (p.medianSize == 3)
+        {
+            g_med16_.create(sz, CV_16SC1);
+            g_medInt_.create(sz, CV_16SC1);
+            g_medRight_.create(sz, CV_16SC1);
+            ci::MedianMaps maps = { { g_disp16_, g_dispInt_, g_dispRight_ }, { g_med16_, g_medInt_, g_medRight_ } };
+            ci::medianFilter(maps, 3, st);
+            ci::consistencyCheck(g_med16_, g_medInt_, g_medRight_, ptr<short>(g_sparse16_), p, o16, o32, st);
+        }
+        else
+            ci::consistencyCheck(g_disp16_, g_dispInt_, g_dispRight_, ptr<short>(g_sparse16_), p, o16, o32, st);
         markCallEnd(st, capturing);
     }
 
@@ -498,12 +525,13 @@ private:
     bool subpixel_ = true;
     int rs_ = 6, Ts_ = 2, rc_ = 20;
     double Tc_ = 2.0;
-    int mode_ = MODE_SDSGM, check_ = CHECK_STEREO_LIDAR, outputType_ = CV_16S;
+    int mode_ = MODE_SDSGM, check_ = CHECK_STEREO_LIDAR, outputType_ = CV_16S, medianSize_ = 3;
 
     Mutex mutex_;
-    Mat censusL_, censusR_, sparse16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
+    Mat censusL_, censusR_, sparse16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_, med16_, medInt_, medRight_;
 #ifdef HAVE_CUDA
-    cuda::GpuMat g_censusL_, g_censusR_, g_sparse16_, g_semidense16_, g_sum_, g_disp16_, g_dispInt_, g_rightKey_;
+    cuda::GpuMat g_censusL_, g_censusR_, g_sparse16_, g_semidense16_, g_sum_, g_disp16_, g_dispInt_, g_rightKey_,
+                 g_dispRight_, g_med16_, g_medInt_, g_medRight_;
     cudaEvent_t g_done_ = nullptr;     //!< recorded at the end of the last call
     cudaStream_t g_lastStream_ = 0;    //!< the stream of the last call
 #endif

@@ -13,7 +13,7 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 /* One block = 32 x 8 pixels. For the LiDAR test each pixel scans the sparse points of its block's tile
  (sparse_window.cuh). The test is "does any point qualify", so the list's order cannot change the result. */
-__global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
+__global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
                             PtrStepSz<short> sparse16, PipelineParams p, PtrStepSz<short> out16, PtrStepSz<float> out32)
 {
     extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
@@ -37,8 +37,8 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
             const int xr = x - di;
             if (xr >= 0 && xr < W)
             {
-                const unsigned key = (unsigned)rightKey(y, xr);
-                ok = key != 0xFFFFFFFFu && abs(di - ((int)(key & 0xFFFFu) + p.minDisparity)) <= p.lrMaxDiff;
+                const int dr = dispRight(y, xr);
+                ok = dr != NO_DISP && abs(di - dr) <= p.lrMaxDiff;
             }
         }
         if (!ok && useLidar)
@@ -63,14 +63,14 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
         out32(y, x) = v == NO_DISP ? (float)(p.minDisparity - 1) : v * (1.f / 16);
 }
 
-void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
+void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
                       PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> out16,
                       PtrStepSz<float> out32, cudaStream_t stream)
 {
     const dim3 block(32, 8);
     const dim3 grid(cv::cuda::device::divUp(disp16.cols, block.x), cv::cuda::device::divUp(disp16.rows, block.y));
     const size_t smem = tileKernelSmem(checkKernel, block, p.checkRadius);
-    checkKernel<<<grid, block, smem, stream>>>(disp16, dispInt, rightKey, sparse16, p, out16, out32);
+    checkKernel<<<grid, block, smem, stream>>>(disp16, dispInt, dispRight, sparse16, p, out16, out32);
     cudaSafeCall(cudaGetLastError());
 }
 

@@ -30,12 +30,21 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
                     const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
 
-//! rightKey (rows x width, int) must be filled with -1 (0xFFFFFFFF) beforehand.
+/** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
+right-view disparity as on the CPU. */
 void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
-                    PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, cudaStream_t stream);
+                    PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
+                    cudaStream_t stream);
+
+//! Up to three maps filtered in one launch (same size): dst[i] = median3x3(src[i]).
+struct MedianMaps
+{
+    PtrStepSz<short> src[3], dst[3];
+};
+void medianFilter(const MedianMaps& maps, int count, cudaStream_t stream);
 
 //! The check and the conversion to the output format (CV_16S x16 or CV_32F) in one pass.
-void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
+void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
                       PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> out16,
                       PtrStepSz<float> out32, cudaStream_t stream);
 

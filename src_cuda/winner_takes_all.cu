@@ -112,13 +112,30 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
             atomicMin(rk + base + i, rkey[i]);
 }
 
+//! The right view's keys to disparities (the key's low half is the disparity index).
+__global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz<short> dispRight)
+{
+    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x >= dispRight.cols || y >= dispRight.rows)
+        return;
+    const unsigned key = (unsigned)rightKey(y, x);
+    dispRight(y, x) = (short)(key == 0xFFFFFFFFu ? NO_DISP : (int)(key & 0xFFFFu) + minD);
+}
+
 } // namespace
 
 void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
-                    PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, cudaStream_t stream)
+                    PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
+                    cudaStream_t stream)
 {
+    cudaSafeCall(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
+                                   stream));
     const dim3 grid((width + SEG - 1) / SEG, sum.rows);
     wtaKernel<<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey);
+    cudaSafeCall(cudaGetLastError());
+    const dim3 block(32, 8);
+    const dim3 grid2(cv::cuda::device::divUp(width, block.x), cv::cuda::device::divUp(sum.rows, block.y));
+    rightKeyToDisparity<<<grid2, block, 0, stream>>>(rightKey, p.minDisparity, dispRight);
     cudaSafeCall(cudaGetLastError());
 }
 

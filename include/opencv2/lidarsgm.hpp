@@ -21,9 +21,14 @@ Dense disparity from a rectified stereo pair and a sparse (LiDAR) disparity map,
    (1 - alpha) H at every pixel, plus alpha {0, Q1, Q2} for |d - s| = 0, 1, > 1 where a (semidense) sparse
    disparity s exists; plain SGM uses H alone;
 4. semi-global aggregation over 4 or 8 paths with penalties P1, P2; winner-takes-all, uniqueness check and a
-   parabola fit for subpixel disparities;
-5. the consistency check: a disparity survives the left-right check, or (stereo-LiDAR check) if some original sparse
-   disparity within a (2 rc + 1)^2 window differs from it by at most Tc.
+   parabola fit for subpixel disparities; the right view's disparities from the same aggregated costs;
+5. a 3x3 median filter on the disparity maps of both views (a step of the paper's public code that its text leaves
+   out; setMedianSize(1) switches it off): invalid pixels rank above every value, so a hole closes when at most 4 of
+   its 8 neighbours are invalid, and an isolated disparity takes its neighbours' value;
+6. the consistency check: a disparity survives the left-right check, or (stereo-LiDAR check) if some original sparse
+   disparity within a (2 rc + 1)^2 window differs from it by at most Tc. A disparity whose right-view pixel lies
+   outside the right image cannot be verified by the left-right check and fails it (the public code keeps such
+   pixels; rejecting them measured better on KITTI and Middlebury, doc/notes.md); the LiDAR test can still keep it.
 
 Semi-global aggregation follows @cite Hirschmuller2008.
 
@@ -44,6 +49,7 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 | subpixel | parabola fit | on/off | on |
 | mode | MODE_SGM, MODE_DSGM, MODE_SDSGM | | MODE_SDSGM |
 | consistencyCheck | CHECK_NONE, CHECK_STEREO, CHECK_CAMERA_LIDAR, CHECK_STEREO_LIDAR | | CHECK_STEREO_LIDAR |
+| medianSize | median filter before the check: 1 (off) or 3 | 1, 3 | 3 (the public code's) |
 | outputType | CV_16S (disparity x 16) or CV_32F (pixels) | | CV_16S |
 
 Inputs: rectified 8- or 16-bit single-channel images of one size; a sparse disparity map of the left view of that
@@ -73,7 +79,8 @@ pixel (x, y) matches right pixel (x - d, y).
 Borders and small images: any size from 1x1 up is accepted, including images narrower than the disparity range or
 smaller than the census window. Image coordinates outside the image are clamped (replicated border) for the census
 window, and a right pixel x - d left of (or right of) the image is taken from the nearest column, so every pixel gets
-a matching cost at every disparity; the left-right check rejects a disparity whose right pixel lies outside the
+a matching cost at every disparity; the median filter's window is clamped the same way (a border pixel's window
+repeats its edge row or column); the left-right check rejects a disparity whose right pixel lies outside the
 image. Output values are invalid or lie in [minDisparity, minDisparity + numDisparities - 1]. CPU and CUDA follow the
 same rules.
 
@@ -209,6 +216,10 @@ public:
     //! Consistency check, one of ConsistencyCheck (default CHECK_STEREO_LIDAR).
     CV_WRAP virtual int getConsistencyCheck() const = 0;
     CV_WRAP virtual void setConsistencyCheck(int check) = 0;
+    /** Median filter on the disparity maps of both views before the consistency check: 1 (off) or 3 (3x3, default).
+    A pixel with 5 or more invalid neighbours stays invalid; the border is clamped. */
+    CV_WRAP virtual int getMedianSize() const = 0;
+    CV_WRAP virtual void setMedianSize(int size) = 0;
     //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
     CV_WRAP virtual int getOutputType() const = 0;
     CV_WRAP virtual void setOutputType(int type) = 0;
