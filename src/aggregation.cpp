@@ -10,7 +10,7 @@
 // paths advance row by row (each row depends on the previous one) with the columns of a row in parallel.
 
 #include "precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 

@@ -1,14 +1,23 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Centre-symmetric census transform, 9x7 window, 31 bits: for each offset o in the first half of the window (rows
-// above the centre, then the pixels left of it, in raster order), one bit (I(p + o) > I(p - o)), first offset in the
-// most significant of the 31 bits. Coordinates outside the image are clamped (replicated border).
+// Census transform: censusString (pipeline.hpp) of every pixel, coordinates outside the image clamped (replicated
+// border).
 
 #include "precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
+
+//! Pixel at offset (dx, dy) of the current pixel, through the row pointers and clamped columns of censusRows.
+template <typename T>
+struct RowWindow
+{
+    const T* const* rows;   //!< rows y - ry .. y + ry, clamped
+    const int* cx;          //!< clamped column index of column x + i, i in [-rx, rx]
+    int x;
+    T operator()(int dx, int dy) const { return rows[CENSUS_HEIGHT / 2 + dy][cx[x + dx]]; }
+};
 
 template <typename T>
 static void censusRows(const Mat& img, Mat& census, const Range& rows)
@@ -19,7 +28,6 @@ static void censusRows(const Mat& img, Mat& census, const Range& rows)
     std::vector<int> colIdx(W + 2 * rx);
     for (int i = 0; i < W + 2 * rx; i++)
         colIdx[i] = std::min(std::max(i - rx, 0), W - 1);
-    const int* cx = colIdx.data() + rx;
 
     for (int y = rows.start; y < rows.end; y++)
     {
@@ -27,19 +35,9 @@ static void censusRows(const Mat& img, Mat& census, const Range& rows)
         for (int k = 0; k < CENSUS_HEIGHT; k++)
             rowsUp[k] = img.ptr<T>(std::min(std::max(y + k - ry, 0), H - 1));
         int* dst = census.ptr<int>(y);
-        for (int x = 0; x < W; x++)
-        {
-            unsigned c = 0;
-            for (int dy = -ry; dy <= 0; dy++)
-            {
-                const T* a = rowsUp[ry + dy];
-                const T* b = rowsUp[ry - dy];
-                const int dxEnd = dy < 0 ? rx : -1;
-                for (int dx = -rx; dx <= dxEnd; dx++)
-                    c = (c << 1) | (a[cx[x + dx]] > b[cx[x - dx]] ? 1u : 0u);
-            }
-            dst[x] = (int)c;
-        }
+        RowWindow<T> at = { rowsUp, colIdx.data() + rx, 0 };
+        for (at.x = 0; at.x < W; at.x++)
+            dst[at.x] = (int)censusString(at);
     }
 }
 

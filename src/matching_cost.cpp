@@ -5,7 +5,7 @@
 // where a prior (sparse or semidense) disparity exists.
 
 #include "precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 
@@ -16,8 +16,6 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
     CV_Assert(censusL.type() == CV_32SC1 && censusR.type() == CV_32SC1 && censusR.size() == censusL.size());
     CV_Assert(prior16.empty() || (prior16.type() == CV_16SC1 && prior16.size() == censusL.size()));
     cost.create(H, W * D, CV_16UC1);
-    const unsigned w256 = (unsigned)p.w.census256;
-    const int q1 = p.w.q1, q2 = p.w.q2;
 
     parallel_for_(Range(0, H), [&](const Range& r) {
         // Right census of row y reversed and clamped: rv[j] = R[clamp(W - 1 - minD - j)], so that the right
@@ -37,11 +35,11 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
                 const unsigned* base = rv + (W - 1 - x);
                 ushort* c = out + (size_t)x * D;
                 const int k = (prior && prior[x] != NO_DISP) ? roundDisp16(prior[x]) - minD : -1;
-                const ushort add = k >= 0 ? (ushort)q2 : (ushort)0;
                 int d = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
+                const ushort add = k >= 0 ? (ushort)p.w.q2 : (ushort)0;
                 const int n32 = VTraits<v_uint32>::vlanes(), n16 = VTraits<v_uint16>::vlanes();
-                const v_uint32 vl = vx_setall_u32(L[x]), vw = vx_setall_u32(w256), vhalf = vx_setall_u32(128);
+                const v_uint32 vl = vx_setall_u32(L[x]), vw = vx_setall_u32((unsigned)p.w.census256), vhalf = vx_setall_u32(128);
                 const v_uint16 vadd = vx_setall_u16(add);
                 for (; d <= D - n16; d += n16)
                 {
@@ -53,14 +51,10 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
                 }
 #endif
                 for (; d < D; d++)
-                    c[d] = (ushort)(censusTerm((int)w256, popcount32(base[d] ^ L[x])) + add);
-                if (k >= 0)
-                {
-                    // DDC: 0 at the prior, Q1 beside it, Q2 (already added) elsewhere.
-                    c[k] = (ushort)(c[k] - q2);
-                    if (k > 0)     c[k - 1] = (ushort)(c[k - 1] - q2 + q1);
-                    if (k < D - 1) c[k + 1] = (ushort)(c[k + 1] - q2 + q1);
-                }
+                    c[d] = (ushort)matchingCost(popcount32(base[d] ^ L[x]), d, k, p.w);
+                // The vector loop added Q2 everywhere; the three costs around the prior follow the rule in full.
+                for (int j = std::max(k - 1, 0); k >= 0 && j <= std::min(k + 1, D - 1); j++)
+                    c[j] = (ushort)matchingCost(popcount32(base[j] ^ L[x]), j, k, p.w);
             }
         }
     }, std::max(1, H / 32));

@@ -6,7 +6,7 @@
 // most neighbours agree. "No disparity" ranks above every value and the border is clamped (pipeline.hpp).
 
 #include "precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 

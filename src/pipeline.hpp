@@ -1,8 +1,10 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Internal interface of the pipeline stages. The CPU stages live in src/<stage>.cpp, the CUDA ones in
-// src_cuda/<stage>.cu; both follow the integer definitions written down here, so their outputs are identical.
+// What the front class (stereo_lidar_sgm.cpp) and the two backends share, and the only header that src/ and
+// src_cuda/ both include: the validated parameters, every arithmetic rule whose result must be identical on the CPU
+// and the GPU (written once, for host and device), and the two backends' interfaces. The CPU stages are declared in
+// src/cpu_stages.hpp, the CUDA stages in src_cuda/cuda_stages.hpp; a stage has the same name on both sides.
 
 #ifndef OPENCV_LIDARSGM_PIPELINE_HPP
 #define OPENCV_LIDARSGM_PIPELINE_HPP
@@ -10,13 +12,12 @@
 #include "opencv2/core.hpp"
 #include <climits>
 
-// Helpers shared by host and device code.
 #ifdef __CUDACC__
 #  define LIDARSGM_HD __host__ __device__ __forceinline__
 #else
 #  define LIDARSGM_HD inline
+#  include "opencv2/core/cuda.hpp"
 #endif
-
 
 namespace cv { namespace lidarsgm { namespace detail {
 
@@ -35,33 +36,35 @@ struct CostWeights
     double scale;      //!< K
 };
 
-//! The census term of the matching cost: census256 * h / 256, rounded to nearest (halves up).
-static LIDARSGM_HD int censusTerm(int census256, int h) { return (census256 * h + 128) >> 8; }
-
 /** Picks the scale K, the largest whose worst-case sum of path costs, numPaths * (max cost + P2), fits in 16 bits,
 and rounds the weights. With ddc false there is no prior term (plain SGM). */
 CV_EXPORTS CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc);
 //! numPaths * (largest matching cost + P2): the bound on the aggregated cost.
 CV_EXPORTS int maxPathSum(const CostWeights& w, int numPaths);
 
-//! Everything a stage needs, already validated and converted to integers.
+//! Everything a stage needs, validated by the front class and converted to integers.
 struct PipelineParams
 {
     int minDisparity;
     int numDisparities;
     int numPaths;          //!< 4 or 8
     bool subpixel;
-    int uniqueness1024;    //!< round(uniquenessRatio * 1024)
+    int uniqueness1024;    //!< round(uniquenessRatio * 1024); 1024 = off
     int lrMaxDiff;
     int semidenseRadius;   //!< rs
     int semidenseThreshold;//!< Ts
     int checkRadius;       //!< rc
     int checkThreshold16;  //!< round(Tc * 16)
     int medianSize;        //!< 1 (off) or 3: the median filter before the check
-    int mode;              //!< StereoLidarSGM::FusionMode
-    int check;             //!< StereoLidarSGM::ConsistencyCheck
+    bool semidense;        //!< SDSGM: the prior is the semidense map
+    bool ddc;              //!< DSGM, SDSGM: the matching cost has the DDC term
+    bool stereoCheck;      //!< the left-right test
+    bool lidarCheck;       //!< the test against the sparse map (alone: camera-LiDAR; with stereoCheck: either passes)
+    bool floatOutput;      //!< CV_32F pixels instead of CV_16S x16
     CostWeights w;
 };
+
+// ---- Rules shared by both backends --------------------------------------------------------------------------------
 
 //! Number of set bits (the Hamming distance of two census strings is popcount32(a ^ b)).
 static LIDARSGM_HD int popcount32(unsigned v)
@@ -77,6 +80,38 @@ static LIDARSGM_HD int popcount32(unsigned v)
 #endif
 }
 
+/** Census string of one pixel: for each offset o of the first half of the window (rows above the centre, then the
+pixels left of it, in raster order) one bit, I(p + o) > I(p - o), the first offset in the most significant of the
+31 bits. at(dx, dy) returns the pixel at offset (dx, dy), clamped to the image by the caller. */
+template <class Pixel>
+static LIDARSGM_HD unsigned censusString(const Pixel& at)
+{
+    const int rx = CENSUS_WIDTH / 2, ry = CENSUS_HEIGHT / 2;
+    unsigned c = 0;
+    for (int dy = -ry; dy <= 0; dy++)
+    {
+        const int dxEnd = dy < 0 ? rx : -1;
+        for (int dx = -rx; dx <= dxEnd; dx++)
+            c = (c << 1) | (at(dx, dy) > at(-dx, -dy) ? 1u : 0u);
+    }
+    return c;
+}
+
+//! The census term of the matching cost: census256 * h / 256, rounded to nearest (halves up).
+static LIDARSGM_HD int censusTerm(int census256, int h) { return (census256 * h + 128) >> 8; }
+
+//! The DDC term (paper Eq. 4) for disparity index d and prior index k (k < 0: no prior): 0, Q1 or Q2.
+static LIDARSGM_HD int ddcTerm(int d, int k, const CostWeights& w)
+{
+    return k < 0 || d == k ? 0 : (d == k - 1 || d == k + 1) ? w.q1 : w.q2;
+}
+
+//! The matching cost C(p, d) from the Hamming distance h of the census strings at disparity index d.
+static LIDARSGM_HD int matchingCost(int h, int d, int k, const CostWeights& w)
+{
+    return censusTerm(w.census256, h) + ddcTerm(d, k, w);
+}
+
 //! Integer disparity (pixels) of a 1/16-pixel value, rounded to nearest (halves up).
 static LIDARSGM_HD int roundDisp16(int d16) { return (d16 + 8) >> 4; }
 
@@ -84,6 +119,43 @@ static LIDARSGM_HD int roundDisp16(int d16) { return (d16 + 8) >> 4; }
 itself must not lie below lo (so no output, semidense maps included, falls below minDisparity) and its rounded integer
 disparity must not lie above hi (so it indexes the cost volume). */
 static LIDARSGM_HD bool sparseInRange(int d16, int lo, int hi) { return d16 >= lo * 16 && roundDisp16(d16) <= hi; }
+
+//! A KITTI-encoded sparse value (d * 256, 0 = none) to 1/16 pixel, rounded to nearest; NO_DISP outside [lo, hi].
+static LIDARSGM_HD int sparseFromKitti16(int v, int lo, int hi)
+{
+    const int d16 = (v + 8) >> 4;
+    return v != 0 && sparseInRange(d16, lo, hi) ? d16 : NO_DISP;
+}
+
+//! A float sparse value (pixels; <= 0, NaN, infinite = none) to 1/16 pixel, rounded to nearest; NO_DISP outside [lo, hi].
+static LIDARSGM_HD int sparseFromFloat(float v, int lo, int hi)
+{
+    // False for NaN; the upper bound keeps the cast in range. v * 16 is exact in double.
+    if (!(v > 0.f && v < 1536.f))
+        return NO_DISP;
+    const int d16 = (int)floor((double)v * 16.0 + 0.5);
+    return sparseInRange(d16, lo, hi) ? d16 : NO_DISP;
+}
+
+/** Parabola through the aggregated costs at d - 1, d, d + 1, as a 1/16-pixel offset:
+round(8 (S[d-1] - S[d+1]) / max(S[d-1] + S[d+1] - 2 S[d], 1)), halves away from zero. */
+static LIDARSGM_HD int subpixelOffset16(int sm, int s0, int sp)
+{
+    const int num = 8 * (sm - sp);
+    const int den = (sm + sp - 2 * s0) > 1 ? (sm + sp - 2 * s0) : 1;
+    return num >= 0 ? (num + den / 2) / den : -((-num + den / 2) / den);
+}
+
+/** Semidensification's candidate order (paper Eq. 5 is an argmin; most winners cost 0, so ties are common): the
+lowest census cost, then the nearest (squared distance), then the first row, then the first column. */
+struct SemidenseCandidate
+{
+    int cost, dist, row, col;
+    LIDARSGM_HD bool betterThan(const SemidenseCandidate& o) const
+    {
+        return cost != o.cost ? cost < o.cost : dist != o.dist ? dist < o.dist : row != o.row ? row < o.row : col < o.col;
+    }
+};
 
 /* The 3x3 median of a disparity map: "no disparity" ranks above every value (so a pixel with 5 or more invalid
 neighbours stays invalid, as in the paper's public code), coordinates outside the image are clamped (the census'
@@ -127,44 +199,89 @@ static LIDARSGM_HD T medianOfColumns(T l0, T l1, T l2, T m0, T m1, T m2, T h0, T
     return median3<M>(maxLow, midMid, minHigh);
 }
 
-// ---- CPU stages (exported for the per-stage unit tests; not part of the public API) ------------------------------------------------------------------------------------------------
+//! Output encodings (cv::StereoSGBM's): CV_16S x16 with (minD - 1) * 16 for "none", or CV_32F pixels with minD - 1.
+static LIDARSGM_HD short encodeOutput16(int d16, int minD) { return (short)(d16 == NO_DISP ? (minD - 1) * 16 : d16); }
+static LIDARSGM_HD float encodeOutput32(int d16, int minD)
+{
+    return d16 == NO_DISP ? (float)(minD - 1) : d16 * (1.f / 16);
+}
 
-/** Sparse input (CV_16UC1 x256 or CV_32FC1 pixels) to the internal CV_16SC1 1/16-pixel map with NO_DISP for "none".
-Values below minDisparity, or whose rounded integer disparity is above minDisparity + numDisparities - 1, become
-NO_DISP (sparseInRange). */
-CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat& sparse16);
+//! KITTI's 16-bit disparity encoding: round(d * 256), 0 for d <= 0 ("none"), at least 1 for d > 0, at most 65535.
+static LIDARSGM_HD unsigned short kittiEncode(double d)
+{
+    if (!(d > 0))
+        return 0;
+    const double v = floor(d * 256.0 + 0.5);   // d * 256 is exact: no rounding step to fuse
+    return (unsigned short)(v < 1.0 ? 1.0 : v > 65535.0 ? 65535.0 : v);
+}
 
-//! Census transform (CV_8UC1 or CV_16UC1 in, CV_32SC1 bit strings out); pixels outside the image are clamped.
-CV_EXPORTS void censusTransform(const Mat& image, Mat& census);
+/** One row of a 3x4 projection applied to (X, Y, Z, 1), in the order ((r0 X + r1 Y) + r2 Z) + r3, each operation
+rounded on its own (the module is built with -ffp-contract=off, the device uses the explicitly rounded intrinsics). */
+static LIDARSGM_HD double projectRow(const double* r, double X, double Y, double Z)
+{
+#ifdef __CUDA_ARCH__
+    return __dadd_rn(__dadd_rn(__dadd_rn(__dmul_rn(r[0], X), __dmul_rn(r[1], Y)), __dmul_rn(r[2], Z)), r[3]);
+#else
+    return r[0] * X + r[1] * Y + r[2] * Z + r[3];
+#endif
+}
 
-/** Semidensification (paper Eq. 5): among the sparse disparities q in the (2 rs + 1)^2 window of p, the one with the
-lowest census cost H(p, round(q)) wins if that cost is below Ts; ties go to the nearest q, then to the first in
-raster order. Otherwise p keeps its own sparse value (or none). */
-CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
-                 Mat& semidense16);
+//! u / z (or v / z) rounded to the nearest pixel, halves up.
+static LIDARSGM_HD double projectPixel(double u, double z)
+{
+#ifdef __CUDA_ARCH__
+    return floor(__dadd_rn(__ddiv_rn(u, z), 0.5));
+#else
+    return floor(u / z + 0.5);
+#endif
+}
 
-/** Matching cost volume, rows = image rows, cols = width * numDisparities, CV_16UC1, d fastest.
-C(p, d) = censusTerm(census256, H(p, d)), plus {0, q1, q2} for |d - round(prior)| = 0, 1, > 1 where prior16 has a value. prior16 may be empty (plain SGM). The right pixel x - d is clamped to the image. */
-CV_EXPORTS void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,
-                         Mat& cost);
+//! The disparity of a point at depth z: focalBaseline / z.
+static LIDARSGM_HD float projectDisparity(double focalBaseline, double z)
+{
+#ifdef __CUDA_ARCH__
+    return (float)__ddiv_rn(focalBaseline, z);
+#else
+    return (float)(focalBaseline / z);
+#endif
+}
 
-//! Sums the path costs of 4 or 8 SGM paths into sum (same layout as cost).
-CV_EXPORTS void aggregateCosts(const Mat& cost, int width, const PipelineParams& p, Mat& sum);
+// ---- The backends --------------------------------------------------------------------------------------------------
+#ifndef __CUDACC__
 
-/** Winner-takes-all with the uniqueness check and the parabola fit.
-disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;
-dispInt: the integer left disparity (NO_DISP where not unique);
-dispRight: the integer right-view disparity from the same volume (lowest cost along the diagonal x + d). */
-CV_EXPORTS void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight);
+/** The CPU pipeline (src/cpu_pipeline.cpp): its work buffers and the order of the stage calls. Inputs are checked by
+the front class. semidenseOnly stops after semidensification and writes the semidense map. */
+class CpuPipeline
+{
+public:
+    void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
+             OutputArray out);
+private:
+    Mat censusL_, censusR_, sparse16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
+    Mat med16_, medInt_, medRight_;
+};
 
-/** 3x3 median of a CV_16SC1 disparity map (1/16 or whole pixels), "no disparity" ranked above every value,
-coordinates clamped at the border (medianKey, medianOfColumns). src and dst must differ. */
-CV_EXPORTS void medianFilter(const Mat& src, Mat& dst);
+/** The CUDA pipeline (src_cuda/cuda_pipeline.cpp): GpuMat buffers, the element-type dispatch, and the ordering of
+calls made on different streams. Without CUDA every call raises an error. */
+class CudaPipeline
+{
+public:
+    CudaPipeline();
+    ~CudaPipeline();
+    //! stream == nullptr: the default stream.
+    void run(const cuda::GpuMat& left, const cuda::GpuMat& right, const cuda::GpuMat& sparse, const PipelineParams& p,
+             bool semidenseOnly, OutputArray out, cuda::Stream* stream);
+    //! cv::cuda::projectPointsToDisparity's device work; PT = projection * lidarToCamera, row-major 3x4.
+    static void projectPoints(const cuda::GpuMat& points, int n, int strideFloats, const double PT[12],
+                              double focalBaseline, Size imageSize, int dtype, OutputArray out, cuda::Stream& stream);
+private:
+    struct Buffers;
+    Buffers* b_;
+    CudaPipeline(const CudaPipeline&);
+    CudaPipeline& operator=(const CudaPipeline&);
+};
 
-/** Consistency check (paper Eq. 6), in place on disp16: left-right test (|dL - dR(x - dL)| <= lrMaxDiff) and/or the
-LiDAR test (some sparse16 value within the (2 rc + 1)^2 window is within checkThreshold16 of disp16). */
-CV_EXPORTS void consistencyCheck(Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
-                      const PipelineParams& p);
+#endif
 
 }}} // namespace cv::lidarsgm::detail
 

@@ -5,10 +5,6 @@
 
 #include "precomp.hpp"
 #include "pipeline.hpp"
-#ifdef HAVE_CUDA
-#  include "opencv2/core/cuda_stream_accessor.hpp"
-#  include "pipeline_cuda.hpp"
-#endif
 
 namespace cv { namespace lidarsgm {
 
@@ -117,15 +113,14 @@ void projectPointsToDisparity(InputArray _points, InputArray _projection, InputA
         const double X = q[0], Y = q[1], Z = q[2];
         if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z))
             continue;
-        const double u = PT(0, 0) * X + PT(0, 1) * Y + PT(0, 2) * Z + PT(0, 3);
-        const double v = PT(1, 0) * X + PT(1, 1) * Y + PT(1, 2) * Z + PT(1, 3);
-        const double z = PT(2, 0) * X + PT(2, 1) * Y + PT(2, 2) * Z + PT(2, 3);
+        const double u = detail::projectRow(PT.val, X, Y, Z), v = detail::projectRow(PT.val + 4, X, Y, Z);
+        const double z = detail::projectRow(PT.val + 8, X, Y, Z);
         if (!(z > 0))
             continue;
-        const double ui = std::floor(u / z + 0.5), vi = std::floor(v / z + 0.5);
+        const double ui = detail::projectPixel(u, z), vi = detail::projectPixel(v, z);
         if (ui < 0 || vi < 0 || ui >= imageSize.width || vi >= imageSize.height)
             continue;
-        const float d = (float)(focalBaseline / z);
+        const float d = detail::projectDisparity(focalBaseline, z);
         float& dst = disp.at<float>((int)vi, (int)ui);
         if (d > dst)
             dst = d;
@@ -141,8 +136,7 @@ void projectPointsToDisparity(InputArray _points, InputArray _projection, InputA
             const float* s = disp.ptr<float>(y);
             ushort* o = out.ptr<ushort>(y);
             for (int x = 0; x < imageSize.width; x++)
-                // A positive disparity below 1/512 px would round to 0 ("none"): keep it as the smallest value.
-                o[x] = s[x] > 0 ? saturate_cast<ushort>(std::max(1.0, std::floor(s[x] * 256.0 + 0.5))) : (ushort)0;
+                o[x] = detail::kittiEncode(s[x]);
         }
         out.copyTo(_sparse);
     }
@@ -158,25 +152,14 @@ void projectPointsToDisparity(InputArray points, InputArray projection, InputArr
     CV_INSTRUMENT_REGION();
     if (points.kind() != _InputArray::CUDA_GPU_MAT)
         CV_Error(Error::StsBadArg, "lidarsgm: cv::cuda::projectPointsToDisparity needs the points in a cv::cuda::GpuMat");
-#ifndef HAVE_CUDA
-    CV_UNUSED(projection); CV_UNUSED(lidarToCamera); CV_UNUSED(focalBaseline); CV_UNUSED(imageSize);
-    CV_UNUSED(sparseDisparity); CV_UNUSED(dtype); CV_UNUSED(stream);
-    CV_Error(Error::GpuNotSupported, "lidarsgm: GpuMat input needs the CUDA path, but lidarsgm was built without CUDA");
-#else
     const Matx34d PT = cv::lidarsgm::checkedProjection(projection, lidarToCamera, focalBaseline, imageSize, dtype);
     const GpuMat pts = points.getGpuMat();
     int n = 0, stride = 0;
     cv::lidarsgm::pointLayout(pts.rows, pts.cols, pts.channels(), pts.depth(), pts.empty(), n, stride);
     // Point i starts a row of its own (N x k, N x 1 x C: rows may be pitched) or sits in the single row (1 x N x C).
     const int strideFloats = n == 0 ? 0 : (pts.rows == n ? (int)(pts.step / sizeof(float)) : stride);
-    sparseDisparity.create(imageSize, dtype == CV_32F ? CV_32FC1 : CV_16UC1);
-    GpuMat out = sparseDisparity.getGpuMat();
-    // CV_16U output needs the float map first: a temporary (this function keeps no buffers between calls).
-    GpuMat disp = dtype == CV_32F ? out : GpuMat(imageSize, CV_32FC1);
-    cv::lidarsgm::detail::cuda_impl::projectPoints(n ? pts.ptr<float>() : nullptr, n, strideFloats, PT.val, focalBaseline, disp,
-                                                   dtype == CV_16U ? PtrStepSz<ushort>(out) : PtrStepSz<ushort>(),
-                                                   StreamAccessor::getStream(stream));
-#endif
+    cv::lidarsgm::detail::CudaPipeline::projectPoints(pts, n, strideFloats, PT.val, focalBaseline, imageSize, dtype,
+                                                      sparseDisparity, stream);
 }
 
 }} // namespace cv::cuda

@@ -5,7 +5,7 @@
 // No smoothness here on purpose (the paper: keeps thin structures; SGM smooths later).
 
 #include "precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 #include "sparse_window.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
@@ -29,8 +29,7 @@ void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, co
             short* out = semidense16.ptr<short>(y);
             for (int x = 0; x < W; x++)
             {
-                // Lexicographic key: (census cost, squared distance, row, column).
-                int bestCost = INT_MAX, bestDist = INT_MAX, bestRow = INT_MAX, bestCol = INT_MAX;
+                SemidenseCandidate best = { INT_MAX, INT_MAX, INT_MAX, INT_MAX };
                 short bestVal = NO_DISP;
                 const int c0 = std::max(0, x - rs), c1 = std::min(W - 1, x + rs);
                 for (int c = c0; c <= c1; c++)
@@ -40,16 +39,16 @@ void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, co
                         const int q = cols.row[i];
                         const short v = cols.value[i];
                         const int xr = std::min(std::max(x - roundDisp16(v), 0), W - 1);
-                        const int cost = popcount32(L[x] ^ R[xr]);
-                        const int dist = (c - x) * (c - x) + (q - y) * (q - y);
-                        if (cost < bestCost || (cost == bestCost && (dist < bestDist ||
-                            (dist == bestDist && (q < bestRow || (q == bestRow && c < bestCol))))))
+                        const SemidenseCandidate cand = { popcount32(L[x] ^ R[xr]),
+                                                          (c - x) * (c - x) + (q - y) * (q - y), q, c };
+                        if (cand.betterThan(best))
                         {
-                            bestCost = cost; bestDist = dist; bestRow = q; bestCol = c; bestVal = v;
+                            best = cand;
+                            bestVal = v;
                         }
                     }
                 }
-                out[x] = bestCost < Ts ? bestVal : own[x];
+                out[x] = best.cost < Ts ? bestVal : own[x];
             }
         }
     }, std::max(1, H / 16));

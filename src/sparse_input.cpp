@@ -5,7 +5,7 @@
 // to the internal 1/16-pixel CV_16SC1 map.
 
 #include "precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 
@@ -24,28 +24,13 @@ void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat&
             {
                 const float* src = sparse.ptr<float>(y);
                 for (int x = 0; x < sparse.cols; x++)
-                {
-                    const float v = src[x];
-                    int d16 = NO_DISP;
-                    // The comparison is false for NaN; the upper bound keeps the cast in range.
-                    if (v > 0.f && v < 1536.f)
-                        d16 = (int)std::floor(v * 16.0 + 0.5);
-                    if (d16 != NO_DISP && !sparseInRange(d16, lo, hi))
-                        d16 = NO_DISP;
-                    dst[x] = (short)d16;
-                }
+                    dst[x] = (short)sparseFromFloat(src[x], lo, hi);
             }
             else
             {
                 const ushort* src = sparse.ptr<ushort>(y);
                 for (int x = 0; x < sparse.cols; x++)
-                {
-                    const int v = src[x];
-                    int d16 = v == 0 ? NO_DISP : (v + 8) >> 4;
-                    if (d16 != NO_DISP && !sparseInRange(d16, lo, hi))
-                        d16 = NO_DISP;
-                    dst[x] = (short)d16;
-                }
+                    dst[x] = (short)sparseFromKitti16(src[x], lo, hi);
             }
         }
     });

@@ -3,22 +3,14 @@
 
 // Winner-takes-all over the aggregated volume (paper Eq. 3), with
 //  - the uniqueness check: best * 1024 <= uniqueness1024 * (lowest cost more than one disparity away), else invalid;
-//  - the parabola fit through the costs at d - 1, d, d + 1, rounded to 1/16 pixel:
-//    offset16 = round(8 (S[d-1] - S[d+1]) / max(S[d-1] + S[d+1] - 2 S[d], 1)), halves away from zero;
+//  - the parabola fit through the costs at d - 1, d, d + 1, rounded to 1/16 pixel (subpixelOffset16);
 //  - the right-view disparity: for right pixel xr, the d with the lowest S(xr + minD + d, d).
 // Ties go to the smallest disparity everywhere.
 
 #include "precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
-
-static inline int subpixelOffset16(int sm, int s0, int sp)
-{
-    const int num = 8 * (sm - sp);
-    const int den = std::max(sm + sp - 2 * s0, 1);
-    return num >= 0 ? (num + den / 2) / den : -((-num + den / 2) / den);
-}
 
 void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight)
 {

@@ -1,12 +1,12 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Semi-global aggregation, CUDA twin of src/aggregation.cpp. One warp walks one path line; lane t holds the path
+// Semi-global aggregation, CUDA twin of src/aggregation.cpp, with the matching cost (src/matching_cost.cpp on the
+// CPU) computed as the paths walk. One warp walks one path line; lane t holds the path
 // costs of a run of disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction adds
 // into the one 16-bit sum volume, the only large buffer. Integer sums: the order does not matter.
 
-#include "pipeline_cuda.hpp"
-#include "matching_cost.cuh"
+#include "cuda_stages.hpp"
 #include "opencv2/core/cuda/common.hpp"
 #include <algorithm>
 
@@ -97,10 +97,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         for (int j = 0; j < DPT; j++)
         {
             const int d = d0 + j;
-            int c = censusTerm(w.census256, popcount32(l ^ r[j]));
-            if (k >= 0)
-                c += d == k ? 0 : (d == k - 1 || d == k + 1) ? w.q1 : w.q2;
-            C[j] = active ? c : BIG;
+            C[j] = active ? matchingCost(popcount32(l ^ r[j]), d, k, w) : BIG;
         }
         const int cx = x, cy = y;
         x += dx; y += dy;

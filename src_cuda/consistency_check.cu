@@ -1,38 +1,47 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Stereo-LiDAR consistency check, CUDA twin of src/consistency_check.cpp, fused with the conversion to the output
-// format (what StereoLidarSGMImpl::writeOutput does on the CPU). With dispInt empty it only converts (semidensify).
+// Stereo-LiDAR consistency check fused with the conversion to the output format, CUDA twin of
+// src/consistency_check.cpp; encodeOutput converts without checking (semidensify).
 // Tile coordinates are packed in 16 bits each (images below 32768 pixels a side).
 
-#include "opencv2/lidarsgm.hpp"
 #include "sparse_window.cuh"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
+namespace {
+
+__device__ __forceinline__ void store(PtrStepSz<short>& out, int x, int y, int d16, int minD)
+{
+    out(y, x) = encodeOutput16(d16, minD);
+}
+__device__ __forceinline__ void store(PtrStepSz<float>& out, int x, int y, int d16, int minD)
+{
+    out(y, x) = encodeOutput32(d16, minD);
+}
+
 /* One block = 32 x 8 pixels. For the LiDAR test each pixel scans the sparse points of its block's tile
  (sparse_window.cuh). The test is "does any point qualify", so the list's order cannot change the result. */
+template <typename T>
 __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                            PtrStepSz<short> sparse16, PipelineParams p, PtrStepSz<short> out16, PtrStepSz<float> out32)
+                            PtrStepSz<short> sparse16, PipelineParams p, PtrStepSz<T> out)
 {
     extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
     __shared__ int count;
-    typedef StereoLidarSGM S;
     const int W = disp16.cols, H = disp16.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    const bool useStereo = p.check == S::CHECK_STEREO || p.check == S::CHECK_STEREO_LIDAR;
-    const bool useLidar = dispInt.data && (p.check == S::CHECK_CAMERA_LIDAR || p.check == S::CHECK_STEREO_LIDAR);
     const int rc = p.checkRadius, tc = p.checkThreshold16;
-    const int n = useLidar ? listTilePoints(sparse16, rc, points, &count) : 0;
+    const int n = p.lidarCheck ? listTilePoints(sparse16, rc, points, &count) : 0;
     if (x >= W || y >= H)
         return;
     int v = disp16(y, x);
-    if (v != NO_DISP && dispInt.data && p.check != S::CHECK_NONE)
+    if (v != NO_DISP && (p.stereoCheck || p.lidarCheck))
     {
         bool ok = false;
-        if (useStereo)
+        if (p.stereoCheck)
         {
+            // A match outside the right image cannot be verified: it fails (the LiDAR test may keep it).
             const int di = dispInt(y, x);
             const int xr = x - di;
             if (xr >= 0 && xr < W)
@@ -41,7 +50,7 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
                 ok = dr != NO_DISP && abs(di - dr) <= p.lrMaxDiff;
             }
         }
-        if (!ok && useLidar)
+        if (!ok && p.lidarCheck)
         {
             for (int k = 0; k < n; k++)
             {
@@ -57,21 +66,63 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
         if (!ok)
             v = NO_DISP;
     }
-    if (out16.data)
-        out16(y, x) = (short)(v == NO_DISP ? (p.minDisparity - 1) * 16 : v);
-    else
-        out32(y, x) = v == NO_DISP ? (float)(p.minDisparity - 1) : v * (1.f / 16);
+    store(out, x, y, v, p.minDisparity);
+}
+
+template <typename T>
+__global__ void encodeKernel(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out)
+{
+    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x < out.cols && y < out.rows)
+        store(out, x, y, disp16(y, x), minD);
+}
+
+const dim3 BLOCK(32, 8);
+
+static dim3 gridFor(int cols, int rows)
+{
+    return dim3(cv::cuda::device::divUp(cols, BLOCK.x), cv::cuda::device::divUp(rows, BLOCK.y));
+}
+
+template <typename T>
+void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
+              PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<T> out, cudaStream_t stream)
+{
+    const size_t smem = p.lidarCheck ? tileKernelSmem(checkKernel<T>, BLOCK, p.checkRadius) : 0;
+    checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
+                                                                                p, out);
+    cudaSafeCall(cudaGetLastError());
+}
+
+template <typename T>
+void runEncode(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out, cudaStream_t stream)
+{
+    encodeKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, 0, stream>>>(disp16, minD, out);
+    cudaSafeCall(cudaGetLastError());
+}
+
+} // namespace
+
+void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
+                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> out, cudaStream_t stream)
+{
+    runCheck(disp16, dispInt, dispRight, sparse16, p, out, stream);
 }
 
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> out16,
-                      PtrStepSz<float> out32, cudaStream_t stream)
+                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<float> out, cudaStream_t stream)
 {
-    const dim3 block(32, 8);
-    const dim3 grid(cv::cuda::device::divUp(disp16.cols, block.x), cv::cuda::device::divUp(disp16.rows, block.y));
-    const size_t smem = tileKernelSmem(checkKernel, block, p.checkRadius);
-    checkKernel<<<grid, block, smem, stream>>>(disp16, dispInt, dispRight, sparse16, p, out16, out32);
-    cudaSafeCall(cudaGetLastError());
+    runCheck(disp16, dispInt, dispRight, sparse16, p, out, stream);
+}
+
+void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<short> out, cudaStream_t stream)
+{
+    runEncode(disp16, minDisparity, out, stream);
+}
+
+void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<float> out, cudaStream_t stream)
+{
+    runEncode(disp16, minDisparity, out, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

@@ -4,7 +4,7 @@
 // 3x3 median of the disparity maps, CUDA twin of src/median_filter.cpp: the same rule (pipeline.hpp: "no disparity"
 // ranks above every value, clamped border, median of the sorted columns), all maps in one launch.
 
-#include "pipeline_cuda.hpp"
+#include "cuda_stages.hpp"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {

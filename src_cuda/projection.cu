@@ -1,22 +1,16 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// LiDAR projection, CUDA twin of src/projection.cpp: the same double-precision arithmetic, with explicitly rounded
-// operations so that the compiler cannot fuse multiply-adds (the CPU build does not), hence the same pixels and
-// disparities. "Nearest wins" is an atomicMax on the float's bits: positive floats order like their bit patterns, so
+// LiDAR projection, CUDA twin of src/projection.cpp: the same double-precision arithmetic (projectRow, projectPixel,
+// projectDisparity, kittiEncode in pipeline.hpp), hence the same pixels and disparities. "Nearest wins" is an atomicMax on the float's bits: positive floats order like their bit patterns, so
 // the result does not depend on the order the points are processed in.
 
-#include "pipeline_cuda.hpp"
+#include "cuda_stages.hpp"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 struct Projection34 { double m[12]; };
-
-__device__ __forceinline__ double row(const double* r, double X, double Y, double Z)
-{
-    return __dadd_rn(__dadd_rn(__dadd_rn(__dmul_rn(r[0], X), __dmul_rn(r[1], Y)), __dmul_rn(r[2], Z)), r[3]);
-}
 
 __global__ void projectKernel(const float* points, int n, int stride, Projection34 PT, double focalBaseline,
                               PtrStepSz<int> dispBits)
@@ -28,13 +22,13 @@ __global__ void projectKernel(const float* points, int n, int stride, Projection
     const double X = q[0], Y = q[1], Z = q[2];
     if (!isfinite(X) || !isfinite(Y) || !isfinite(Z))
         return;
-    const double u = row(PT.m, X, Y, Z), v = row(PT.m + 4, X, Y, Z), z = row(PT.m + 8, X, Y, Z);
+    const double u = projectRow(PT.m, X, Y, Z), v = projectRow(PT.m + 4, X, Y, Z), z = projectRow(PT.m + 8, X, Y, Z);
     if (!(z > 0))
         return;
-    const double ui = floor(__dadd_rn(__ddiv_rn(u, z), 0.5)), vi = floor(__dadd_rn(__ddiv_rn(v, z), 0.5));
+    const double ui = projectPixel(u, z), vi = projectPixel(v, z);
     if (ui < 0 || vi < 0 || ui >= dispBits.cols || vi >= dispBits.rows)
         return;
-    const float d = (float)__ddiv_rn(focalBaseline, z);
+    const float d = projectDisparity(focalBaseline, z);
     atomicMax(&dispBits((int)vi, (int)ui), __float_as_int(d));
 }
 
@@ -43,14 +37,7 @@ __global__ void toKitti16Kernel(PtrStepSz<float> disp, PtrStepSz<ushort> out)
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     if (x >= out.cols || y >= out.rows)
         return;
-    const float s = disp(y, x);
-    ushort o = 0;
-    if (s > 0)
-    {
-        const double v = ::fmax(1.0, floor(__dadd_rn(__dmul_rn((double)s, 256.0), 0.5)));
-        o = v >= 65535.0 ? (ushort)65535 : (ushort)v;
-    }
-    out(y, x) = o;
+    out(y, x) = kittiEncode(disp(y, x));
 }
 
 void projectPoints(const float* points, int n, int stride, const double PT[12], double focalBaseline,

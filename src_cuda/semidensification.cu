@@ -1,8 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Semidensification, CUDA twin of src/semidensification.cpp: the same candidate order (census cost, squared
-// distance, row, column), so ties resolve identically.
+// Semidensification, CUDA twin of src/semidensification.cpp: the same candidate order (SemidenseCandidate), so ties
+// resolve identically.
 
 #include "sparse_window.cuh"
 #include "opencv2/core/cuda/common.hpp"
@@ -10,7 +10,7 @@
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 /* One block = 32 x 8 pixels; each pixel visits the sparse points of its block's tile (sparse_window.cuh). The choice
- uses the full key (cost, squared distance, row, column), so it does not depend on the order of the list. */
+ uses the full key (SemidenseCandidate), so it does not depend on the order of the list. */
 __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                                 int rs, int Ts, PtrStepSz<short> out)
 {
@@ -23,7 +23,7 @@ __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, 
         return;
     const unsigned l = (unsigned)censusL(y, x);
     const int* R = censusR.ptr(y);
-    int bestCost = INT_MAX, bestDist = INT_MAX, bestRow = INT_MAX, bestCol = INT_MAX;
+    SemidenseCandidate best = { INT_MAX, INT_MAX, INT_MAX, INT_MAX };
     short bestVal = NO_DISP;
     for (int k = 0; k < n; k++)
     {
@@ -33,15 +33,14 @@ __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, 
             continue;
         const short v = (short)points[2 * k + 1];
         const int xr = ::min(::max(x - roundDisp16(v), 0), W - 1);
-        const int cost = popcount32(l ^ (unsigned)R[xr]);
-        const int dist = (c - x) * (c - x) + (q - y) * (q - y);
-        if (cost < bestCost || (cost == bestCost && (dist < bestDist ||
-            (dist == bestDist && (q < bestRow || (q == bestRow && c < bestCol))))))
+        const SemidenseCandidate cand = { popcount32(l ^ (unsigned)R[xr]), (c - x) * (c - x) + (q - y) * (q - y), q, c };
+        if (cand.betterThan(best))
         {
-            bestCost = cost; bestDist = dist; bestRow = q; bestCol = c; bestVal = v;
+            best = cand;
+            bestVal = v;
         }
     }
-    out(y, x) = bestCost < Ts ? bestVal : sparse16(y, x);
+    out(y, x) = best.cost < Ts ? bestVal : sparse16(y, x);
 }
 
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,

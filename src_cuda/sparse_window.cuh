@@ -8,7 +8,7 @@
 #ifndef OPENCV_LIDARSGM_SPARSE_WINDOW_CUH
 #define OPENCV_LIDARSGM_SPARSE_WINDOW_CUH
 
-#include "pipeline_cuda.hpp"
+#include "cuda_stages.hpp"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {

@@ -5,7 +5,7 @@
 // candidates are compared as (cost << 16 | d). The right-view disparity is an atomicMin of the same keys per right
 // pixel, so its result does not depend on the order the threads run in.
 
-#include "pipeline_cuda.hpp"
+#include "cuda_stages.hpp"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -14,13 +14,6 @@ namespace {
 
 const int WARPS = 8, PIXELS_PER_WARP = 4, SEG = WARPS * PIXELS_PER_WARP;  // a block: 32 pixels of one row
 const int MAX_D = 256;
-
-__device__ __forceinline__ int subpixelOffset16(int sm, int s0, int sp)
-{
-    const int num = 8 * (sm - sp);
-    const int den = ::max(sm + sp - 2 * s0, 1);
-    return num >= 0 ? (num + den / 2) / den : -((-num + den / 2) / den);
-}
 
 /* One warp per pixel, a block per 32 consecutive pixels of a row. The right-view candidates of those pixels fall on
  right pixels [x0 - minD - (D - 1), x0 + 31 - minD]: they are reduced in shared memory first, then merged into the

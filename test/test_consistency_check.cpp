@@ -1,6 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
 
@@ -24,12 +24,16 @@ static Mat runCheck(int check, int dx, int sparseValue16, int rc = 20, int tc16 
     if (30 + dx >= 0 && 30 + dx < W)
         sparse.at<short>(0, 30 + dx) = (short)sparseValue16;
     PipelineParams p = PipelineParams();
-    p.check = check;
+    p.stereoCheck = check == SLS::CHECK_STEREO || check == SLS::CHECK_STEREO_LIDAR;
+    p.lidarCheck = check == SLS::CHECK_CAMERA_LIDAR || check == SLS::CHECK_STEREO_LIDAR;
     p.lrMaxDiff = 1;
     p.checkRadius = rc;
     p.checkThreshold16 = tc16;
-    consistencyCheck(d16, di, dr, sparse, p);
-    return d16;
+    // Output in CV_16S x16 with minDisparity 0: "none" is written as -16.
+    Mat out;
+    consistencyCheck(d16, di, dr, sparse, p, out);
+    out.setTo(NO_DISP, out == encodeOutput16(NO_DISP, 0));
+    return out;
 }
 
 TEST(Lidarsgm_Consistency, lidar_rescues_left_right_failure)

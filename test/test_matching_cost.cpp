@@ -1,6 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
 
@@ -19,8 +19,7 @@ static PipelineParams smallParams(int minD, int numD, bool ddc)
     p.semidenseThreshold = 2;
     p.checkRadius = 20;
     p.checkThreshold16 = 32;
-    p.mode = ddc ? cv::lidarsgm::StereoLidarSGM::MODE_DSGM : cv::lidarsgm::StereoLidarSGM::MODE_SGM;
-    p.check = cv::lidarsgm::StereoLidarSGM::CHECK_NONE;
+    p.ddc = ddc;
     p.w = computeCostWeights(10, 120, 5, 160, 0.7, 8, ddc);
     return p;
 }

@@ -1,6 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
-#include "pipeline.hpp"
+#include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
 

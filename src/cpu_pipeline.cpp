@@ -1,0 +1,44 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The CPU pipeline: the stage calls in order (src_cuda/cuda_pipeline.cpp makes the same calls on the GPU). The work
+// buffers are members, so repeated calls at one size allocate nothing.
+
+#include "precomp.hpp"
+#include "cpu_stages.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail {
+
+void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p,
+                      bool semidenseOnly, OutputArray out)
+{
+    censusTransform(left, censusL_);
+    censusTransform(right, censusR_);
+    if (!sparse.empty())
+        convertSparse(sparse, p.minDisparity, p.numDisparities, sparse16_);
+    else
+        sparse16_.release();
+    if (semidenseOnly || p.semidense)
+        semidensify(censusL_, censusR_, sparse16_, p, semidense16_);
+    if (semidenseOnly)
+    {
+        encodeOutput(semidense16_, p, out);
+        return;
+    }
+
+    const Mat prior = p.semidense ? semidense16_ : p.ddc ? sparse16_ : Mat();
+    computeMatchingCost(censusL_, censusR_, prior, p, cost_);
+    aggregateCosts(cost_, left.cols, p, sum_);
+    winnerTakesAll(sum_, left.cols, p, disp16_, dispInt_, dispRight_);
+    if (p.medianSize == 3)
+    {
+        medianFilter(disp16_, med16_);
+        medianFilter(dispInt_, medInt_);
+        medianFilter(dispRight_, medRight_);
+        consistencyCheck(med16_, medInt_, medRight_, sparse16_, p, out);
+    }
+    else
+        consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, p, out);
+}
+
+}}} // namespace cv::lidarsgm::detail

@@ -1,0 +1,58 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The CPU stages, one file each (src/<stage>.cpp), in pipeline order; their CUDA twins carry the same names
+// (src_cuda/cuda_stages.hpp). Exported for the per-stage unit tests; not part of the public API.
+
+#ifndef OPENCV_LIDARSGM_CPU_STAGES_HPP
+#define OPENCV_LIDARSGM_CPU_STAGES_HPP
+
+#include "pipeline.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail {
+
+/** Sparse input (CV_16UC1 x256 or CV_32FC1 pixels) to the internal CV_16SC1 1/16-pixel map with NO_DISP for "none"
+(sparseFromKitti16, sparseFromFloat). */
+CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat& sparse16);
+
+//! Census transform (CV_8UC1 or CV_16UC1 in, CV_32SC1 bit strings out); pixels outside the image are clamped.
+CV_EXPORTS void censusTransform(const Mat& image, Mat& census);
+
+/** Semidensification (paper Eq. 5): among the sparse disparities q in the (2 rs + 1)^2 window of p, the best
+SemidenseCandidate (census cost H(p, round(q)) first) wins if its cost is below Ts; otherwise p keeps its own sparse
+value (or none). */
+CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
+                            Mat& semidense16);
+
+/** Matching cost volume, rows = image rows, cols = width * numDisparities, CV_16UC1, d fastest: matchingCost() with
+the prior index round(prior16) - minD where prior16 has a value. prior16 may be empty (plain SGM). The right pixel
+x - d is clamped to the image. */
+CV_EXPORTS void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16,
+                                    const PipelineParams& p, Mat& cost);
+
+//! Sums the path costs of 4 or 8 SGM paths into sum (same layout as cost).
+CV_EXPORTS void aggregateCosts(const Mat& cost, int width, const PipelineParams& p, Mat& sum);
+
+/** Winner-takes-all with the uniqueness check and the parabola fit.
+disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;
+dispInt: the integer left disparity (NO_DISP where not unique);
+dispRight: the integer right-view disparity from the same volume (lowest cost along the diagonal x + d). */
+CV_EXPORTS void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt,
+                               Mat& dispRight);
+
+/** 3x3 median of a CV_16SC1 disparity map (1/16 or whole pixels), "no disparity" ranked above every value,
+coordinates clamped at the border (medianKey, medianOfColumns). src and dst must differ. */
+CV_EXPORTS void medianFilter(const Mat& src, Mat& dst);
+
+/** Consistency check (paper Eq. 6) and output encoding: a disparity of disp16 survives the left-right test
+(|dL - dR(x - dL)| <= lrMaxDiff, dispInt against dispRight) and/or the LiDAR test (some sparse16 value within the
+(2 rc + 1)^2 window is within checkThreshold16 of it), as p says; out receives the encoded result (encodeOutput). */
+CV_EXPORTS void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
+                                 const PipelineParams& p, OutputArray out);
+
+//! A 1/16-pixel map in the output format without any check (the semidense map of semidensify()).
+CV_EXPORTS void encodeOutput(const Mat& disp16, const PipelineParams& p, OutputArray out);
+
+}}} // namespace cv::lidarsgm::detail
+
+#endif

@@ -1,0 +1,157 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The CUDA pipeline (host code): the stage calls in the order of src/cpu_pipeline.cpp, the GpuMat work buffers, the
+// choice of each stage's overload by element type, and the ordering of calls made on different streams. The buffers
+// are only (re)allocated when the size, disparity count or types change; everything else is enqueued on the stream
+// without synchronising.
+
+#include "precomp.hpp"
+#include "opencv2/core/cuda_stream_accessor.hpp"
+#include "cuda_stages.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail {
+
+namespace ci = cuda_impl;
+
+namespace {
+
+void cudaCheck(cudaError_t err)
+{
+    if (err != cudaSuccess)
+        CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
+}
+
+} // namespace
+
+struct CudaPipeline::Buffers
+{
+    cuda::GpuMat censusL, censusR, sparse16, semidense16, sum, disp16, dispInt, rightKey, dispRight;
+    cuda::GpuMat med16, medInt, medRight;
+    cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
+    cudaStream_t lastStream = 0;     //!< the stream of the last call
+
+    /* The buffers are shared by all calls, so a call must not start on the GPU before the previous call has finished
+    with them. On the same stream that holds by stream order; on another stream the new stream first waits (on the
+    GPU, not the host) for the event recorded at the end of the previous call. Inside a CUDA graph capture there is no
+    event to wait for or record: a captured call must follow calls on the stream it captures (see the class
+    documentation). Returns whether st is capturing. */
+    bool orderAfterLastCall(cudaStream_t st)
+    {
+        cudaStreamCaptureStatus capture = cudaStreamCaptureStatusNone;
+        cudaCheck(cudaStreamIsCapturing(st, &capture));
+        const bool capturing = capture != cudaStreamCaptureStatusNone;
+        if (done && st != lastStream)
+        {
+            if (capturing)
+                CV_Error(Error::StsBadArg, "lidarsgm: a call captured into a CUDA graph must follow this instance's "
+                                           "previous call on the same stream (the work buffers are shared)");
+            cudaCheck(cudaStreamWaitEvent(st, done, 0));
+        }
+        return capturing;
+    }
+
+    void markCallEnd(cudaStream_t st, bool capturing)
+    {
+        lastStream = st;
+        if (capturing)
+            return;
+        if (!done)
+            cudaCheck(cudaEventCreateWithFlags(&done, cudaEventDisableTiming));
+        cudaCheck(cudaEventRecord(done, st));
+    }
+};
+
+CudaPipeline::CudaPipeline() : b_(new Buffers) {}
+
+CudaPipeline::~CudaPipeline()
+{
+    if (b_->done)
+        cudaEventDestroy(b_->done);
+    delete b_;
+}
+
+void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda::GpuMat& Sp, const PipelineParams& p,
+                       bool semidenseOnly, OutputArray out, cuda::Stream* stream)
+{
+    // No stream given: the default stream (not cuda::Stream::Null() up front: that needs a working driver).
+    cudaStream_t st = stream ? cuda::StreamAccessor::getStream(*stream) : 0;
+    Buffers& b = *b_;
+    const bool capturing = b.orderAfterLastCall(st);
+    const Size sz = L.size();
+    b.censusL.create(sz, CV_32SC1);
+    b.censusR.create(sz, CV_32SC1);
+    if (L.depth() == CV_8U)
+        ci::censusTransform(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), b.censusL, b.censusR, st);
+    else
+        ci::censusTransform(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), b.censusL, b.censusR, st);
+    if (!Sp.empty())
+    {
+        b.sparse16.create(sz, CV_16SC1);
+        if (Sp.depth() == CV_16U)
+            ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, b.sparse16, st);
+        else
+            ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, b.sparse16, st);
+    }
+    if (semidenseOnly || p.semidense)
+    {
+        b.semidense16.create(sz, CV_16SC1);
+        ci::semidensify(b.censusL, b.censusR, b.sparse16, p, b.semidense16, st);
+    }
+
+    out.create(sz, p.floatOutput ? CV_32FC1 : CV_16SC1);
+    cuda::GpuMat o = out.getGpuMat();
+    if (semidenseOnly)
+    {
+        if (p.floatOutput)
+            ci::encodeOutput(b.semidense16, p.minDisparity, cuda::PtrStepSz<float>(o), st);
+        else
+            ci::encodeOutput(b.semidense16, p.minDisparity, cuda::PtrStepSz<short>(o), st);
+        b.markCallEnd(st, capturing);
+        return;
+    }
+
+    const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
+    b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
+    ci::aggregateCosts(b.censusL, b.censusR, prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior),
+                       p, b.sum, st);
+    b.disp16.create(sz, CV_16SC1);
+    b.dispInt.create(sz, CV_16SC1);
+    b.rightKey.create(sz, CV_32SC1);
+    b.dispRight.create(sz, CV_16SC1);
+    ci::winnerTakesAll(b.sum, sz.width, p, b.disp16, b.dispInt, b.rightKey, b.dispRight, st);
+    cuda::GpuMat d16 = b.disp16, dInt = b.dispInt, dRight = b.dispRight;
+    if (p.medianSize == 3)
+    {
+        b.med16.create(sz, CV_16SC1);
+        b.medInt.create(sz, CV_16SC1);
+        b.medRight.create(sz, CV_16SC1);
+        const ci::MedianMaps maps = { { b.disp16, b.dispInt, b.dispRight }, { b.med16, b.medInt, b.medRight } };
+        ci::medianFilter(maps, 3, st);
+        d16 = b.med16;
+        dInt = b.medInt;
+        dRight = b.medRight;
+    }
+    const cuda::PtrStepSz<short> sparse = b.sparse16.empty() || Sp.empty() ? cuda::PtrStepSz<short>()
+                                                                           : cuda::PtrStepSz<short>(b.sparse16);
+    if (p.floatOutput)
+        ci::consistencyCheck(d16, dInt, dRight, sparse, p, cuda::PtrStepSz<float>(o), st);
+    else
+        ci::consistencyCheck(d16, dInt, dRight, sparse, p, cuda::PtrStepSz<short>(o), st);
+    b.markCallEnd(st, capturing);
+}
+
+void CudaPipeline::projectPoints(const cuda::GpuMat& points, int n, int strideFloats, const double PT[12],
+                                 double focalBaseline, Size imageSize, int dtype, OutputArray out,
+                                 cuda::Stream& stream)
+{
+    out.create(imageSize, dtype == CV_32F ? CV_32FC1 : CV_16UC1);
+    cuda::GpuMat o = out.getGpuMat();
+    // CV_16U output needs the float map first: a temporary (the projection keeps no buffers between calls).
+    cuda::GpuMat disp = dtype == CV_32F ? o : cuda::GpuMat(imageSize, CV_32FC1);
+    ci::projectPoints(n ? points.ptr<float>() : nullptr, n, strideFloats, PT, focalBaseline, disp,
+                      dtype == CV_16U ? cuda::PtrStepSz<ushort>(o) : cuda::PtrStepSz<ushort>(),
+                      cuda::StreamAccessor::getStream(stream));
+}
+
+}}} // namespace cv::lidarsgm::detail

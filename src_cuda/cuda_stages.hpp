@@ -1,0 +1,70 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The CUDA stages, one file each (src_cuda/<stage>.cu), twins of the CPU stages of the same names
+// (src/cpu_stages.hpp): the same rules (src/pipeline.hpp), so the outputs are identical. Called by
+// src_cuda/cuda_pipeline.cpp. Every call only enqueues work on the given stream: no allocation, no synchronisation.
+// Where a stage takes 8- or 16-bit (or integer or float) data, it has one overload per element type.
+
+#ifndef OPENCV_LIDARSGM_CUDA_STAGES_HPP
+#define OPENCV_LIDARSGM_CUDA_STAGES_HPP
+
+#include "opencv2/core/cuda_types.hpp"
+#include <cuda_runtime.h>
+#include "pipeline.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
+
+using cv::cuda::PtrStepSz;
+
+void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
+                   cudaStream_t stream);
+void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
+                   cudaStream_t stream);
+
+//! Both images in one launch.
+void censusTransform(PtrStepSz<uchar> left, PtrStepSz<uchar> right, PtrStepSz<int> censusL, PtrStepSz<int> censusR,
+                     cudaStream_t stream);
+void censusTransform(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<int> censusL,
+                     PtrStepSz<int> censusR, cudaStream_t stream);
+
+void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
+                 const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
+
+/** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
+and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities. */
+void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
+
+/** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
+right-view disparity as on the CPU. */
+void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
+                    PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
+                    cudaStream_t stream);
+
+//! Up to three maps of one size filtered in one launch: dst[i] = median3x3(src[i]).
+struct MedianMaps
+{
+    PtrStepSz<short> src[3], dst[3];
+};
+void medianFilter(const MedianMaps& maps, int count, cudaStream_t stream);
+
+//! The check and the conversion to the output format, in one pass (one overload per output type).
+void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
+                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> out, cudaStream_t stream);
+void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
+                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<float> out, cudaStream_t stream);
+
+//! A 1/16-pixel map in the output format without any check (the semidense map of semidensify()).
+void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<short> out, cudaStream_t stream);
+void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<float> out, cudaStream_t stream);
+
+/** LiDAR points (float, each `stride` floats after the previous, x y z first) to a sparse disparity map: disp (CV_32F,
+written, 0 = none); with out16 non-empty, also its KITTI 16-bit encoding. PT = projection * lidarToCamera, row-major
+3x4. */
+void projectPoints(const float* points, int n, int stride, const double PT[12], double focalBaseline,
+                   PtrStepSz<float> disp, PtrStepSz<ushort> out16, cudaStream_t stream);
+
+}}}} // namespace cv::lidarsgm::detail::cuda_impl
+
+#endif
