@@ -69,6 +69,25 @@ INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_CUDA_Kitti,
     testing::Combine(testing::Values(0, 1), testing::Values(0, 1, 2), testing::Values(0, 1, 2, 3), testing::Values(4, 8)),
     kittiName);
 
+// The median filter off (the parameterised test above runs the default, on): both frames, every mode, the checks
+// that read the filtered maps.
+TEST(Lidarsgm_CUDA, kitti_median_off_bit_exact)
+{
+    requireCudaDevice();
+    for (const char* id : { "000002", "000046" })
+    {
+        Mat l, r, s;
+        loadKittiTestFrame(id, l, r, s);
+        for (int mode = 0; mode < 3; mode++)
+            for (int check : { (int)StereoLidarSGM::CHECK_STEREO, (int)StereoLidarSGM::CHECK_STEREO_LIDAR })
+            {
+                Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode, check);
+                m->setMedianSize(1);
+                compareCpuGpu(m, l, r, s, format("frame %s mode %d check %d median off", id, mode, check));
+            }
+    }
+}
+
 typedef testing::TestWithParam<tuple<Size, int, int> > Lidarsgm_CUDA_Random;
 TEST_P(Lidarsgm_CUDA_Random, bit_exact)
 {
@@ -98,6 +117,7 @@ TEST_P(Lidarsgm_CUDA_Random, bit_exact)
                 m->setNumPaths(k % 2 ? 4 : 8);
                 m->setSubpixel(mode != 1);
                 m->setOutputType(k == 3 ? CV_32F : CV_16S);
+                m->setMedianSize((k + mode) % 2 ? 1 : 3);
                 compareCpuGpu(m, l, r, sparses[k], format("size %dx%d depth %d sparse %d mode %d", sz.width, sz.height, depth, k, mode));
             }
     }

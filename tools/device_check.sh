@@ -1,24 +1,34 @@
 #!/usr/bin/env bash
-# Build lidarsgm with CUDA on the lent GPU machine and check the CUDA path there: the CUDA tests (bit-exact against the
-# CPU path, graph capture), then CUDA-event timings against cv::cuda::StereoSGM. The OpenCV source travels as a trimmed
-# archive in .device/ (made from the pinned PyPI archive; see doc/notes.md), since the machine has no network.
+# Check the CUDA path on the lent GPU machine: the CUDA tests (bit-exact against the CPU path, graph capture), then
+# CUDA-event timings against cv::cuda::StereoSGM. The machine has no network, so what it needs travels in .device/
+# (carry it): either the CPU machine's CUDA build (tools/pack_device_build.sh: .device/prebuilt.tar.xz, used unless
+# PY=ON) or the trimmed OpenCV source (tools/make_opencv_trim.sh: .device/opencv-trim.tar.xz) to build there.
 #   tools/device_check.sh [extra gtest filter]
 set -eo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-/tmp/lidarsgm-out}; mkdir -p "$OUT"
 CACHE=/tmp/lidarsgm-cache
-SRC=$CACHE/src/opencv_contrib_python-4.14.0.94
-if [ ! -f "$SRC/opencv/CMakeLists.txt" ]; then mkdir -p $CACHE/src && tar -xJf .device/opencv-trim.tar.xz -C $CACHE/src; fi
-# The trimmed archive leaves out the modules' test folders; OpenCV's python module adds its own unconditionally.
-mkdir -p "$SRC/opencv/modules/python/test" && touch "$SRC/opencv/modules/python/test/CMakeLists.txt"
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 date -u
 t0=$(date +%s)
-cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=${PY:-OFF} -DLIDARSGM_WITH_CUDA=ON \
-  > "$OUT/configure.log" 2>&1 || { tail -40 "$OUT/configure.log"; exit 1; }
-cmake --build build-device > "$OUT/build.log" 2>&1 || { grep -E "error|FAILED" "$OUT/build.log" | head -30; exit 1; }
+if [ -f .device/prebuilt.tar.xz ] && [ "${PY:-OFF}" != ON ]; then
+  # The build made on the CPU machine (tools/pack_device_build.sh): no build here.
+  tar -xJf .device/prebuilt.tar.xz -C /tmp
+  B=/tmp/prebuilt/bin
+  export LD_LIBRARY_PATH=/tmp/prebuilt/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+  echo "prebuilt binaries of $(head -c 12 /tmp/prebuilt/COMMIT) $(tail -n +2 /tmp/prebuilt/COMMIT)"
+else
+  SRC=$CACHE/src/opencv_contrib_python-4.14.0.94
+  if [ ! -f "$SRC/opencv/CMakeLists.txt" ]; then mkdir -p $CACHE/src && tar -xJf .device/opencv-trim.tar.xz -C $CACHE/src; fi
+  # The trimmed archive (tools/make_opencv_trim.sh) leaves out the modules' test folders; OpenCV's python module
+  # adds its own unconditionally.
+  mkdir -p "$SRC/opencv/modules/python/test" && touch "$SRC/opencv/modules/python/test/CMakeLists.txt"
+  cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=${PY:-OFF} \
+    -DLIDARSGM_WITH_CUDA=ON -DLIDARSGM_WITH_SANITIZERS=OFF > "$OUT/configure.log" 2>&1 || { tail -40 "$OUT/configure.log"; exit 1; }
+  cmake --build build-device > "$OUT/build.log" 2>&1 || { grep -E "error|FAILED" "$OUT/build.log" | head -30; exit 1; }
+  B=$CACHE/build-cuda90/bin
+fi
 echo "build: $(( $(date +%s) - t0 )) s"
-B=$CACHE/build-cuda90/bin
 # The shared data travels packed (tools/make_device_data.py) when .device/shared exists.
 [ -d .device/shared ] && export LIDARSGM_SHARED_DATA=$PWD/.device/shared
 OPENCV_TEST_DATA_PATH=testdata $B/opencv_test_lidarsgm --gtest_filter="${1:-*CUDA*}" > "$OUT/tests.log" 2>&1 || true
