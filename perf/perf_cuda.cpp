@@ -2,7 +2,7 @@
 // CUDA path on KITTI frame 000002 (inputs and output on the GPU), against cv::cuda::StereoSGM in the same process.
 // Skipped where no CUDA device exists.
 #include "perf_precomp.hpp"
-#include "lidarsgm_eval.hpp"
+#include "lidarsgm_datasets.hpp"
 #include "opencv2/core/cuda.hpp"
 #ifdef HAVE_OPENCV_CUDASTEREO
 #include "opencv2/cudastereo.hpp"
@@ -25,12 +25,8 @@ static void requireDevice()
 //! KITTI frame 000002 on the GPU, at its own size or scaled (LiDAR disparities scaled with the width).
 static void kittiOnGpu(cuda::GpuMat& l, cuda::GpuMat& r, cuda::GpuMat& s, Size size = Size())
 {
-    const std::string dir = cvtest::findDataDirectory("kitti");
-    Mat left = imread(dir + "/image_2/000002_10.png", IMREAD_GRAYSCALE), right = imread(dir + "/image_3/000002_10.png", IMREAD_GRAYSCALE);
-    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
-    Mat sparse;
-    cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/000002.bin"), c.P2,
-                                           c.lidarToCamera, c.focalBaseline, left.size(), sparse);
+    const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(cvtest::findDataDirectory("kitti"), "000002");
+    Mat left = f.left, right = f.right, sparse = f.sparse;
     if (size.area() > 0 && size != left.size())
     {
         const double sx = (double)size.width / left.cols;

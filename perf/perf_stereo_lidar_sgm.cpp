@@ -1,6 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "perf_precomp.hpp"
-#include "lidarsgm_eval.hpp"
+#include "lidarsgm_datasets.hpp"
 
 namespace opencv_test { namespace {
 
@@ -16,13 +16,10 @@ static const KittiInput& kittiFrame()
     static KittiInput in;
     if (in.left.empty())
     {
-        const std::string dir = cvtest::findDataDirectory("kitti");
-        in.left = imread(dir + "/image_2/000002_10.png", IMREAD_GRAYSCALE);
-        in.right = imread(dir + "/image_3/000002_10.png", IMREAD_GRAYSCALE);
-        CV_Assert(!in.left.empty() && !in.right.empty());
-        lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
-        cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/000002.bin"), c.P2,
-                                               c.lidarToCamera, c.focalBaseline, in.left.size(), in.sparse);
+        const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(cvtest::findDataDirectory("kitti"), "000002");
+        in.left = f.left;
+        in.right = f.right;
+        in.sparse = f.sparse;
     }
     return in;
 }
@@ -77,8 +74,8 @@ PERF_TEST(Lidarsgm_KITTI, opencv_StereoSGBM_MODE_HH_128)
 PERF_TEST(Lidarsgm_KITTI, projectPointsToDisparity)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
-    Mat pts = lidarsgm_eval::readVelodyne(dir + "/velodyne/000002.bin"), sparse;
+    lidarsgm_data::KittiCalib c = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
+    Mat pts = lidarsgm_data::readVelodyne(dir + "/velodyne/000002.bin"), sparse;
     TEST_CYCLE() cv::lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), sparse);
     SANITY_CHECK_NOTHING();
 }

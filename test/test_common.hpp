@@ -4,20 +4,17 @@
 #define OPENCV_LIDARSGM_TEST_COMMON_HPP
 
 #include "test_precomp.hpp"
-#include "lidarsgm_eval.hpp"
+#include "lidarsgm_datasets.hpp"
 
 namespace opencv_test {
 
 //! A shipped KITTI frame (testdata/kitti): grey pair and the raw scan projected to a CV_32F sparse map.
 inline void loadKittiTestFrame(const std::string& id, Mat& l, Mat& r, Mat& s)
 {
-    const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
-    l = imread(dir + "/image_2/" + id + "_10.png", IMREAD_GRAYSCALE);
-    r = imread(dir + "/image_3/" + id + "_10.png", IMREAD_GRAYSCALE);
-    ASSERT_FALSE(l.empty() || r.empty()) << id;
-    cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(dir + "/velodyne/" + id + ".bin"),
-                                           c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s);
+    const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(cvtest::findDataDirectory("kitti"), id);
+    l = f.left;
+    r = f.right;
+    s = f.sparse;
 }
 
 //! Uncorrelated 8-bit images and a sparse map with about 4 % of the pixels set to disparities in [1, 60).

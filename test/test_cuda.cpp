@@ -142,13 +142,20 @@ TEST(Lidarsgm_CUDA, shared_data_bit_exact)
     int frames = 0;
     while (list >> id)
     {
-        Mat l = imread(kitti + "/image_2/" + id + "_10.png", IMREAD_GRAYSCALE), r = imread(kitti + "/image_3/" + id + "_10.png", IMREAD_GRAYSCALE);
-        Mat s = imread(kitti + "/sparse16/" + id + ".png", IMREAD_UNCHANGED);
-        if (s.empty())
+        // Packed for the GPU machine (tools/make_device_data.py): grey images and the projected scans as PNGs.
+        const Mat s16 = imread(kitti + "/sparse16/" + id + ".png", IMREAD_UNCHANGED);
+        Mat l, r, s = s16;
+        if (s16.empty())
         {
-            lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(kitti + "/calib.txt");
-            cv::lidarsgm::projectPointsToDisparity(lidarsgm_eval::readVelodyne(kitti + "/velodyne/" + id + ".bin"),
-                                                   c.P2, c.lidarToCamera, c.focalBaseline, l.size(), s, CV_16U);
+            const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(kitti, id);
+            l = f.left;
+            r = f.right;
+            s = f.sparse;
+        }
+        else
+        {
+            l = lidarsgm_data::readGrey(kitti + "/image_2/" + id + "_10.png");
+            r = lidarsgm_data::readGrey(kitti + "/image_3/" + id + "_10.png");
         }
         ASSERT_FALSE(l.empty() || r.empty() || s.empty()) << id;
         for (int mode = 0; mode < 3; mode++)
@@ -160,8 +167,8 @@ TEST(Lidarsgm_CUDA, shared_data_bit_exact)
     for (int i = 0; i < 6; i++)
     {
         Mat l, r, gt;
-        ASSERT_TRUE(lidarsgm_eval::loadMiddlebury(std::string(env) + "/middlebury/" + scenes[i], l, r, gt)) << scenes[i];
-        Mat s = lidarsgm_eval::sampleGroundTruth(gt, 0.01, 1);
+        ASSERT_TRUE(lidarsgm_data::loadMiddlebury(std::string(env) + "/middlebury/" + scenes[i], l, r, gt)) << scenes[i];
+        Mat s = lidarsgm_data::sampleGroundTruth(gt, 0.01, 1);
         for (int mode = 0; mode < 3; mode++)
             compareCpuGpu(StereoLidarSGM::create(0, 256, 10, 120, 5, 160, 0.7, mode), l, r, s, format("%s mode %d", scenes[i], mode));
     }
@@ -171,11 +178,11 @@ TEST(Lidarsgm_CUDA, projection_bit_exact)
 {
     requireCudaDevice();
     const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_eval::KittiCalib c = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
+    lidarsgm_data::KittiCalib c = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
     const char* ids[] = { "000002", "000046" };
     for (int i = 0; i < 2; i++)
     {
-        Mat pts4 = lidarsgm_eval::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin");
+        Mat pts4 = lidarsgm_data::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin");
         Mat pts3 = pts4.colRange(0, 3).clone();
         for (int dtype = 0; dtype < 2; dtype++)
         {

@@ -1,12 +1,28 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
-// The evaluator the tool and the accuracy tests use (samples/lidarsgm_eval.hpp), checked against small cases
-// computed by hand: the KITTI devkit's background interpolation and D1 rule, Middlebury bad-N, formats.
+// The evaluator (opencv2/lidarsgm/evaluation.hpp) and the dataset helpers (datasets/lidarsgm_datasets.hpp) the tool,
+// the tests and the perf tests use, checked against small cases computed by hand: the KITTI devkit's background
+// interpolation and D1 rule, Middlebury bad-N, formats, colour maps, the LiDAR ring selection.
 #include "test_precomp.hpp"
-#include "lidarsgm_eval.hpp"
+#include "lidarsgm_datasets.hpp"
+#include <set>
 
 namespace opencv_test { namespace {
 
-using namespace lidarsgm_eval;
+using namespace lidarsgm_data;
+using cv::lidarsgm::DisparityErrors;
+using cv::lidarsgm::evaluateDisparity;
+
+static Mat interpolateBackground(const Mat& d)
+{
+    Mat out;
+    cv::lidarsgm::interpolateBackground(d, out);
+    return out;
+}
+
+static bool isD1Outlier(float d, float gt)
+{
+    return evaluateDisparity(Mat(1, 1, CV_32F, Scalar(d)), Mat(1, 1, CV_32F, Scalar(gt))).estimatedOutliers == 1;
+}
 
 static Mat row(std::initializer_list<float> v)
 {
@@ -63,24 +79,24 @@ TEST(Lidarsgm_Eval, d1_rule_and_totals)
     // est: 13.5 none 104   50   7
     // est covers 3 of the 4 GT pixels (75 %), one of them an outlier (33.33 %). Interpolated: the gap at x = 1 takes
     // min(13.5, 104) = 13.5, an outlier against 10: total 2 of 4 (50 %).
-    ErrorStats s = evaluate(row({ 13.5f, -1, 104, 50, 7 }), row({ 10, 10, 100, 50, -1 }), isD1Outlier);
-    EXPECT_EQ(4, s.gt);
-    EXPECT_EQ(3, s.est);
-    EXPECT_EQ(1, s.estBad);
-    EXPECT_EQ(2, s.totalBad);
+    DisparityErrors s = evaluateDisparity(row({ 13.5f, -1, 104, 50, 7 }), row({ 10, 10, 100, 50, -1 }));
+    EXPECT_EQ(4, s.groundTruthPixels);
+    EXPECT_EQ(3, s.estimatedPixels);
+    EXPECT_EQ(1, s.estimatedOutliers);
+    EXPECT_EQ(2, s.totalOutliers);
     EXPECT_DOUBLE_EQ(75.0, s.coverage());
     EXPECT_NEAR(100.0 / 3, s.coveredError(), 1e-12);
     EXPECT_DOUBLE_EQ(50.0, s.totalError());
 
     // An empty estimate stays empty after interpolation; as in the devkit, its pixels are scored with d = -1:
     // against gt 5 and 6 that is an outlier (6 and 7 px), against gt 1.5 it is not (2.5 px).
-    ErrorStats e = evaluate(row({ -1, -1, -1 }), row({ 5, 6, 1.5f }), isD1Outlier);
-    EXPECT_EQ(0, e.est);
-    EXPECT_EQ(2, e.totalBad);
+    DisparityErrors e = evaluateDisparity(row({ -1, -1, -1 }), row({ 5, 6, 1.5f }));
+    EXPECT_EQ(0, e.estimatedPixels);
+    EXPECT_EQ(2, e.totalOutliers);
     EXPECT_DOUBLE_EQ(0.0, e.coveredError());
 
     // Sums over frames are sums of counts, not means of percentages.
-    ErrorStats sum;
+    DisparityErrors sum;
     sum.add(s);
     sum.add(e);
     EXPECT_DOUBLE_EQ(100.0 * 3 / 7, sum.coverage());
@@ -89,15 +105,36 @@ TEST(Lidarsgm_Eval, d1_rule_and_totals)
 
 TEST(Lidarsgm_Eval, bad_n_and_nonfinite_ground_truth)
 {
-    BadN bad2 = { 2.f };
     // gt: 5, inf (unknown, as in Middlebury PFM), 20, NaN; est: 7.5 (bad), 1, 21 (good), 3.
-    ErrorStats s = evaluate(row({ 7.5f, 1, 21, 3 }),
-                            row({ 5, std::numeric_limits<float>::infinity(), 20, std::numeric_limits<float>::quiet_NaN() }),
-                            bad2);
-    EXPECT_EQ(2, s.gt);
-    EXPECT_EQ(2, s.est);
-    EXPECT_EQ(1, s.estBad);
+    DisparityErrors s = evaluateDisparity(row({ 7.5f, 1, 21, 3 }),
+                                          row({ 5, std::numeric_limits<float>::infinity(), 20,
+                                                std::numeric_limits<float>::quiet_NaN() }),
+                                          cv::lidarsgm::METRIC_BAD, 2.0);
+    EXPECT_EQ(2, s.groundTruthPixels);
+    EXPECT_EQ(2, s.estimatedPixels);
+    EXPECT_EQ(1, s.estimatedOutliers);
     EXPECT_DOUBLE_EQ(50.0, s.coveredError());
+}
+
+TEST(Lidarsgm_Eval, matcher_output_and_kitti_ground_truth)
+{
+    // The matcher's CV_16S output (x16, invalid = (minD - 1) * 16) and KITTI-encoded ground truth (x256, 0 = none)
+    // score as their float forms do.
+    Mat d16 = (Mat_<short>(1, 4) << -16, 160, 1600, 328);
+    Mat gt16 = (Mat_<ushort>(1, 4) << 2560, 2560, 0, 5120);
+    DisparityErrors a = evaluateDisparity(d16, gt16);
+    DisparityErrors b = evaluateDisparity(row({ -1, 10, 100, 20.5f }), row({ 10, 10, -1, 20 }));
+    EXPECT_EQ(3, a.groundTruthPixels);
+    EXPECT_EQ(2, a.estimatedPixels);
+    EXPECT_EQ(b.estimatedPixels, a.estimatedPixels);
+    EXPECT_EQ(b.estimatedOutliers, a.estimatedOutliers);
+    EXPECT_EQ(b.totalOutliers, a.totalOutliers);
+    // With minDisparity 12 the invalid value is 11 (x16: 176): below minDisparity means no estimate.
+    DisparityErrors c = evaluateDisparity(Mat((Mat_<short>(1, 2) << 176, 320)), row({ 11, 20 }),
+                                          cv::lidarsgm::METRIC_KITTI_D1, 0, 12);
+    EXPECT_EQ(1, c.estimatedPixels);
+    EXPECT_THROW(evaluateDisparity(Mat(1, 2, CV_8U), row({ 1, 2 })), cv::Exception);
+    EXPECT_THROW(evaluateDisparity(row({ 1, 2, 3 }), row({ 1, 2 })), cv::Exception);
 }
 
 TEST(Lidarsgm_Eval, formats)
@@ -135,11 +172,12 @@ TEST(Lidarsgm_Eval, colour_maps)
 {
     // KITTI disparity colours: invalid black, 0 black, max white; error colours: no GT black, tiny error blue,
     // an error of 10x the D1 threshold red-ish (scale entry [8, 16)).
-    Mat c = colorizeDisparity(row({ -1, 0, 128 }), 128.f);
+    Mat c, e;
+    cv::lidarsgm::colorizeDisparity(row({ -1, 0, 128 }), c, 128.0);
     EXPECT_EQ(Vec3b(0, 0, 0), c.at<Vec3b>(0, 0));
     EXPECT_EQ(Vec3b(0, 0, 0), c.at<Vec3b>(0, 1));
     EXPECT_EQ(Vec3b(255, 255, 255), c.at<Vec3b>(0, 2));
-    Mat e = colorizeError(row({ 10, 10.1f, 40 }), row({ -1, 10, 10 }));
+    cv::lidarsgm::colorizeDisparityError(row({ 10, 10.1f, 40 }), row({ -1, 10, 10 }), e);
     EXPECT_EQ(Vec3b(0, 0, 0), e.at<Vec3b>(0, 0));
     EXPECT_EQ(Vec3b(149, 54, 49), e.at<Vec3b>(0, 1));   // error 0.1 px: 0.033 of the threshold
     EXPECT_EQ(Vec3b(39, 48, 215), e.at<Vec3b>(0, 2));   // error 30 px: min(10, 60) = 10 of the threshold
@@ -150,6 +188,40 @@ TEST(Lidarsgm_Eval, colour_maps)
     ASSERT_EQ(CV_8UC3, o.type());
     EXPECT_EQ(Vec3b(100, 100, 100), o.at<Vec3b>(0, 0));
     EXPECT_EQ(Vec3b(255, 255, 255), o.at<Vec3b>(10, 15));
+}
+
+TEST(Lidarsgm_Eval, lidar_rings)
+{
+    // The shipped 64-line scans split into 64 rings; every 2nd / 4th ring keeps about a half / a quarter of the
+    // points, all of them from the scan, and the top ring first.
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    for (const char* id : { "000002", "000046" })
+    {
+        const Mat pts = readVelodyne(dir + "/velodyne/" + id + ".bin");
+        int rings = 0;
+        const Mat all = selectLidarRings(pts, 1, &rings);
+        EXPECT_EQ(64, rings) << id;
+        EXPECT_EQ(pts.rows, all.rows);
+        const Mat half = selectLidarRings(pts, 2), quarter = selectLidarRings(pts, 4);
+        EXPECT_NEAR(0.5, (double)half.rows / pts.rows, 0.05) << id;
+        EXPECT_NEAR(0.25, (double)quarter.rows / pts.rows, 0.05) << id;
+        // The kept rings are whole rings of the scan, so the 16-line scan's points are all in the 32-line scan.
+        std::set<std::vector<float> > in32;
+        for (int i = 0; i < half.rows; i++)
+            in32.insert(std::vector<float>(half.ptr<float>(i), half.ptr<float>(i) + 4));
+        int missing = 0;
+        for (int i = 0; i < quarter.rows; i++)
+            missing += !in32.count(std::vector<float>(quarter.ptr<float>(i), quarter.ptr<float>(i) + 4));
+        EXPECT_EQ(0, missing) << id;
+        // The top ring (highest elevation) is kept: the highest point of the scan's first ring is in every subset.
+        double top = -1e9;
+        for (int i = 0; i < quarter.rows; i++)
+        {
+            const float* p = quarter.ptr<float>(i);
+            top = std::max(top, std::atan2((double)p[2], std::hypot((double)p[0], (double)p[1])));
+        }
+        EXPECT_GT(top * 180 / CV_PI, 1.5) << id;
+    }
 }
 
 }} // namespace

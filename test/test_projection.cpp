@@ -1,6 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
-#include "lidarsgm_eval.hpp"
+#include "lidarsgm_datasets.hpp"
 
 namespace opencv_test { namespace {
 
@@ -70,12 +70,12 @@ TEST(Lidarsgm_Projection, bad_input)
 TEST(Lidarsgm_Projection, kitti_against_ground_truth)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_eval::KittiCalib calib = lidarsgm_eval::readKittiCalib(dir + "/calib.txt");
+    lidarsgm_data::KittiCalib calib = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
     const char* ids[] = { "000002", "000046" };
     for (int i = 0; i < 2; i++)
     {
-        Mat gt = lidarsgm_eval::readKittiDisparity(dir + "/disp_occ_0/" + ids[i] + "_10.png");
-        Mat pts = lidarsgm_eval::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin");
+        Mat gt = lidarsgm_data::readKittiDisparity(dir + "/disp_occ_0/" + ids[i] + "_10.png");
+        Mat pts = lidarsgm_data::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin");
         Mat disp;
         projectPointsToDisparity(pts, calib.P2, calib.lidarToCamera, calib.focalBaseline, gt.size(), disp);
         std::vector<float> err;

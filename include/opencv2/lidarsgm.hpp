@@ -282,4 +282,6 @@ CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray project
 
 }} // namespace cv::cuda
 
+#include "opencv2/lidarsgm/evaluation.hpp"
+
 #endif // OPENCV_LIDARSGM_HPP

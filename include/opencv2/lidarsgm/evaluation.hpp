@@ -1,0 +1,90 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+#ifndef OPENCV_LIDARSGM_EVALUATION_HPP
+#define OPENCV_LIDARSGM_EVALUATION_HPP
+
+#include "opencv2/core.hpp"
+
+namespace cv {
+namespace lidarsgm {
+
+//! @addtogroup lidarsgm
+//! @{
+
+/** @brief Error counts of a disparity map against ground truth, as the KITTI stereo devkit reports them.
+
+Counts add up over frames (add()), and the percentages are taken over the sums, not averaged per frame.
+ */
+struct CV_EXPORTS_W_SIMPLE DisparityErrors
+{
+    CV_WRAP DisparityErrors() {}
+    CV_PROP_RW int64 groundTruthPixels = 0;   //!< pixels with ground truth
+    CV_PROP_RW int64 estimatedPixels = 0;     //!< of those, pixels with an estimate
+    CV_PROP_RW int64 estimatedOutliers = 0;   //!< of those, outliers
+    CV_PROP_RW int64 totalOutliers = 0;       //!< outliers over all ground-truth pixels, missing estimates filled
+
+    //! Adds another frame's counts.
+    CV_WRAP void add(const DisparityErrors& other);
+    //! estimatedPixels / groundTruthPixels, in percent.
+    CV_WRAP double coverage() const;
+    //! estimatedOutliers / estimatedPixels, in percent (the "covered error").
+    CV_WRAP double coveredError() const;
+    //! totalOutliers / groundTruthPixels, in percent (the "total error").
+    CV_WRAP double totalError() const;
+};
+
+//! Outlier rules of evaluateDisparity().
+enum DisparityErrorMetric
+{
+    METRIC_KITTI_D1 = 0, //!< KITTI's D1: |d - gt| > 3 px and > 5 % of gt
+    METRIC_BAD = 1       //!< Middlebury's bad-N: |d - gt| > N px
+};
+
+/** @brief Scores a disparity map against ground truth with the KITTI devkit's rules.
+
+@param disparity the estimate: CV_32FC1 in pixels, or a matcher's CV_16SC1 output (disparity x 16). A value below
+minDisparity, or not finite, means "no estimate" (the matchers' invalid value is minDisparity - 1).
+@param groundTruth CV_32FC1 in pixels (negative or not finite: no ground truth) or CV_16UC1 in KITTI's encoding
+(value / 256, 0: no ground truth); same size.
+@param metric METRIC_KITTI_D1 or METRIC_BAD.
+@param badThreshold N of METRIC_BAD, in pixels.
+@param minDisparity see disparity.
+@return the counts; totalOutliers scores the map after interpolateBackground() filled the missing estimates
+(a pixel it cannot fill is scored with disparity -1, as the devkit does).
+ */
+CV_EXPORTS_W DisparityErrors evaluateDisparity(InputArray disparity, InputArray groundTruth,
+                                               int metric = METRIC_KITTI_D1, double badThreshold = 2.0,
+                                               int minDisparity = 0);
+
+/** @brief The KITTI devkit's background interpolation of missing disparities.
+
+In each row, a gap with estimates on both sides takes the smaller of the two (the background); then each row's first
+and last estimates are copied out to its ends; then, column by column, the first and last estimates to the top and
+bottom. A row without estimates between two filled rows stays empty (the devkit only extrapolates to the borders).
+@param disparity CV_32FC1 in pixels, negative = missing.
+@param filled output, CV_32FC1, missing pixels that cannot be filled stay negative.
+ */
+CV_EXPORTS_W void interpolateBackground(InputArray disparity, OutputArray filled);
+
+/** @brief The KITTI devkit's disparity colour map (black, blue, magenta, red, yellow, white over [0, maxDisparity]).
+@param disparity CV_32FC1 in pixels; negative or not finite = black.
+@param color output, CV_8UC3 (BGR).
+@param maxDisparity the disparity drawn white.
+ */
+CV_EXPORTS_W void colorizeDisparity(InputArray disparity, OutputArray color, double maxDisparity);
+
+/** @brief The KITTI devkit's error colour map: the error relative to the D1 threshold, min(|d - gt| / 3,
+|d - gt| / gt / 0.05), on a log scale from blue (far below 1) to red (far above); black without ground truth.
+@param disparity CV_32FC1 in pixels (negative = none, scored as 0; pass interpolateBackground()'s result to show the
+total error).
+@param groundTruth CV_32FC1 in pixels, negative or not finite = none.
+@param color output, CV_8UC3 (BGR).
+ */
+CV_EXPORTS_W void colorizeDisparityError(InputArray disparity, InputArray groundTruth, OutputArray color);
+
+//! @}
+
+}} // namespace cv::lidarsgm
+
+#endif

@@ -1,0 +1,100 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// lidarsgm_fuse: fuse a stereo pair with LiDAR into a dense disparity map, for one frame or a whole dataset folder,
+// and score it against ground truth with the KITTI devkit's rules (D1) or Middlebury's bad-N.
+//
+//   lidarsgm_fuse --kitti-frame DIR --id 000002 [--out OUT]      one frame of a KITTI-layout folder (raw scan)
+//   lidarsgm_fuse --left L --right R (--sparse S | --velodyne V --calib C) [--gt G] [--out OUT]
+//   lidarsgm_fuse --kitti DIR [--table5] [--lidar-lines 64,32,16]   every frame listed in DIR/frames.txt
+//   lidarsgm_fuse --middlebury DIR [--seed N]                   every scene folder in DIR (1 % of GT as input)
+// Run with --help for every option.
+
+#include "tool.hpp"
+#include <cstdio>
+
+using namespace cv;
+using namespace lidarsgm_fuse;
+
+namespace {
+
+//! The single frame the options name.
+Frame loadFrame(const Options& o)
+{
+    Frame f;
+    if (o.has("kitti-frame"))
+    {
+        f = lidarsgm_data::loadKittiFrame(o.str("kitti-frame"), o.str("id", "000002"),
+                                          64 / lidarLineCounts(o).front());
+        if (o.has("resize"))
+        {
+            // Speed runs at other sizes: the frame scaled (LiDAR disparities scaled with the width).
+            int w = 0, h = 0;
+            sscanf(o.str("resize").c_str(), "%dx%d", &w, &h);
+            const double sx = (double)w / f.left.cols;
+            resize(f.left, f.left, Size(w, h), 0, 0, INTER_LINEAR);
+            resize(f.right, f.right, Size(w, h), 0, 0, INTER_LINEAR);
+            resize(f.sparse, f.sparse, Size(w, h), 0, 0, INTER_NEAREST);
+            f.sparse *= sx;
+            f.gt.release();
+        }
+        return f;
+    }
+    f.name = o.str("left");
+    f.left = lidarsgm_data::readGrey(o.str("left"));
+    f.right = lidarsgm_data::readGrey(o.str("right"));
+    if (o.has("sparse"))
+    {
+        f.sparse = imread(o.str("sparse"), IMREAD_UNCHANGED);
+        if (f.sparse.empty())
+            CV_Error(Error::StsObjectNotFound, "cannot read sparse disparity " + o.str("sparse"));
+    }
+    else if (o.has("velodyne") && o.has("calib"))
+    {
+        const lidarsgm_data::KittiCalib c = lidarsgm_data::readKittiCalib(o.str("calib"));
+        const Mat pts = lidarsgm_data::selectLidarRings(lidarsgm_data::readVelodyne(o.str("velodyne")),
+                                                        64 / lidarLineCounts(o).front());
+        lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
+    }
+    if (o.has("gt"))
+        f.gt = lidarsgm_data::readKittiDisparity(o.str("gt"));
+    return f;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    Options o;
+    bool help = false;
+    if (const int rc = parseCommandLine(argc, argv, o, help))
+        return rc;
+    if (help)
+    {
+        printHelp();
+        return 0;
+    }
+    const bool frame = o.has("kitti-frame") || (o.has("left") && o.has("right"));
+    if (!frame && !o.has("kitti") && !o.has("middlebury"))
+    {
+        fprintf(stderr, "lidarsgm_fuse: give --kitti-frame, --left/--right, --kitti or --middlebury (see --help)\n");
+        return 2;
+    }
+    try
+    {
+        checkOptions(o);
+        if (o.has("threads"))
+            setNumThreads(o.i("threads", -1));
+        if (o.has("kitti"))
+            return runKittiFolder(o);
+        if (o.has("middlebury"))
+            return runMiddlebury(o);
+        Frame f = loadFrame(o);
+        return runFrame(o, f);
+    }
+    catch (const cv::Exception& e)
+    {
+        fprintf(stderr, "lidarsgm_fuse: error: %s\n", e.err.c_str());
+        return 1;
+    }
+}

@@ -1,0 +1,279 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The tool's options, declared once (kOptions: name, kind of value, help, matcher parameter), their parsing and
+// checks, and the matcher they describe.
+
+#include "tool.hpp"
+#include "opencv2/core/utils/filesystem.hpp"
+#include <cstdio>
+#include <cstdlib>
+#include <climits>
+#include <sstream>
+
+using namespace cv;
+
+namespace lidarsgm_fuse {
+
+namespace {
+
+//! type: 's' text, 'i' integer, 'd' number, 'f' flag (no value). param: the matcher's key in write()/read().
+struct OptionSpec
+{
+    const char* name;
+    char type;
+    const char* value;
+    const char* help;
+    const char* param;
+};
+
+const OptionSpec kOptions[] = {
+    { nullptr, 0, nullptr, "Inputs (one of):", nullptr },
+    { "kitti-frame", 's', "DIR", "a KITTI-layout folder: image_2/ID_10.png, image_3/ID_10.png, velodyne/ID.bin,\n"
+      "calib.txt, optional disp_occ_0/ID_10.png (ground truth); with --id", nullptr },
+    { "id", 's', "ID", "the frame of --kitti-frame (default 000002)", nullptr },
+    { "left", 's', "L", "left image (with --right and --sparse, or --velodyne and --calib)", nullptr },
+    { "right", 's', "R", "right image", nullptr },
+    { "sparse", 's', "S", "sparse disparity: PNG (uint16, value / 256) or .exr/.pfm float", nullptr },
+    { "velodyne", 's', "V", "raw Velodyne scan (float32 x y z r), projected with --calib", nullptr },
+    { "calib", 's', "C", "KITTI calibration file (P2, P3, R0_rect, Tr_velo_to_cam)", nullptr },
+    { "gt", 's', "G", "ground truth of a single frame (KITTI 16-bit PNG)", nullptr },
+    { "kitti", 's', "DIR", "every frame of DIR/frames.txt, scored with the KITTI devkit's rules", nullptr },
+    { "middlebury", 's', "DIR", "every scene folder of DIR, 1 % of its ground truth as the sparse input", nullptr },
+    { nullptr, 0, nullptr, "Outputs:", nullptr },
+    { "out", 's', "DIR", "write per frame (folder runs: DIR/<frame>/): disparity[_mode].png|.pfm|.s16,\n"
+      "disparity[_mode]_color.png, error[_mode].png (with ground truth), semidense.png and\n"
+      "semidense_color.png (SDSGM), lidar_points.png", nullptr },
+    { "format", 's', "LIST", "disparity formats, comma list of kitti (16-bit PNG, d * 256, 0 = invalid), pfm (float,\n"
+      "invalid = inf), s16 (the matcher's CV_16S x16, little-endian, no header); default kitti", nullptr },
+    { "quiet", 'i', "1", "no progress line on folder runs", nullptr },
+    { nullptr, 0, nullptr, "What runs:", nullptr },
+    { "modes", 's', "LIST", "comma list of sgm, dsgm, sdsgm (default: sdsgm for a frame, all for a folder)", nullptr },
+    { "check", 's', "C", "none | stereo | camera-lidar | stereo-lidar (default stereo-lidar)", nullptr },
+    { "table5", 'f', nullptr, "also run SDSGM with each consistency check (the paper's Table V)", nullptr },
+    { "lidar-lines", 's', "LIST", "LiDAR line counts, comma list of 64, 32, 16 (default 64): every 2nd / 4th ring of\n"
+      "the 64-line scans (the paper's Table VI); a folder run prints one table per count", nullptr },
+    { "params", 's', "FILE", "matcher parameters saved with StereoLidarSGM::save (e.g. doc/params/kitti_best.yml);\n"
+      "the parameter options below override it", nullptr },
+    { "seed", 'i', "N", "random seed of the Middlebury sampling (default 1)", nullptr },
+    { "bad", 'd', "N", "Middlebury error threshold in pixels (default 2: bad-2)", nullptr },
+    { "timing", 'i', "N", "time N runs and compare with OpenCV's matchers in the same process (CPU: every\n"
+      "cv::StereoSGBM mode; with --cuda: cv::cuda::StereoSGM, CUDA events, device memory)", nullptr },
+    { "cuda", 'i', "1", "run on the GPU (GpuMat in and out)", nullptr },
+    { "threads", 'i', "N", "cv::setNumThreads", nullptr },
+    { "resize", 's', "WxH", "(speed runs) scale the frame to W x H first", nullptr },
+    { "rounds", 'i', "N", "(GPU timing) repeat the timing table N times, to show the spread", nullptr },
+    { nullptr, 0, nullptr, "Matcher parameters (StereoLidarSGM's; default: the paper's, or --params):", nullptr },
+    { "num-disparities", 'i', "N", "numDisparities (Middlebury default: the scene's range)", "numDisparities" },
+    { "min-disparity", 'i', "N", "minDisparity", "minDisparity" },
+    { "P1", 'i', "N", "P1", "P1" },
+    { "P2", 'i', "N", "P2", "P2" },
+    { "Q1", 'i', "N", "Q1", "Q1" },
+    { "Q2", 'i', "N", "Q2", "Q2" },
+    { "alpha", 'd', "A", "alpha", "alpha" },
+    { "uniqueness", 'd', "U", "uniquenessRatio", "uniquenessRatio" },
+    { "lr-max-diff", 'i', "N", "LRMaxDiff", "lrMaxDiff" },
+    { "paths", 'i', "4|8", "numPaths", "numPaths" },
+    { "subpixel", 'i', "0|1", "subpixel", "subpixel" },
+    { "rs", 'i', "N", "semidenseRadius", "semidenseRadius" },
+    { "Ts", 'i', "N", "semidenseThreshold", "semidenseThreshold" },
+    { "rc", 'i', "N", "checkRadius", "checkRadius" },
+    { "Tc", 'd', "T", "checkThreshold", "checkThreshold" },
+    { "median-size", 'i', "1|3", "medianSize", "medianSize" },
+};
+
+const OptionSpec* findOption(const std::string& name)
+{
+    for (const OptionSpec& s : kOptions)
+        if (s.name && name == s.name)
+            return &s;
+    return nullptr;
+}
+
+} // namespace
+
+std::string Options::str(const std::string& k, const std::string& def) const
+{
+    auto it = kv.find(k);
+    return it == kv.end() ? def : it->second;
+}
+
+int Options::i(const std::string& k, int def) const
+{
+    if (!has(k))
+        return def;
+    char* end = nullptr;
+    const std::string v = str(k);
+    const long x = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || x < INT_MIN || x > INT_MAX)
+        CV_Error(Error::StsBadArg, "--" + k + " takes an integer, got '" + v + "'");
+    return (int)x;
+}
+
+double Options::d(const std::string& k, double def) const
+{
+    if (!has(k))
+        return def;
+    char* end = nullptr;
+    const std::string v = str(k);
+    const double x = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0')
+        CV_Error(Error::StsBadArg, "--" + k + " takes a number, got '" + v + "'");
+    return x;
+}
+
+std::vector<std::string> Options::list(const std::string& k, const std::string& def) const
+{
+    std::vector<std::string> out;
+    std::stringstream ss(str(k, def));
+    std::string t;
+    while (std::getline(ss, t, ','))
+        if (!t.empty())
+            out.push_back(t);
+    return out;
+}
+
+int parseCommandLine(int argc, char** argv, Options& o, bool& help)
+{
+    help = false;
+    for (int i = 1; i < argc; i++)
+    {
+        std::string a = argv[i];
+        if (a == "--help" || a == "-h")
+        {
+            help = true;
+            return 0;
+        }
+        if (a.size() < 3 || a.compare(0, 2, "--") != 0)
+        {
+            fprintf(stderr, "lidarsgm_fuse: unexpected argument '%s' (see --help)\n", a.c_str());
+            return 2;
+        }
+        a = a.substr(2);
+        const OptionSpec* s = findOption(a);
+        if (!s)
+        {
+            fprintf(stderr, "lidarsgm_fuse: unknown option --%s (see --help)\n", a.c_str());
+            return 2;
+        }
+        if (s->type != 'f' && i + 1 >= argc)
+        {
+            fprintf(stderr, "lidarsgm_fuse: option --%s needs a value (see --help)\n", a.c_str());
+            return 2;
+        }
+        o.kv[a] = s->type == 'f' ? "1" : argv[++i];
+    }
+    return 0;
+}
+
+void printHelp()
+{
+    printf("lidarsgm_fuse: stereo-LiDAR fusion by semi-global matching (SGM / DSGM / SDSGM)\n");
+    for (const OptionSpec& s : kOptions)
+    {
+        if (!s.name)
+        {
+            printf("%s\n", s.help);
+            continue;
+        }
+        const std::string flag = std::string("--") + s.name + (s.value ? std::string(" ") + s.value : "");
+        std::string help = s.help;
+        for (size_t p = help.find('\n'); p != std::string::npos; p = help.find('\n', p + 1))
+            help.insert(p + 1, 24, ' ');
+        printf("  %-20s  %s\n", flag.c_str(), help.c_str());
+    }
+    printf("Exit codes: 0 done, 1 error (unreadable input, bad value, ...), 2 bad command line.\n");
+}
+
+int modeFromName(const std::string& s)
+{
+    if (s == "sgm") return Matcher::MODE_SGM;
+    if (s == "dsgm") return Matcher::MODE_DSGM;
+    if (s == "sdsgm") return Matcher::MODE_SDSGM;
+    CV_Error(Error::StsBadArg, "unknown mode '" + s + "' (sgm, dsgm, sdsgm)");
+}
+
+const char* modeLabel(int m)
+{
+    return m == Matcher::MODE_SGM ? "SGM" : m == Matcher::MODE_DSGM ? "DSGM" : "SDSGM";
+}
+
+int checkFromName(const std::string& s)
+{
+    if (s == "none") return Matcher::CHECK_NONE;
+    if (s == "stereo") return Matcher::CHECK_STEREO;
+    if (s == "camera-lidar") return Matcher::CHECK_CAMERA_LIDAR;
+    if (s == "stereo-lidar") return Matcher::CHECK_STEREO_LIDAR;
+    CV_Error(Error::StsBadArg, "unknown check '" + s + "' (none, stereo, camera-lidar, stereo-lidar)");
+}
+
+const char* checkLabel(int c)
+{
+    static const char* n[] = { "none", "stereo", "camera-lidar", "stereo-lidar" };
+    return n[c];
+}
+
+std::vector<int> lidarLineCounts(const Options& o)
+{
+    std::vector<int> lines;
+    for (const std::string& s : o.list("lidar-lines", "64"))
+    {
+        if (s != "64" && s != "32" && s != "16")
+            CV_Error(Error::StsBadArg, "--lidar-lines takes 64, 32 or 16 (a comma list), got '" + s + "'");
+        lines.push_back(std::atoi(s.c_str()));
+    }
+    return lines;
+}
+
+Ptr<Matcher> makeMatcher(const Options& o, int mode, int check, int sceneNumDisparities)
+{
+    Ptr<Matcher> m = o.has("params") ? Matcher::load(o.str("params")) : Matcher::create();
+    if (m.empty())
+        CV_Error(Error::StsParseError, "--params " + o.str("params") + " holds no lidarsgm_StereoLidarSGM");
+    m->setMode(mode);
+    m->setConsistencyCheck(check);
+    if (sceneNumDisparities > 0)
+        m->setNumDisparities(sceneNumDisparities);
+    // The parameter options, written as the file format that read() takes (it checks every value).
+    FileStorage fs(".yml", FileStorage::WRITE | FileStorage::MEMORY | FileStorage::FORMAT_YAML);
+    fs << "name" << m->getDefaultName();
+    for (const OptionSpec& s : kOptions)
+        if (s.param && o.has(s.name))
+        {
+            if (s.type == 'd')
+                fs << s.param << o.d(s.name, 0);
+            else
+                fs << s.param << o.i(s.name, 0);
+        }
+    FileStorage in(fs.releaseAndGetString(), FileStorage::READ | FileStorage::MEMORY);
+    m->read(in.root());
+    return m;
+}
+
+void checkOptions(const Options& o)
+{
+    for (const auto& kv : o.kv)
+    {
+        const OptionSpec* s = findOption(kv.first);
+        if (s->type == 'i')
+            o.i(kv.first, 0);
+        else if (s->type == 'd')
+            o.d(kv.first, 0);
+    }
+    for (const std::string& m : o.list("modes", "sdsgm"))
+        modeFromName(m);
+    const int check = checkFromName(o.str("check", "stereo-lidar"));
+    for (const std::string& f : o.list("format", "kitti"))
+        if (f != "kitti" && f != "pfm" && f != "s16")
+            CV_Error(Error::StsBadArg, "unknown --format '" + f + "' (kitti, pfm, s16)");
+    lidarLineCounts(o);
+    int w = 0, h = 0;
+    char rest = 0;
+    if (o.has("resize") && (sscanf(o.str("resize").c_str(), "%dx%d%c", &w, &h, &rest) != 2 || w <= 0 || h <= 0))
+        CV_Error(Error::StsBadArg, "--resize takes WIDTHxHEIGHT, got '" + o.str("resize") + "'");
+    if (o.has("params") && !utils::fs::exists(o.str("params")))
+        CV_Error(Error::StsObjectNotFound, "cannot open --params " + o.str("params"));
+    makeMatcher(o, Matcher::MODE_SDSGM, check);   // every parameter value and relation
+}
+
+} // namespace lidarsgm_fuse

@@ -1,0 +1,107 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// What the tool writes: per-frame files (disparity formats, pictures) and the summary tables and progress line.
+
+#include "tool.hpp"
+#include "opencv2/core/utils/filesystem.hpp"
+#include <algorithm>
+#include <cstdio>
+
+using namespace cv;
+using namespace lidarsgm_data;
+
+namespace lidarsgm_fuse {
+
+void makeDir(const std::string& dir)
+{
+    utils::fs::createDirectories(dir);
+    if (!utils::fs::isDirectory(dir))
+        CV_Error(Error::StsError, "cannot create the output folder " + dir);
+}
+
+static void writeImage(const std::string& path, const Mat& img)
+{
+    if (!imwrite(path, img))
+        CV_Error(Error::StsError, "cannot write " + path);
+}
+
+void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const Mat& disp16,
+                    int minD, int numD, const Mat& gt)
+{
+    const Mat d = disparityToFloat(disp16, minD);
+    const std::string base = dir + "/disparity" + suffix;
+    for (const std::string& format : o.list("format", "kitti"))
+    {
+        if (format == "kitti")
+            writeImage(base + ".png", toKittiPng(d));
+        else if (format == "pfm" && !writePfm(base + ".pfm", d))
+            CV_Error(Error::StsError, "cannot write " + base + ".pfm");
+        else if (format == "s16" && !writeRawS16(base + ".s16", disp16))
+            CV_Error(Error::StsError, "cannot write " + base + ".s16");
+    }
+    Mat colour;
+    lidarsgm::colorizeDisparity(d, colour, minD + numD);
+    writeImage(base + "_color.png", colour);
+    if (!gt.empty())
+    {
+        Mat filled;
+        lidarsgm::interpolateBackground(d, filled);
+        lidarsgm::colorizeDisparityError(filled, gt, colour);
+        writeImage(dir + "/error" + suffix + ".png", colour);
+    }
+}
+
+void writeInputs(const std::string& dir, const Frame& f, const Ptr<Matcher>& sdsgm, bool semidense)
+{
+    if (f.sparse.empty())
+        return;
+    Mat s;
+    f.sparse.convertTo(s, CV_32F, f.sparse.depth() == CV_16U ? 1.0 / 256 : 1.0);
+    s.setTo(0.f, ~(s > 0));
+    const int minD = sdsgm->getMinDisparity();
+    const float maxD = (float)(minD + sdsgm->getNumDisparities());
+    writeImage(dir + "/lidar_points.png", overlayPoints(f.left, s, maxD));
+    if (semidense)
+    {
+        Mat semi, colour;
+        sdsgm->semidensify(f.left, f.right, f.sparse, semi);
+        const Mat sf = disparityToFloat(semi, minD);
+        writeImage(dir + "/semidense.png", toKittiPng(sf));
+        lidarsgm::colorizeDisparity(sf, colour, maxD);
+        writeImage(dir + "/semidense_color.png", colour);
+    }
+}
+
+void printTable(const std::string& title, const std::string& metric, const std::vector<Row>& rows)
+{
+    printf("\n%s\n", title.c_str());
+    printf("| %-28s | coverage | covered %-5s | total %-5s | ms/frame |\n", "method", metric.c_str(), metric.c_str());
+    printf("|------------------------------|----------|---------------|-------------|----------|\n");
+    for (const Row& r : rows)
+    {
+        char t[32] = "-";
+        if (!r.ms.empty())
+            snprintf(t, sizeof(t), "%.1f", medianMs(r.ms));
+        printf("| %-28s | %6.2f %% | %11.2f %% | %9.2f %% | %8s |\n", r.label.c_str(), r.stats.coverage(),
+               r.stats.coveredError(), r.stats.totalError(), t);
+    }
+}
+
+void progress(const Options& o, size_t done, size_t total, double seconds)
+{
+    if (o.has("quiet"))
+        return;
+    const double fps = done / std::max(seconds, 1e-9);
+    fprintf(stderr, "\r[%zu/%zu] frames, %.2f frames/s, %.0f s left   ", done, total, fps, (total - done) / fps);
+    if (done == total)
+        fprintf(stderr, "\n");
+}
+
+double medianMs(std::vector<double> v)
+{
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+} // namespace lidarsgm_fuse

@@ -1,0 +1,130 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// Speed against OpenCV's own matchers, in one process: on the CPU every cv::StereoSGBM mode, runs alternating; on the
+// GPU cv::cuda::StereoSGM, CUDA-event medians, and the device memory one instance holds.
+
+#include "tool.hpp"
+#include "opencv2/calib3d.hpp"
+#include "opencv2/core/cuda.hpp"
+#ifdef LIDARSGM_HAVE_CUDASTEREO
+#include "opencv2/cudastereo.hpp"
+#endif
+#include <cstdio>
+#include <functional>
+
+using namespace cv;
+
+namespace lidarsgm_fuse {
+
+int runCpuTiming(const Options& o, const Frame& f, int reps)
+{
+    Ptr<Matcher> m = makeMatcher(o, modeFromName(o.list("modes", "sdsgm").front()), checkFromName(o.str("check", "stereo-lidar")));
+    const int numD = m->getNumDisparities(), minD = m->getMinDisparity();
+    // OpenCV's recommended penalties for blockSize 3 (8 and 32 x 3 x 3), uniqueness 10, left-right 1, speckles 100/2.
+    const struct { int mode; const char* name; } sgbmModes[] = {
+        { StereoSGBM::MODE_HH, "MODE_HH (8 paths)" }, { StereoSGBM::MODE_HH4, "MODE_HH4 (4 paths)" },
+        { StereoSGBM::MODE_SGBM, "MODE_SGBM (5 paths)" }, { StereoSGBM::MODE_SGBM_3WAY, "MODE_SGBM_3WAY" } };
+    std::vector<Ptr<StereoSGBM> > sgbm;
+    for (const auto& s : sgbmModes)
+        sgbm.push_back(StereoSGBM::create(minD, numD, 3, 72, 288, 1, 0, 10, 100, 2, s.mode));
+    Mat disp;
+    m->compute(f.left, f.right, f.sparse, disp);  // warm-up: buffers
+    for (const Ptr<StereoSGBM>& s : sgbm)
+        s->compute(f.left, f.right, disp);
+    std::vector<std::vector<double> > t(1 + sgbm.size());
+    for (int r = 0; r < reps; r++)
+    {
+        TickMeter a;
+        a.start(); m->compute(f.left, f.right, f.sparse, disp); a.stop();
+        t[0].push_back(a.getTimeMilli());
+        for (size_t k = 0; k < sgbm.size(); k++)
+        {
+            TickMeter b;
+            b.start(); sgbm[k]->compute(f.left, f.right, disp); b.stop();
+            t[k + 1].push_back(b.getTimeMilli());
+        }
+    }
+    const double ours = medianMs(t[0]);
+    printf("timing (%d runs alternating in one process, %d threads, %dx%d, %d disparities, %d paths), medians:\n", reps,
+           getNumThreads(), f.left.cols, f.left.rows, numD, m->getNumPaths());
+    printf("| lidarsgm %-22s | %8.1f ms |                   |\n", modeLabel(m->getMode()), ours);
+    for (size_t k = 0; k < sgbm.size(); k++)
+        printf("| cv::StereoSGBM %-16s | %8.1f ms | lidarsgm / it %.2f |\n", sgbmModes[k].name, medianMs(t[k + 1]),
+               ours / medianMs(t[k + 1]));
+    return 0;
+}
+
+namespace {
+
+//! CUDA-event median of fn on one stream, after a warm-up.
+double eventMedian(const std::function<void(cuda::Stream&)>& fn, int reps)
+{
+    cuda::Stream st;
+    cuda::Event e0, e1;
+    for (int i = 0; i < 3; i++)
+        fn(st);
+    st.waitForCompletion();
+    std::vector<double> t;
+    for (int i = 0; i < reps; i++)
+    {
+        e0.record(st);
+        fn(st);
+        e1.record(st);
+        e1.waitForCompletion();
+        t.push_back(cuda::Event::elapsedTime(e0, e1));
+    }
+    return medianMs(t);
+}
+
+//! Device memory a freshly made matcher holds after its first call.
+template <class M, class Call>
+double heldMB(const M& matcher, const Call& firstCall)
+{
+    cuda::DeviceInfo info;
+    const size_t before = info.freeMemory();
+    firstCall(matcher);
+    cuda::Stream::Null().waitForCompletion();
+    const size_t after = info.freeMemory();
+    return before > after ? (before - after) / 1048576.0 : 0.0;
+}
+
+} // namespace
+
+int runCudaTiming(const Options& o, const Frame& f, int reps)
+{
+    const int check = checkFromName(o.str("check", "stereo-lidar"));
+    cuda::GpuMat gl(f.left), gr(f.right), gs(f.sparse), gd;
+    const Ptr<Matcher> probe = makeMatcher(o, Matcher::MODE_SDSGM, check);
+    const int numD = probe->getNumDisparities(), paths = probe->getNumPaths();
+    printf("device: %s, %dx%d, %d disparities, %d paths, median of %d CUDA-event timings (ms)\n",
+           cuda::DeviceInfo().name(), f.left.cols, f.left.rows, numD, paths, reps);
+    const int modes[3] = { Matcher::MODE_SDSGM, Matcher::MODE_DSGM, Matcher::MODE_SGM };
+    for (int k = 0; k < 3 * o.i("rounds", 1); k++)
+    {
+        Ptr<Matcher> m = makeMatcher(o, modes[k % 3], check);
+        const double mb = heldMB(m, [&](const Ptr<Matcher>& x) { x->compute(gl, gr, gs, gd); });
+        const double ms = eventMedian([&](cuda::Stream& st) { m->compute(gl, gr, gs, gd, st); }, reps);
+        printf("| lidarsgm %-5s | %8.3f ms | device memory held %.1f MB |\n", modeLabel(modes[k % 3]), ms, mb);
+    }
+#ifdef LIDARSGM_HAVE_CUDASTEREO
+    for (int p = 8; p >= 4; p -= 4)
+    {
+        try
+        {
+            Ptr<cuda::StereoSGM> sgm = cuda::createStereoSGM(0, numD, 10, 120, 5,
+                                                              p == 8 ? cuda::StereoSGM::MODE_HH : cuda::StereoSGM::MODE_HH4);
+            const double mb = heldMB(sgm, [&](const Ptr<cuda::StereoSGM>& x) { x->compute(gl, gr, gd); });
+            const double ms = eventMedian([&](cuda::Stream& st) { sgm->compute(gl, gr, gd, st); }, reps);
+            printf("| cv::cuda::StereoSGM %d paths | %8.3f ms | device memory held %.1f MB |\n", p, ms, mb);
+        }
+        catch (const cv::Exception& e)
+        {
+            printf("| cv::cuda::StereoSGM %d paths | failed: %s |\n", p, e.what());
+        }
+    }
+#endif
+    return 0;
+}
+
+} // namespace lidarsgm_fuse

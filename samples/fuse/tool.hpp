@@ -1,0 +1,79 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// lidarsgm_fuse, the command-line tool: what its parts share. options.cpp (the option table, parsing, checks, the
+// matcher), outputs.cpp (files and summary tables), frame.cpp (one frame), kitti.cpp (a KITTI-layout folder),
+// middlebury.cpp (a Middlebury folder), timing.cpp (CPU and GPU speed against OpenCV's matchers), main.cpp.
+
+#ifndef LIDARSGM_FUSE_TOOL_HPP
+#define LIDARSGM_FUSE_TOOL_HPP
+
+#include "opencv2/lidarsgm.hpp"
+#include "lidarsgm_datasets.hpp"
+#include <map>
+#include <string>
+#include <vector>
+
+namespace lidarsgm_fuse {
+
+using lidarsgm_data::Frame;
+typedef cv::lidarsgm::StereoLidarSGM Matcher;
+
+//! The command line, option name (without "--") to value; values are checked by checkOptions before any work.
+struct Options
+{
+    std::map<std::string, std::string> kv;
+    bool has(const std::string& k) const { return kv.count(k) != 0; }
+    std::string str(const std::string& k, const std::string& def = "") const;
+    int i(const std::string& k, int def) const;
+    double d(const std::string& k, double def) const;
+    std::vector<std::string> list(const std::string& k, const std::string& def) const;
+};
+
+//! Parses argv; 0 when the command line is well formed, else prints why and returns 2. Sets help on --help.
+int parseCommandLine(int argc, char** argv, Options& o, bool& help);
+void printHelp();
+//! Checks every option's value (numbers, names, files, parameter ranges); raises cv::Exception naming the problem.
+void checkOptions(const Options& o);
+
+int modeFromName(const std::string& s);
+int checkFromName(const std::string& s);
+const char* modeLabel(int mode);
+const char* checkLabel(int check);
+
+/** The matcher: create() defaults, then --params FILE, then the mode and check, then (Middlebury) the scene's
+disparity count, then the parameter options of the command line. */
+cv::Ptr<Matcher> makeMatcher(const Options& o, int mode, int check, int sceneNumDisparities = 0);
+//! The LiDAR line counts to run (--lidar-lines, default 64) as "keep every k-th ring" factors of a 64-line scan.
+std::vector<int> lidarLineCounts(const Options& o);
+
+// ---- outputs.cpp ------------------------------------------------------------------------------------------------
+void makeDir(const std::string& dir);
+//! The disparity in the --format formats, its colour picture and, with ground truth, the error picture.
+void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const cv::Mat& disp16,
+                    int minD, int numD, const cv::Mat& gt);
+//! LiDAR points over the left image and, with semidense, the semidense map.
+void writeInputs(const std::string& dir, const Frame& f, const cv::Ptr<Matcher>& sdsgm, bool semidense);
+
+//! One line of a summary table.
+struct Row
+{
+    std::string label;
+    cv::lidarsgm::DisparityErrors stats;
+    std::vector<double> ms;
+};
+void printTable(const std::string& title, const std::string& metric, const std::vector<Row>& rows);
+//! The progress line of folder runs (stderr): frames done, frames per second, time left.
+void progress(const Options& o, size_t done, size_t total, double seconds);
+double medianMs(std::vector<double> v);
+
+// ---- the commands -----------------------------------------------------------------------------------------------
+int runFrame(const Options& o, Frame& f);
+int runKittiFolder(const Options& o);
+int runMiddlebury(const Options& o);
+int runCpuTiming(const Options& o, const Frame& f, int reps);
+int runCudaTiming(const Options& o, const Frame& f, int reps);
+
+} // namespace lidarsgm_fuse
+
+#endif

@@ -1,0 +1,227 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The KITTI stereo devkit's evaluation rules (D1 outliers, background interpolation, colour maps) and Middlebury's
+// bad-N, as public functions: the tool, the tests, the perf tests and the Python sample score with this one copy.
+
+#include "precomp.hpp"
+
+namespace cv { namespace lidarsgm {
+
+void DisparityErrors::add(const DisparityErrors& o)
+{
+    groundTruthPixels += o.groundTruthPixels;
+    estimatedPixels += o.estimatedPixels;
+    estimatedOutliers += o.estimatedOutliers;
+    totalOutliers += o.totalOutliers;
+}
+
+double DisparityErrors::coverage() const
+{
+    return groundTruthPixels ? 100.0 * estimatedPixels / groundTruthPixels : 0.0;
+}
+
+double DisparityErrors::coveredError() const
+{
+    return estimatedPixels ? 100.0 * estimatedOutliers / estimatedPixels : 0.0;
+}
+
+double DisparityErrors::totalError() const
+{
+    return groundTruthPixels ? 100.0 * totalOutliers / groundTruthPixels : 0.0;
+}
+
+namespace {
+
+//! An estimate as float pixels with -1 for "none" (the devkit's convention: disparities are non-negative).
+Mat estimateToFloat(InputArray _disp, int minDisparity)
+{
+    const Mat disp = _disp.getMat();
+    CV_CheckTrue(disp.type() == CV_32FC1 || disp.type() == CV_16SC1,
+                 "lidarsgm: the disparity to evaluate must be CV_32FC1 (pixels) or CV_16SC1 (x16)");
+    Mat d;
+    disp.convertTo(d, CV_32F, disp.type() == CV_16SC1 ? 1.0 / 16 : 1.0);
+    const float lo = (float)std::max(minDisparity, 0);
+    for (int y = 0; y < d.rows; y++)
+    {
+        float* r = d.ptr<float>(y);
+        for (int x = 0; x < d.cols; x++)
+            if (!(r[x] >= lo) || !std::isfinite(r[x]))
+                r[x] = -1.f;
+    }
+    return d;
+}
+
+//! Ground truth as float pixels with -1 for "none".
+Mat groundTruthToFloat(InputArray _gt)
+{
+    const Mat gt = _gt.getMat();
+    CV_CheckTrue(gt.type() == CV_32FC1 || gt.type() == CV_16UC1,
+                 "lidarsgm: the ground truth must be CV_32FC1 (pixels) or CV_16UC1 (KITTI, value / 256)");
+    Mat g;
+    gt.convertTo(g, CV_32F, gt.type() == CV_16UC1 ? 1.0 / 256 : 1.0);
+    for (int y = 0; y < g.rows; y++)
+    {
+        float* r = g.ptr<float>(y);
+        const ushort* raw = gt.type() == CV_16UC1 ? gt.ptr<ushort>(y) : nullptr;
+        for (int x = 0; x < g.cols; x++)
+            if ((raw && raw[x] == 0) || !(r[x] >= 0) || !std::isfinite(r[x]))
+                r[x] = -1.f;
+    }
+    return g;
+}
+
+bool isOutlier(float d, float gt, int metric, float bad)
+{
+    const float e = std::abs(d - gt);
+    return metric == METRIC_KITTI_D1 ? (e > 3.f && e > 0.05f * gt) : e > bad;
+}
+
+} // namespace
+
+void interpolateBackground(InputArray _disp, OutputArray _filled)
+{
+    CV_CheckTrue(_disp.type() == CV_32FC1, "lidarsgm: interpolateBackground takes CV_32FC1 pixels");
+    _disp.copyTo(_filled);
+    Mat d = _filled.getMat();
+    const int W = d.cols, H = d.rows;
+    for (int y = 0; y < H; y++)
+    {
+        float* r = d.ptr<float>(y);
+        int x = 0;
+        while (x < W)
+        {
+            if (r[x] >= 0) { x++; continue; }
+            int e = x;
+            while (e < W && !(r[e] >= 0))
+                e++;
+            if (x > 0 && e < W)
+                std::fill(r + x, r + e, std::min(r[x - 1], r[e]));
+            x = e;
+        }
+        int first = 0;
+        while (first < W && !(r[first] >= 0))
+            first++;
+        if (first == W)
+            continue;
+        std::fill(r, r + first, r[first]);
+        int last = W - 1;
+        while (!(r[last] >= 0))
+            last--;
+        std::fill(r + last + 1, r + W, r[last]);
+    }
+    for (int x = 0; x < W; x++)
+    {
+        int first = 0;
+        while (first < H && !(d.at<float>(first, x) >= 0))
+            first++;
+        if (first == H)
+            continue;
+        for (int k = 0; k < first; k++)
+            d.at<float>(k, x) = d.at<float>(first, x);
+        int last = H - 1;
+        while (!(d.at<float>(last, x) >= 0))
+            last--;
+        for (int k = last + 1; k < H; k++)
+            d.at<float>(k, x) = d.at<float>(last, x);
+    }
+}
+
+DisparityErrors evaluateDisparity(InputArray disparity, InputArray groundTruth, int metric, double badThreshold,
+                                  int minDisparity)
+{
+    CV_CheckTrue(metric == METRIC_KITTI_D1 || metric == METRIC_BAD, "lidarsgm: metric must be METRIC_KITTI_D1 or METRIC_BAD");
+    CV_CheckTrue(disparity.size() == groundTruth.size(), "lidarsgm: the disparity and the ground truth differ in size");
+    const Mat est = estimateToFloat(disparity, minDisparity), gt = groundTruthToFloat(groundTruth);
+    Mat ipol;
+    interpolateBackground(est, ipol);
+    const float bad = (float)badThreshold;
+    DisparityErrors s;
+    for (int y = 0; y < est.rows; y++)
+    {
+        const float* g = gt.ptr<float>(y);
+        const float* d = est.ptr<float>(y);
+        const float* f = ipol.ptr<float>(y);
+        for (int x = 0; x < est.cols; x++)
+        {
+            if (g[x] < 0)
+                continue;
+            s.groundTruthPixels++;
+            if (d[x] >= 0)
+            {
+                s.estimatedPixels++;
+                s.estimatedOutliers += isOutlier(d[x], g[x], metric, bad);
+            }
+            // As the devkit: a pixel the interpolation could not fill keeps -1 and is scored as such.
+            s.totalOutliers += isOutlier(f[x], g[x], metric, bad);
+        }
+    }
+    return s;
+}
+
+void colorizeDisparity(InputArray _disp, OutputArray _color, double maxDisparity)
+{
+    CV_CheckTrue(_disp.type() == CV_32FC1, "lidarsgm: colorizeDisparity takes CV_32FC1 pixels");
+    CV_CheckTrue(maxDisparity > 0, "lidarsgm: colorizeDisparity: maxDisparity must be > 0");
+    // The devkit's control colours (r, g, b) and the share of the ramp each segment takes.
+    static const float ramp[8][4] = { {0, 0, 0, 114}, {0, 0, 1, 185}, {1, 0, 0, 114}, {1, 0, 1, 174},
+                                      {0, 1, 0, 114}, {0, 1, 1, 185}, {1, 1, 0, 114}, {1, 1, 1, 0} };
+    float total = 0, bounds[8];
+    for (int i = 0; i < 7; i++)
+        total += ramp[i][3];
+    bounds[0] = 0;
+    for (int i = 1; i < 8; i++)
+        bounds[i] = bounds[i - 1] + ramp[i - 1][3] / total;
+    const Mat disp = _disp.getMat();
+    _color.create(disp.size(), CV_8UC3);
+    Mat out = _color.getMat();
+    out.setTo(Scalar::all(0));
+    const float maxD = (float)maxDisparity;
+    for (int y = 0; y < disp.rows; y++)
+        for (int x = 0; x < disp.cols; x++)
+        {
+            const float d = disp.at<float>(y, x);
+            if (!(d >= 0) || !std::isfinite(d))
+                continue;
+            const float v = std::min(d / maxD, 1.f);
+            int i = 0;
+            while (i < 6 && v >= bounds[i + 1])
+                i++;
+            const float w = 1.f - (v - bounds[i]) / (bounds[i + 1] - bounds[i]);
+            Vec3b& px = out.at<Vec3b>(y, x);  // BGR
+            for (int c = 0; c < 3; c++)
+                px[2 - c] = saturate_cast<uchar>((w * ramp[i][c] + (1 - w) * ramp[i + 1][c]) * 255);
+        }
+}
+
+void colorizeDisparityError(InputArray _disp, InputArray _gt, OutputArray _color)
+{
+    CV_CheckTrue(_disp.type() == CV_32FC1 && _gt.type() == CV_32FC1 && _disp.size() == _gt.size(),
+                 "lidarsgm: colorizeDisparityError takes two CV_32FC1 maps of one size");
+    // The devkit's scale: error / threshold bands and their colours (r, g, b).
+    static const float scale[10][5] = {
+        {0.f, 0.0625f, 49, 54, 149}, {0.0625f, 0.125f, 69, 117, 180}, {0.125f, 0.25f, 116, 173, 209},
+        {0.25f, 0.5f, 171, 217, 233}, {0.5f, 1.f, 224, 243, 248}, {1.f, 2.f, 254, 224, 144},
+        {2.f, 4.f, 253, 174, 97}, {4.f, 8.f, 244, 109, 67}, {8.f, 16.f, 215, 48, 39}, {16.f, 1e30f, 165, 0, 38} };
+    const Mat est = _disp.getMat(), gt = _gt.getMat();
+    _color.create(est.size(), CV_8UC3);
+    Mat out = _color.getMat();
+    out.setTo(Scalar::all(0));
+    for (int y = 0; y < est.rows; y++)
+        for (int x = 0; x < est.cols; x++)
+        {
+            const float g = gt.at<float>(y, x), d = est.at<float>(y, x);
+            if (!(g >= 0) || !std::isfinite(g))
+                continue;
+            const float e = std::abs((d >= 0 ? d : 0.f) - g);
+            const float v = std::min(e / 3.f, g > 0 ? e / g / 0.05f : e / 3.f);
+            for (int i = 0; i < 10; i++)
+                if (v >= scale[i][0] && v < scale[i][1])
+                {
+                    out.at<Vec3b>(y, x) = Vec3b((uchar)scale[i][4], (uchar)scale[i][3], (uchar)scale[i][2]);
+                    break;
+                }
+        }
+}
+
+}} // namespace cv::lidarsgm
