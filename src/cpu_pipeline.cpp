@@ -15,7 +15,14 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     censusTransform(left, censusL_);
     censusTransform(right, censusR_);
     if (!sparse.empty())
+    {
         convertSparse(sparse, p.minDisparity, p.numDisparities, sparse16_);
+        if (p.visibilityRadiusX > 0 || p.visibilityRadiusY > 0)
+        {
+            filterHiddenPoints(sparse16_, p, visible16_);
+            std::swap(sparse16_, visible16_);
+        }
+    }
     else
         sparse16_.release();
     if (semidenseOnly || p.semidense)

@@ -15,6 +15,10 @@ namespace cv { namespace lidarsgm { namespace detail {
 (sparseFromKitti16, sparseFromFloat). */
 CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat& sparse16);
 
+/** The visibility filter (hiddenBy): visible16 is sparse16 without the values that a value within the
+(2 visibilityRadiusX + 1) x (2 visibilityRadiusY + 1) window hides. */
+CV_EXPORTS void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visible16);
+
 //! Census transform (CV_8UC1 or CV_16UC1 in, CV_32SC1 bit strings out); pixels outside the image are clamped.
 CV_EXPORTS void censusTransform(const Mat& image, Mat& census);
 

@@ -56,6 +56,8 @@ struct PipelineParams
     int checkRadius;       //!< rc
     int checkThreshold16;  //!< round(Tc * 16)
     int medianSize;        //!< 1 (off) or 3: the median filter before the check
+    int visibilityRadiusX; //!< half width of the visibility filter's window (0 and visibilityRadiusY 0: off)
+    int visibilityRadiusY; //!< half height
     bool semidense;        //!< SDSGM: the prior is the semidense map
     bool ddc;              //!< DSGM, SDSGM: the matching cost has the DDC term
     bool stereoCheck;      //!< the left-right test
@@ -145,6 +147,10 @@ static LIDARSGM_HD int subpixelOffset16(int sm, int s0, int sp)
     const int den = (sm + sp - 2 * s0) > 1 ? (sm + sp - 2 * s0) : 1;
     return num >= 0 ? (num + den / 2) / den : -((-num + den / 2) / den);
 }
+
+/** The visibility filter: a sparse value d16 is hidden (a LiDAR point the camera cannot see, projected onto the
+surface in front of it) when another value within its window is nearer, i.e. larger, by more than tc16 (Tc). */
+static LIDARSGM_HD bool hiddenBy(int other16, int d16, int tc16) { return other16 != NO_DISP && other16 - d16 > tc16; }
 
 /** Semidensification's candidate order (paper Eq. 5 is an argmin; most winners cost 0, so ties are common): the
 lowest census cost, then the nearest (squared distance), then the first row, then the first column. */
@@ -257,7 +263,7 @@ public:
     void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
              OutputArray out);
 private:
-    Mat censusL_, censusR_, sparse16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
+    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
     Mat med16_, medInt_, medRight_;
 };
 

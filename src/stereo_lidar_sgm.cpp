@@ -35,6 +35,10 @@ table makes the members, getters, setters, write() and read(); the public header
     X(double, CheckThreshold, checkThreshold, 2.0, v >= 0.0 && v <= 64.0, "in [0, 64] pixels (and not NaN)", \
       "Tc, the consistency-check threshold") \
     X(int, MedianSize, medianSize, 3, v == 1 || v == 3, "1 (off) or 3 (3x3 median)", "the median filter") \
+    X(int, VisibilityRadiusX, visibilityRadiusX, 0, v >= 0 && v <= 16, "in [0, 16]", \
+      "the visibility filter's half width") \
+    X(int, VisibilityRadiusY, visibilityRadiusY, 0, v >= 0 && v <= 16, "in [0, 16]", \
+      "the visibility filter's half height") \
     X(int, Mode, mode, MODE_SDSGM, v == MODE_SGM || v == MODE_DSGM || v == MODE_SDSGM, \
       "MODE_SGM (0), MODE_DSGM (1) or MODE_SDSGM (2)", "the fusion mode") \
     X(int, ConsistencyCheck, consistencyCheck, CHECK_STEREO_LIDAR, v >= CHECK_NONE && v <= CHECK_STEREO_LIDAR, \
@@ -202,6 +206,8 @@ private:
         p.checkRadius = checkRadius_;
         p.checkThreshold16 = cvRound(checkThreshold_ * 16);
         p.medianSize = medianSize_;
+        p.visibilityRadiusX = visibilityRadiusX_;
+        p.visibilityRadiusY = visibilityRadiusY_;
         p.semidense = mode_ == MODE_SDSGM;
         p.ddc = mode_ != MODE_SGM;
         p.stereoCheck = consistencyCheck_ == CHECK_STEREO || consistencyCheck_ == CHECK_STEREO_LIDAR;

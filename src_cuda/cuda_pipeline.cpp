@@ -26,7 +26,7 @@ void cudaCheck(cudaError_t err)
 
 struct CudaPipeline::Buffers
 {
-    cuda::GpuMat censusL, censusR, sparse16, semidense16, sum, disp16, dispInt, rightKey, dispRight;
+    cuda::GpuMat censusL, censusR, sparse16, visible16, semidense16, sum, disp16, dispInt, rightKey, dispRight;
     cuda::GpuMat med16, medInt, medRight;
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
@@ -92,6 +92,12 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
             ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, b.sparse16, st);
         else
             ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, b.sparse16, st);
+        if (p.visibilityRadiusX > 0 || p.visibilityRadiusY > 0)
+        {
+            b.visible16.create(sz, CV_16SC1);
+            ci::filterHiddenPoints(b.sparse16, p, b.visible16, st);
+            std::swap(b.sparse16, b.visible16);
+        }
     }
     if (semidenseOnly || p.semidense)
     {

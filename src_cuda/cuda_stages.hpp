@@ -22,6 +22,9 @@ void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparitie
 void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
                    cudaStream_t stream);
 
+void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16,
+                        cudaStream_t stream);
+
 //! Both images in one launch.
 void censusTransform(PtrStepSz<uchar> left, PtrStepSz<uchar> right, PtrStepSz<int> censusL, PtrStepSz<int> censusR,
                      cudaStream_t stream);

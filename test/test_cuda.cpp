@@ -118,6 +118,8 @@ TEST_P(Lidarsgm_CUDA_Random, bit_exact)
                 m->setSubpixel(mode != 1);
                 m->setOutputType(k == 3 ? CV_32F : CV_16S);
                 m->setMedianSize((k + mode) % 2 ? 1 : 3);
+                m->setVisibilityRadiusX(k == 1 ? mode : 0);   // mode 0: a vertical window only
+                m->setVisibilityRadiusY(k == 1 ? 3 : 0);
                 compareCpuGpu(m, l, r, sparses[k], format("size %dx%d depth %d sparse %d mode %d", sz.width, sz.height, depth, k, mode));
             }
     }

@@ -220,6 +220,18 @@ public:
     A pixel with 5 or more invalid neighbours stays invalid; the border is clamped. */
     CV_WRAP virtual int getMedianSize() const = 0;
     CV_WRAP virtual void setMedianSize(int size) = 0;
+    /** Visibility filter of the sparse input (off by default: the paper has none): a sparse disparity is dropped when
+    another one within (2 radiusX + 1) x (2 radiusY + 1) pixels around it is larger (nearer) by more than the
+    checkThreshold Tc. A LiDAR beside the camera sees past the edges of near objects; those background points land
+    on the near object in the image, among the object's own points, and mislead semidensification, DDC and the LiDAR
+    check. The window should be the LiDAR's sample footprint in the image: half the spacing of neighbouring samples,
+    rounded up, plus the half pixel of rounding. KITTI's HDL-64E (0.17 degrees between shots, 0.4-0.5 degrees
+    between rings, f = 721 px): radiusX 2, radiusY 4 (doc/params/kitti_best.yml). Both in [0, 16]; 0 and 0: off. */
+    CV_WRAP virtual int getVisibilityRadiusX() const = 0;
+    CV_WRAP virtual void setVisibilityRadiusX(int radiusX) = 0;
+    //! See getVisibilityRadiusX.
+    CV_WRAP virtual int getVisibilityRadiusY() const = 0;
+    CV_WRAP virtual void setVisibilityRadiusY(int radiusY) = 0;
     //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
     CV_WRAP virtual int getOutputType() const = 0;
     CV_WRAP virtual void setOutputType(int type) = 0;

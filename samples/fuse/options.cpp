@@ -80,6 +80,8 @@ const OptionSpec kOptions[] = {
     { "rc", 'i', "N", "checkRadius", "checkRadius" },
     { "Tc", 'd', "T", "checkThreshold", "checkThreshold" },
     { "median-size", 'i', "1|3", "medianSize", "medianSize" },
+    { "visibility-rx", 'i', "N", "visibilityRadiusX", "visibilityRadiusX" },
+    { "visibility-ry", 'i', "N", "visibilityRadiusY", "visibilityRadiusY" },
 };
 
 const OptionSpec* findOption(const std::string& name)

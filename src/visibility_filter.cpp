@@ -1,0 +1,49 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// Visibility filter of the sparse input. The LiDAR sits apart from the camera and sees past the edges of near objects,
+// so background points land on the near object in the image: wrong priors for semidensification, DDC and the LiDAR
+// check. The near object's own points lie around them, within one sample spacing; a point with a nearer point (by
+// more than Tc) within its window is dropped. The window is the sensor's sample footprint: about half the spacing of
+// neighbouring samples, plus the half pixel of rounding (doc/notes.md derives it for KITTI's HDL-64E).
+
+#include "precomp.hpp"
+#include "cpu_stages.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail {
+
+void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visible16)
+{
+    CV_Assert(sparse16.type() == CV_16SC1 && sparse16.data != visible16.data);
+    const int W = sparse16.cols, H = sparse16.rows, rx = p.visibilityRadiusX, ry = p.visibilityRadiusY;
+    const int tc = p.checkThreshold16;
+    visible16.create(sparse16.size(), CV_16SC1);
+    parallel_for_(Range(0, H), [&](const Range& r) {
+        for (int y = r.start; y < r.end; y++)
+        {
+            const short* s = sparse16.ptr<short>(y);
+            short* out = visible16.ptr<short>(y);
+            for (int x = 0; x < W; x++)
+            {
+                out[x] = s[x];
+                if (s[x] == NO_DISP)
+                    continue;
+                bool hidden = false;
+                for (int v = std::max(y - ry, 0); v <= std::min(y + ry, H - 1) && !hidden; v++)
+                {
+                    const short* row = sparse16.ptr<short>(v);
+                    for (int u = std::max(x - rx, 0); u <= std::min(x + rx, W - 1); u++)
+                        if (hiddenBy(row[u], s[x], tc))
+                        {
+                            hidden = true;
+                            break;
+                        }
+                }
+                if (hidden)
+                    out[x] = NO_DISP;
+            }
+        }
+    }, std::max(1, H / 16));
+}
+
+}}} // namespace cv::lidarsgm::detail
