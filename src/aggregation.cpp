@@ -1,7 +1,7 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Semi-global aggregation (paper Eq. 2) over 4 paths (left-right, right-left, top-down, bottom-up) or 8 (plus the
+// Semi-global aggregation (paper Eq. 2; the jump penalty is jumpPenalty, pipeline.hpp) over 4 paths (left-right, right-left, top-down, bottom-up) or 8 (plus the
 // four diagonals), summed into one 16-bit volume. Each path's cost stays below the matching cost plus P2, and the
 // cost weights are scaled so that the sum of all paths fits in 16 bits: the saturating adds never saturate on real
 // values, only on the 0xFFFF sentinels that stand for "d - 1 / d + 1 out of range".
@@ -91,11 +91,19 @@ struct PathRow
     ushort* at(int i) { return buf.data() + (size_t)i * stride + 1; }
 };
 
+//! The jump penalty from column xq to x of row y of the intensity map (empty: no edge rule).
+inline ushort jump(const Mat& intensity, int y, int x, int yq, int xq, const PipelineParams& p)
+{
+    if (intensity.empty())
+        return (ushort)p.w.p2;
+    return (ushort)jumpPenalty(intensity.at<ushort>(y, x), intensity.at<ushort>(yq, xq), p.edgeThreshold, p.w);
+}
+
 // Horizontal paths of rows [r.start, r.end): sum = L(left->right) + L(right->left).
-void horizontalPaths(const Mat& cost, int W, const PipelineParams& p, Mat& sum, const Range& r)
+void horizontalPaths(const Mat& cost, const Mat& intensity, int W, const PipelineParams& p, Mat& sum, const Range& r)
 {
     const int D = p.numDisparities;
-    const ushort P1 = (ushort)p.w.p1, P2 = (ushort)p.w.p2;
+    const ushort P1 = (ushort)p.w.p1;
     PathRow tmp;
     tmp.create(2, D);
     for (int y = r.start; y < r.end; y++)
@@ -108,7 +116,7 @@ void horizontalPaths(const Mat& cost, int W, const PipelineParams& p, Mat& sum, 
         memcpy(S, a, D * sizeof(ushort));
         for (int x = 1; x < W; x++)
         {
-            m = pathStep(C + (size_t)x * D, a, m, b, D, P1, P2);
+            m = pathStep(C + (size_t)x * D, a, m, b, D, P1, jump(intensity, y, x, y, x - 1, p));
             memcpy(S + (size_t)x * D, b, D * sizeof(ushort));
             std::swap(a, b);
         }
@@ -116,7 +124,7 @@ void horizontalPaths(const Mat& cost, int W, const PipelineParams& p, Mat& sum, 
         addTo(S + (size_t)(W - 1) * D, a, D);
         for (int x = W - 2; x >= 0; x--)
         {
-            m = pathStep(C + (size_t)x * D, a, m, b, D, P1, P2);
+            m = pathStep(C + (size_t)x * D, a, m, b, D, P1, jump(intensity, y, x, y, x + 1, p));
             addTo(S + (size_t)x * D, b, D);
             std::swap(a, b);
         }
@@ -126,10 +134,10 @@ void horizontalPaths(const Mat& cost, int W, const PipelineParams& p, Mat& sum, 
 /* Vertical and diagonal paths, rows visited from y0 towards y0 + (H - 1) * dir. For each of the (1 or 3) directions,
  the previous row's path costs are kept in prev[k] and the new row's written to cur[k]. Direction k takes its
  predecessor from column x - dx[k] of the previous row. */
-void verticalPaths(const Mat& cost, int W, int H, const PipelineParams& p, Mat& sum, int dir)
+void verticalPaths(const Mat& cost, const Mat& intensity, int W, int H, const PipelineParams& p, Mat& sum, int dir)
 {
     const int D = p.numDisparities;
-    const ushort P1 = (ushort)p.w.p1, P2 = (ushort)p.w.p2;
+    const ushort P1 = (ushort)p.w.p1;
     const int nDirs = p.numPaths == 8 ? 3 : 1;
     const int dx[3] = { 0, 1, -1 };
     PathRow prev[3], cur[3];
@@ -156,7 +164,8 @@ void verticalPaths(const Mat& cost, int W, int H, const PipelineParams& p, Mat& 
                     if (i == 0 || xp < 0 || xp >= W)
                         cur[k].minv[x] = pathStart(c, out, D);
                     else
-                        cur[k].minv[x] = pathStep(c, prev[k].at(xp), prev[k].minv[xp], out, D, P1, P2);
+                        cur[k].minv[x] = pathStep(c, prev[k].at(xp), prev[k].minv[xp], out, D, P1,
+                                                  jump(intensity, y, x, y - dir, xp, p));
                     addTo(s, out, D);
                 }
             }
@@ -168,15 +177,19 @@ void verticalPaths(const Mat& cost, int W, int H, const PipelineParams& p, Mat& 
 
 } // namespace
 
-void aggregateCosts(const Mat& cost, int width, const PipelineParams& p, Mat& sum)
+void aggregateCosts(const Mat& cost, const Mat& left, const PipelineParams& p, Mat& sum)
 {
-    const int W = width, H = cost.rows, D = p.numDisparities;
-    CV_Assert(cost.type() == CV_16UC1 && cost.cols == W * D);
+    const int W = left.cols, H = cost.rows, D = p.numDisparities;
+    CV_Assert(cost.type() == CV_16UC1 && cost.cols == W * D && left.rows == H);
     sum.create(cost.size(), CV_16UC1);
-    parallel_for_(Range(0, H), [&](const Range& r) { horizontalPaths(cost, W, p, sum, r); },
+    // The edge rule reads the left image as 16-bit intensities (8-bit values unchanged).
+    Mat intensity;
+    if (p.edgeThreshold > 0)
+        left.convertTo(intensity, CV_16U);
+    parallel_for_(Range(0, H), [&](const Range& r) { horizontalPaths(cost, intensity, W, p, sum, r); },
                   std::max(1, H / 8));
-    verticalPaths(cost, W, H, p, sum, +1);
-    verticalPaths(cost, W, H, p, sum, -1);
+    verticalPaths(cost, intensity, W, H, p, sum, +1);
+    verticalPaths(cost, intensity, W, H, p, sum, -1);
 }
 
 }}} // namespace cv::lidarsgm::detail

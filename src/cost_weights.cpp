@@ -17,9 +17,11 @@ int maxPathSum(const CostWeights& w, int numPaths)
     return numPaths * (censusTerm(w.census256, CENSUS_BITS) + w.q2 + w.p2);
 }
 
-CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc)
+CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc,
+                               double edgeP2Ratio)
 {
     CV_Assert(numPaths == 4 || numPaths == 8);
+    CV_Assert(edgeP2Ratio > 0 && edgeP2Ratio <= 1);
     CV_Assert(alpha >= 0.0 && alpha <= 1.0 && P1 >= 0 && P2 >= 0 && Q1 >= 0 && Q2 >= 0);
     // Paper Eq. 4 taken as written: with DDC on, the census term is (1 - alpha) H at every pixel, and the DDC term
     // is added where a prior exists. (Weighting H by 1 where no prior exists was measured too, see doc/notes.md:
@@ -37,6 +39,7 @@ CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int
         w.q2 = cvRound(k * aQ2);
         w.p1 = cvRound(k * P1);
         w.p2 = cvRound(k * P2);
+        w.p2Edge = std::max(w.p1, cvRound(k * P2 * edgeP2Ratio));
         if (maxPathSum(w, numPaths) <= 65535)
             return w;
         k *= 0.999;

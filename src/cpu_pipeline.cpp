@@ -35,7 +35,7 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
 
     const Mat prior = p.semidense ? semidense16_ : p.ddc ? sparse16_ : Mat();
     computeMatchingCost(censusL_, censusR_, prior, p, cost_);
-    aggregateCosts(cost_, left.cols, p, sum_);
+    aggregateCosts(cost_, left, p, sum_);
     winnerTakesAll(sum_, left.cols, p, disp16_, dispInt_, dispRight_);
     if (p.medianSize == 3)
     {

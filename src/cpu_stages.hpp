@@ -34,8 +34,9 @@ x - d is clamped to the image. */
 CV_EXPORTS void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16,
                                     const PipelineParams& p, Mat& cost);
 
-//! Sums the path costs of 4 or 8 SGM paths into sum (same layout as cost).
-CV_EXPORTS void aggregateCosts(const Mat& cost, int width, const PipelineParams& p, Mat& sum);
+/** Sums the path costs of 4 or 8 SGM paths into sum (same layout as cost). The left image gives the intensity steps
+of the jump penalty (jumpPenalty); it is read only when p.edgeThreshold > 0. */
+CV_EXPORTS void aggregateCosts(const Mat& cost, const Mat& left, const PipelineParams& p, Mat& sum);
 
 /** Winner-takes-all with the uniqueness check and the parabola fit.
 disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;

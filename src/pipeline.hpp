@@ -33,12 +33,14 @@ struct CostWeights
     int census256;     //!< census weight x 256: round(256 K (1 - alpha)) with DDC, round(256 K) for plain SGM
     int q1, q2;        //!< round(K alpha Q1), round(K alpha Q2)
     int p1, p2;        //!< round(K P1), round(K P2)
+    int p2Edge;        //!< max(p1, round(K P2 edgeP2Ratio)): P2 across a step of the left image (jumpPenalty)
     double scale;      //!< K
 };
 
 /** Picks the scale K, the largest whose worst-case sum of path costs, numPaths * (max cost + P2), fits in 16 bits,
 and rounds the weights. With ddc false there is no prior term (plain SGM). */
-CV_EXPORTS CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc);
+CV_EXPORTS CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc,
+                                          double edgeP2Ratio = 1.0);
 //! numPaths * (largest matching cost + P2): the bound on the aggregated cost.
 CV_EXPORTS int maxPathSum(const CostWeights& w, int numPaths);
 
@@ -58,6 +60,7 @@ struct PipelineParams
     int medianSize;        //!< 1 (off) or 3: the median filter before the check
     int visibilityRadiusX; //!< half width of the visibility filter's window (0 and visibilityRadiusY 0: off)
     int visibilityRadiusY; //!< half height
+    int edgeThreshold;     //!< left-image step above which a disparity jump costs w.p2Edge (0: off)
     bool semidense;        //!< SDSGM: the prior is the semidense map
     bool ddc;              //!< DSGM, SDSGM: the matching cost has the DDC term
     bool stereoCheck;      //!< the left-right test
@@ -112,6 +115,14 @@ static LIDARSGM_HD int ddcTerm(int d, int k, const CostWeights& w)
 static LIDARSGM_HD int matchingCost(int h, int d, int k, const CostWeights& w)
 {
     return censusTerm(w.census256, h) + ddcTerm(d, k, w);
+}
+
+/** The penalty of a disparity jump on a path step from q to p (the P2 of paper Eq. 2): P2, or the smaller w.p2Edge
+where the left image steps by more than edgeThreshold between q and p (an intensity edge is a likely depth edge;
+Hirschmueller 2008 adapts P2 to the step likewise). edgeThreshold 0: always P2. */
+static LIDARSGM_HD int jumpPenalty(int ip, int iq, int edgeThreshold, const CostWeights& w)
+{
+    return edgeThreshold > 0 && (ip > iq ? ip - iq : iq - ip) > edgeThreshold ? w.p2Edge : w.p2;
 }
 
 //! Integer disparity (pixels) of a 1/16-pixel value, rounded to nearest (halves up).

@@ -39,6 +39,9 @@ table makes the members, getters, setters, write() and read(); the public header
       "the visibility filter's half width") \
     X(int, VisibilityRadiusY, visibilityRadiusY, 0, v >= 0 && v <= 16, "in [0, 16]", \
       "the visibility filter's half height") \
+    X(int, EdgeThreshold, edgeThreshold, 0, v >= 0 && v <= 65535, "in [0, 65535] (0: off)", \
+      "the left-image step that makes a disparity jump cheaper") \
+    X(double, EdgeP2Ratio, edgeP2Ratio, 0.5, v > 0.0 && v <= 1.0, "in (0, 1]", "P2's factor across an image edge") \
     X(int, Mode, mode, MODE_SDSGM, v == MODE_SGM || v == MODE_DSGM || v == MODE_SDSGM, \
       "MODE_SGM (0), MODE_DSGM (1) or MODE_SDSGM (2)", "the fusion mode") \
     X(int, ConsistencyCheck, consistencyCheck, CHECK_STEREO_LIDAR, v >= CHECK_NONE && v <= CHECK_STEREO_LIDAR, \
@@ -213,7 +216,8 @@ private:
         p.stereoCheck = consistencyCheck_ == CHECK_STEREO || consistencyCheck_ == CHECK_STEREO_LIDAR;
         p.lidarCheck = consistencyCheck_ == CHECK_CAMERA_LIDAR || consistencyCheck_ == CHECK_STEREO_LIDAR;
         p.floatOutput = outputType_ == CV_32F;
-        p.w = computeCostWeights(P1_, P2_, Q1_, Q2_, alpha_, numPaths_, p.ddc);
+        p.edgeThreshold = edgeThreshold_;
+        p.w = computeCostWeights(P1_, P2_, Q1_, Q2_, alpha_, numPaths_, p.ddc, edgeP2Ratio_);
         return p;
     }
 

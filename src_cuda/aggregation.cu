@@ -45,10 +45,11 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
  carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
  The horizontal lines (1 row each, the longest walks: they are the critical path) stage their row of right census
  strings in shared memory when it fits (rowSmem); the left census and prior are warp-uniform loads. The loads for
- the next pixel are issued before the current step's recurrence, to hide their latency. */
-template <int PPT>
+ the next pixel are issued before the current step's recurrence, to hide their latency. The left image is read
+ (warp-uniform) only for the edge rule of the jump penalty (jumpPenalty). */
+template <int PPT, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PipelineParams p, PtrStepSz<ushort> sum, bool rowSmem)
+                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, bool rowSmem)
 {
     const int DPT = 2 * PPT;
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
@@ -79,8 +80,10 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     }
 
     // Values of the current pixel, loaded one step ahead. A horizontal line stays on row y; the others move.
+    const bool edges = p.edgeThreshold > 0;
     unsigned l = (unsigned)censusL(y, x);
     int pr = prior16.data ? prior16(y, x) : NO_DISP;
+    int intensity = edges ? (int)image(y, x) : 0, prevIntensity = intensity;
     unsigned r[DPT];
 #pragma unroll
     for (int j = 0; j < DPT; j++)
@@ -99,13 +102,15 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             const int d = d0 + j;
             C[j] = active ? matchingCost(popcount32(l ^ r[j]), d, k, w) : BIG;
         }
-        const int cx = x, cy = y;
+        const int cx = x, cy = y, curIntensity = intensity;
         x += dx; y += dy;
         const bool more = x >= 0 && x < W && y >= 0 && y < H;
         if (more)
         {
             l = (unsigned)censusL(y, x);
             pr = prior16.data ? prior16(y, x) : NO_DISP;
+            if (edges)
+                intensity = image(y, x);
 #pragma unroll
             for (int j = 0; j < DPT; j++)
                 r[j] = (unsigned)(staged ? rowR[::min(::max(x - minD - d0 - j, 0), W - 1)]
@@ -121,7 +126,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         {
             const int left = __shfl_up_sync(0xFFFFFFFFu, L[DPT - 1], 1);     // L(d0 - 1)
             const int right = __shfl_down_sync(0xFFFFFFFFu, L[0], 1);        // L(d0 + DPT)
-            const int jump = minPrev + w.p2;
+            const int jump = minPrev + jumpPenalty(curIntensity, prevIntensity, p.edgeThreshold, w);
             int Ln[DPT];
 #pragma unroll
             for (int j = 0; j < DPT; j++)
@@ -147,14 +152,15 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             for (int i = 0; i < PPT; i++)
                 atomicAdd(S + i, (unsigned)L[2 * i] | ((unsigned)L[2 * i + 1] << 16));
         }
+        prevIntensity = curIntensity;
         if (!more)
             break;
     }
 }
 
-template <int PPT>
-void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, const PipelineParams& p,
-              PtrStepSz<ushort> sum, cudaStream_t stream)
+template <int PPT, typename T>
+void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+              const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
@@ -163,23 +169,37 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> p
     // worth having, beyond that the rows are read through the caches.
     const size_t smem = (size_t)WARPS_PER_BLOCK * W * sizeof(int);
     const bool rowSmem = smem <= 24 * 1024;
-    pathKernel<PPT><<<grid, 32 * WARPS_PER_BLOCK, rowSmem ? smem : 0, stream>>>(censusL, censusR, prior16, p, sum, rowSmem);
+    pathKernel<PPT, T><<<grid, 32 * WARPS_PER_BLOCK, rowSmem ? smem : 0, stream>>>(censusL, censusR, prior16, image, p,
+                                                                                   sum, rowSmem);
     cudaSafeCall(cudaGetLastError());
 }
 
-} // namespace
-
-void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+template <typename T>
+void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+               const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPaths<1>(censusL, censusR, prior16, p, sum, stream); break;
-    case 2: runPaths<2>(censusL, censusR, prior16, p, sum, stream); break;
-    case 3: runPaths<3>(censusL, censusR, prior16, p, sum, stream); break;
-    default: runPaths<4>(censusL, censusR, prior16, p, sum, stream); break;
+    case 1: runPaths<1>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 2: runPaths<2>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 3: runPaths<3>(censusL, censusR, prior16, image, p, sum, stream); break;
+    default: runPaths<4>(censusL, censusR, prior16, image, p, sum, stream); break;
     }
+}
+
+} // namespace
+
+void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+{
+    aggregate(censusL, censusR, prior16, left, p, sum, stream);
+}
+
+void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+{
+    aggregate(censusL, censusR, prior16, left, p, sum, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

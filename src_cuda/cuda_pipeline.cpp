@@ -119,8 +119,11 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
 
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
-    ci::aggregateCosts(b.censusL, b.censusR, prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior),
-                       p, b.sum, st);
+    const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
+    if (L.depth() == CV_8U)
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, st);
+    else
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, st);
     b.disp16.create(sz, CV_16SC1);
     b.dispInt.create(sz, CV_16SC1);
     b.rightKey.create(sz, CV_32SC1);

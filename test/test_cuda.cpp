@@ -88,6 +88,28 @@ TEST(Lidarsgm_CUDA, kitti_median_off_bit_exact)
     }
 }
 
+// The steps beyond the paper that doc/params/kitti_best.yml switches on (visibility filter, edge-aware P2), both
+// frames, every mode, 4 and 8 paths.
+TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
+{
+    requireCudaDevice();
+    for (const char* id : { "000002", "000046" })
+    {
+        Mat l, r, s;
+        loadKittiTestFrame(id, l, r, s);
+        for (int mode = 0; mode < 3; mode++)
+            for (int paths : { 4, 8 })
+            {
+                Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode);
+                m->setVisibilityRadiusX(2);
+                m->setVisibilityRadiusY(4);
+                m->setEdgeThreshold(32);
+                m->setNumPaths(paths);
+                compareCpuGpu(m, l, r, s, format("frame %s mode %d paths %d, kitti_best steps", id, mode, paths));
+            }
+    }
+}
+
 typedef testing::TestWithParam<tuple<Size, int, int> > Lidarsgm_CUDA_Random;
 TEST_P(Lidarsgm_CUDA_Random, bit_exact)
 {
@@ -120,6 +142,7 @@ TEST_P(Lidarsgm_CUDA_Random, bit_exact)
                 m->setMedianSize((k + mode) % 2 ? 1 : 3);
                 m->setVisibilityRadiusX(k == 1 ? mode : 0);   // mode 0: a vertical window only
                 m->setVisibilityRadiusY(k == 1 ? 3 : 0);
+                m->setEdgeThreshold(k == 2 || mode == 2 ? (depth ? 4000 : 16) : 0);
                 compareCpuGpu(m, l, r, sparses[k], format("size %dx%d depth %d sparse %d mode %d", sz.width, sz.height, depth, k, mode));
             }
     }

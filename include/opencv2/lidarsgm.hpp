@@ -232,6 +232,15 @@ public:
     //! See getVisibilityRadiusX.
     CV_WRAP virtual int getVisibilityRadiusY() const = 0;
     CV_WRAP virtual void setVisibilityRadiusY(int radiusY) = 0;
+    /** Edge-aware jump penalty (off by default: the paper has none): on every aggregation path, a disparity jump between
+    neighbours whose left-image intensities differ by more than this threshold (in the images' grey levels) costs
+    edgeP2Ratio x P2 instead of P2 (at least P1), as intensity edges are likely depth edges (Hirschmueller's SGM
+    adapts P2 to the intensity step likewise). In [0, 65535]; 0: off. doc/params/kitti_best.yml: 32 (8-bit). */
+    CV_WRAP virtual int getEdgeThreshold() const = 0;
+    CV_WRAP virtual void setEdgeThreshold(int threshold) = 0;
+    //! P2's factor across an intensity edge (see getEdgeThreshold), in (0, 1]; default 0.5.
+    CV_WRAP virtual double getEdgeP2Ratio() const = 0;
+    CV_WRAP virtual void setEdgeP2Ratio(double ratio) = 0;
     //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
     CV_WRAP virtual int getOutputType() const = 0;
     CV_WRAP virtual void setOutputType(int type) = 0;

@@ -82,6 +82,8 @@ const OptionSpec kOptions[] = {
     { "median-size", 'i', "1|3", "medianSize", "medianSize" },
     { "visibility-rx", 'i', "N", "visibilityRadiusX", "visibilityRadiusX" },
     { "visibility-ry", 'i', "N", "visibilityRadiusY", "visibilityRadiusY" },
+    { "edge-threshold", 'i', "N", "edgeThreshold", "edgeThreshold" },
+    { "edge-p2-ratio", 'd', "R", "edgeP2Ratio", "edgeP2Ratio" },
 };
 
 const OptionSpec* findOption(const std::string& name)
