@@ -17,7 +17,9 @@ import cv2 as cv
 
 TOOL = os.environ.get("LIDARSGM_TOOL", "")
 DATA = os.environ.get("LIDARSGM_TESTDATA", os.path.join(os.path.dirname(__file__), "..", "..", "testdata"))
-SAMPLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "samples", "python", "lidarsgm_fuse.py")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+SAMPLE = os.path.join(ROOT, "samples", "python", "lidarsgm_fuse.py")
+BEST = os.path.join(ROOT, "doc", "params", "kitti_best.yml")
 KITTI = os.path.join(DATA, "kitti")
 METRICS = re.compile(r"coverage +([\d.]+) %  covered D1 +([\d.]+) %  total D1 +([\d.]+) %")
 
@@ -93,6 +95,45 @@ class ToolTest(unittest.TestCase):
         self.assertRegex(so, r"\| SDSGM \(stereo-lidar\) +\| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ \|")
         self.assertNotIn("frames/s", se)
 
+    def test_params_file_and_overrides(self):
+        # --params loads a saved matcher; options given beside it override its values.
+        frame = [TOOL, "--kitti-frame", KITTI, "--id", "000046"]
+        rc, best, se = run(frame + ["--params", BEST])
+        self.assertEqual(rc, 0, se)
+        rc, same, se = run(frame + ["--visibility-rx", "2", "--visibility-ry", "4", "--edge-threshold", "32"])
+        self.assertEqual(rc, 0, se)
+        self.assertEqual(METRICS.search(best).groups(), METRICS.search(same).groups())
+        rc, over, se = run(frame + ["--params", BEST, "--edge-threshold", "0"])
+        self.assertEqual(rc, 0, se)
+        rc, ref, se = run(frame + ["--visibility-rx", "2", "--visibility-ry", "4"])
+        self.assertEqual(METRICS.search(over).groups(), METRICS.search(ref).groups())
+        self.assertNotEqual(METRICS.search(over).groups(), METRICS.search(best).groups())
+        # A value out of range in the file is refused with the parameter's name.
+        bad = os.path.join(self.tmp, "bad.yml")
+        with open(BEST) as f, open(bad, "w") as g:
+            g.write(f.read().replace("numPaths: 8", "numPaths: 6"))
+        rc, so, se = run(frame + ["--params", bad])
+        self.assertEqual(rc, 1)
+        self.assertIn("numPaths", se)
+
+    def test_lidar_lines(self):
+        # Fewer LiDAR lines: a table per line count, fewer LiDAR points, and the 64-line table as without the option.
+        kitti = os.path.join(self.tmp, "kitti")
+        shutil.copytree(KITTI, kitti)
+        with open(os.path.join(kitti, "frames.txt"), "w") as f:
+            f.write("000046\n")
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1", "--lidar-lines", "64,32,16"])
+        self.assertEqual(rc, 0, se)
+        cov = [float(c) for c in re.findall(r"\| LiDAR points alone +\| +([\d.]+) %", so)]
+        self.assertEqual(len(cov), 3, so)
+        self.assertGreater(cov[0], cov[1])
+        self.assertGreater(cov[1], cov[2])
+        for n in (64, 32, 16):
+            self.assertIn("%d LiDAR lines" % n, so)
+        rc, so64, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1"])
+        row = r"\| SDSGM \(stereo-lidar\) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+) %"
+        self.assertEqual(re.search(row, so64).groups(), re.search(row, so).groups())
+
     def test_exit_codes_and_messages(self):
         cases = [
             (["--kitti-frame", os.path.join(self.tmp, "missing"), "--id", "000002"], 1, "cannot read image"),
@@ -107,6 +148,10 @@ class ToolTest(unittest.TestCase):
             (["--kitti-frame", KITTI, "--id", "000002", "--modes", "fast"], 1, "unknown mode"),
             (["--kitti-frame", KITTI, "--id", "000002", "--out", self.tmp, "--format", "jpg"], 1, "unknown --format"),
             (["--kitti-frame", KITTI, "--id", "000002", "--colour", "1"], 2, "unknown option --colour"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--lidar-lines", "48"], 1, "--lidar-lines takes 64, 32 or 16"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--params", os.path.join(self.tmp, "none.yml")], 1,
+             "cannot open --params"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--resize", "10x"], 1, "--resize takes"),
             (["--kitti-frame"], 2, "needs a value"),
             (["stray"], 2, "unexpected argument"),
             ([], 2, "give --kitti-frame"),
