@@ -28,20 +28,26 @@ value (or none). */
 CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
                             Mat& semidense16);
 
-/** Matching cost volume, rows = image rows, cols = width * numDisparities, CV_16UC1, d fastest: matchingCost() with
-the prior index round(prior16) - minD where prior16 has a value. prior16 may be empty (plain SGM). The right pixel
-x - d is clamped to the image. */
+/** Semi-global aggregation (paper Eq. 2) over 4 or 8 paths and the winner-takes-all, fused: the matching cost
+(matchingCost with the prior index round(prior16) - minD where prior16 has a value; prior16 may be empty for plain
+SGM) is computed as the paths go, and each pixel's winner is taken when its sum completes (aggregation.simd.hpp).
+The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). Outputs:
+disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;
+dispInt: the integer left disparity (NO_DISP where not unique);
+dispRight: the integer right-view disparity (lowest aggregated cost along the diagonal x + d);
+finalSum (tests; only when asked for): the aggregated costs, rows = image rows, cols = width * numDisparities.
+workVolume: where the one 16-bit volume of partial sums lives between calls (the caller's member), so repeated calls
+at one size neither allocate nor fault in 2 W H D bytes; nullptr: a temporary. */
+CV_EXPORTS void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
+                               const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight,
+                               OutputArray finalSum = noArray(), Mat* workVolume = nullptr);
+
+/** The matching cost volume that aggregateCosts computes as it goes (for the tests): rows = image rows,
+cols = width * numDisparities, CV_16UC1, d fastest. The right pixel x - minD - d is clamped to the image. */
 CV_EXPORTS void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16,
                                     const PipelineParams& p, Mat& cost);
 
-/** Sums the path costs of 4 or 8 SGM paths into sum (same layout as cost). The left image gives the intensity steps
-of the jump penalty (jumpPenalty); it is read only when p.edgeThreshold > 0. */
-CV_EXPORTS void aggregateCosts(const Mat& cost, const Mat& left, const PipelineParams& p, Mat& sum);
-
-/** Winner-takes-all with the uniqueness check and the parabola fit.
-disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;
-dispInt: the integer left disparity (NO_DISP where not unique);
-dispRight: the integer right-view disparity from the same volume (lowest cost along the diagonal x + d). */
+//! The winner-takes-all of aggregateCosts on a given volume of aggregated costs (for the tests).
 CV_EXPORTS void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt,
                                Mat& dispRight);
 

@@ -274,7 +274,7 @@ public:
     void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
              OutputArray out);
 private:
-    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, cost_, sum_, disp16_, dispInt_, dispRight_;
+    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, sum_, disp16_, dispInt_, dispRight_;
     Mat med16_, medInt_, medRight_;
 };
 

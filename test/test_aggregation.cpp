@@ -60,55 +60,72 @@ static void referenceAggregation(const Mat& cost, int W, int D, int numPaths, in
 
 // One step of the recursion by hand: previous L = [0, 5, 40, 40], C = [1, 1, 1, 1], P1 = 3, P2 = 20:
 // L(0) = 1 + min(0, 5+3, 0+20) - 0 = 1; L(1) = 1 + min(5, 0+3, 40+3, 20) = 4; L(2) = 1 + min(40, 5+3, 40+3, 20) = 9;
-// L(3) = 1 + min(40, 40+3, 20) = 21. Two pixels in a row, left-to-right path, summed with the other paths.
+// L(3) = 1 + min(40, 40+3, 20) = 21. Two pixels in a row; the costs come from census strings with plain SGM
+// weights (census256 = 256: C = H), so pixel 0 has H = [0, 5, 40->31 ...] and pixel 1 H = 1 everywhere.
 TEST(Lidarsgm_Aggregation, one_step_by_hand)
 {
     const int W = 2, D = 16;
-    Mat cost(1, W * D, CV_16UC1, Scalar::all(60));
-    const ushort c0[4] = { 0, 5, 40, 40 };
-    for (int d = 0; d < 4; d++)
-    {
-        cost.at<ushort>(0, d) = c0[d];
-        cost.at<ushort>(0, D + d) = 1;
-    }
+    // Right census strings 0; left: pixel 0 sees popcount(L ^ R(x - d)) with R clamped to column 0 -> the same
+    // string at every d. Use distinct right strings per column instead: x - d < 0 clamps to column 0.
+    Mat cl(1, W, CV_32SC1), cr(1, W, CV_32SC1);
+    cl.at<int>(0, 0) = 0x1F;            // pixel 0: H(d) = popcount(0x1F ^ R(clamp(-d))) = popcount(0x1F ^ R(0))
+    cr.at<int>(0, 0) = 0x1F;            //   = 0 at every d
+    cl.at<int>(0, 1) = 0x1E;            // pixel 1: d = 0 sees R(1), d >= 1 sees R(0)
+    cr.at<int>(0, 1) = 0x1F;            //   H = 1 at every d
     PipelineParams p = PipelineParams();
     p.numDisparities = D;
     p.numPaths = 4;
+    p.uniqueness1024 = 1024;
+    p.w.census256 = 256;
     p.w.p1 = 3;
     p.w.p2 = 20;
-    Mat sum;
-    aggregateCosts(cost, Mat(1, W, CV_8UC1, Scalar::all(0)), p, sum);
-    // Pixel 1: left-to-right path = hand values; right-to-left path starts at pixel 1 (= C); vertical paths = C.
-    const int lr[4] = { 1, 4, 9, 21 };
-    for (int d = 0; d < 4; d++)
-        EXPECT_EQ(lr[d] + 3 * 1, (int)sum.at<ushort>(0, D + d)) << "d=" << d;
+    Mat d16, di, dr, sum;
+    aggregateCosts(cl, cr, Mat(), Mat(), p, d16, di, dr, sum);
+    // Pixel 1: left-to-right = C(1) + L(0) step with L(0) = C(0) = 0 everywhere: 1 + min(0, 3, 3, 20) - 0 = 1;
+    // right-to-left starts at pixel 1 (= C = 1); vertical paths = C = 1. Sum = 4 at every d.
+    for (int d = 0; d < D; d++)
+        EXPECT_EQ(4, (int)sum.at<ushort>(0, D + d)) << "d=" << d;
+    // Pixel 0: left-to-right starts (0), right-to-left: 0 + min(1, ...) - 1 = 0, vertical 0 + 0: sum 0.
+    for (int d = 0; d < D; d++)
+        EXPECT_EQ(0, (int)sum.at<ushort>(0, d)) << "d=" << d;
 }
 
-// Random costs and images; edge threshold 0 (off) or 60, where P2 falls to 90 across the image's steps.
+/* Random census strings, priors and images: the fused aggregation's sums equal the reference recursion on the cost
+ volume of computeMatchingCost, and its disparities the winner-takes-all of those sums. Edge threshold 0 (off) or 60,
+ where P2 falls to 90 across the image's steps. */
 typedef testing::TestWithParam<tuple<int, int, Size, int> > Lidarsgm_AggregationRandom;
 TEST_P(Lidarsgm_AggregationRandom, matches_reference)
 {
     const int numPaths = get<0>(GetParam()), D = get<1>(GetParam()), thr = get<3>(GetParam());
     const Size sz = get<2>(GetParam());
     RNG rng(numPaths * 1000 + D + sz.width + thr);
-    Mat cost(sz.height, sz.width * D, CV_16UC1), image(sz, CV_8UC1);
-    rng.fill(cost, RNG::UNIFORM, 0, 400);
+    Mat cl(sz, CV_32SC1), cr(sz, CV_32SC1), image(sz, CV_8UC1), prior(sz, CV_16SC1, Scalar::all(NO_DISP));
+    rng.fill(cl, RNG::UNIFORM, 0, 1 << 30);
+    rng.fill(cr, RNG::UNIFORM, 0, 1 << 30);
     rng.fill(image, RNG::UNIFORM, 0, 256);
+    for (int k = 0; k < sz.area() / 5; k++)
+        prior.at<short>(rng.uniform(0, sz.height), rng.uniform(0, sz.width)) = (short)rng.uniform(0, D * 16 - 8);
     PipelineParams p = PipelineParams();
     p.numDisparities = D;
+    p.minDisparity = (int)rng.uniform(-3, 3);
     p.numPaths = numPaths;
+    p.subpixel = true;
+    p.uniqueness1024 = 970;
     p.edgeThreshold = thr;
-    p.w.p1 = 37;
-    p.w.p2 = 250;
-    p.w.p2Edge = 90;
-    Mat sum, ref;
-    aggregateCosts(cost, image, p, sum);
+    p.w = computeCostWeights(10, 120, 5, 160, 0.7, numPaths, true, 0.75);
+    Mat cost, ref, sum, d16, di, dr, e16, ei, er;
+    computeMatchingCost(cl, cr, prior, p, cost);
     referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref, image, thr, p.w.p2Edge);
+    aggregateCosts(cl, cr, prior, image, p, d16, di, dr, sum);
     EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
+    winnerTakesAll(ref, sz.width, p, e16, ei, er);
+    EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
 }
 INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationRandom,
     testing::Combine(testing::Values(4, 8), testing::Values(16, 48),
-                     testing::Values(Size(1, 1), Size(7, 1), Size(1, 9), Size(13, 11), Size(70, 33)),
+                     testing::Values(Size(1, 1), Size(7, 1), Size(1, 9), Size(13, 11), Size(70, 33), Size(300, 17)),
                      testing::Values(0, 60)));
 
 }} // namespace

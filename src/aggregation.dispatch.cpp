@@ -1,0 +1,163 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The CPU aggregation's sweeps in order (aggregation.simd.hpp), each running the kernels compiled for the best
+// instruction set this CPU has (OpenCV's CPU dispatch: baseline, SSE4.1, AVX2). Also the volume forms of the
+// matching cost and the winner-takes-all, for the per-stage tests: the same kernels.
+
+#include "precomp.hpp"
+#include "aggregation.simd.hpp"
+#include "aggregation.simd_declarations.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail {
+
+namespace {
+
+void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
+               const PipelineParams& p)
+{
+    CV_Assert(censusL.type() == CV_32SC1 && censusR.type() == CV_32SC1 && censusR.size() == censusL.size());
+    CV_Assert(prior16.empty() || (prior16.type() == CV_16SC1 && prior16.size() == censusL.size()));
+    a.censusL = censusL;
+    a.censusR = censusR;
+    a.prior16 = prior16;
+    a.p = p;
+    a.W = censusL.cols;
+    a.H = censusL.rows;
+    a.D = p.numDisparities;
+    a.stride = a.D + 2;
+    if (p.edgeThreshold > 0 && !left.empty())
+    {
+        CV_Assert(left.size() == censusL.size());
+        left.convertTo(a.intensity, CV_16U);   // the edge rule reads 16-bit intensities (8-bit values unchanged)
+    }
+}
+
+// CV_CPU_DISPATCH returns from the function it stands in: one small function per kernel.
+void runHorizontalRows(AggregationState& a, int y0, int y1)
+{
+    CV_CPU_DISPATCH(horizontalRows, (a, y0, y1), CV_CPU_DISPATCH_MODES_ALL);
+}
+void runVerticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down)
+{
+    CV_CPU_DISPATCH(verticalStrip, (a, y, x0, x1, strip, down), CV_CPU_DISPATCH_MODES_ALL);
+}
+void runCostRows(const AggregationState& a, int y0, int y1, Mat& cost)
+{
+    CV_CPU_DISPATCH(costRows, (a, y0, y1, cost), CV_CPU_DISPATCH_MODES_ALL);
+}
+void runSelectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& keys)
+{
+    CV_CPU_DISPATCH(selectRows, (a, sum, y0, y1, disp16, dispInt, keys), CV_CPU_DISPATCH_MODES_ALL);
+}
+
+//! Right-view keys (cost << 16 | d) to disparities.
+void rightKeysToDisparity(const unsigned* key, int W, int minD, short* dispRight)
+{
+    for (int x = 0; x < W; x++)
+        dispRight[x] = (short)(key[x] == 0xFFFFFFFFu ? NO_DISP : (int)(key[x] & 0xFFFFu) + minD);
+}
+
+} // namespace
+
+void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
+                    const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight, OutputArray finalSum,
+                    Mat* workVolume)
+{
+    CV_Assert(p.edgeThreshold == 0 || !left.empty());
+    AggregationState a;
+    initState(a, censusL, censusR, prior16, left, p);
+    const int W = a.W, H = a.H, D = a.D;
+    if (workVolume)
+    {
+        workVolume->create(H, W * D, CV_16UC1);
+        a.sum = *workVolume;
+    }
+    else
+        a.sum.create(H, W * D, CV_16UC1);
+    disp16.create(H, W, CV_16SC1);
+    dispInt.create(H, W, CV_16SC1);
+    dispRight.create(H, W, CV_16SC1);
+    a.disp16 = disp16;
+    a.dispInt = dispInt;
+    if (finalSum.needed())
+    {
+        finalSum.create(H, W * D, CV_16UC1);
+        a.finalSum = finalSum.getMat();
+    }
+
+    // 1. Horizontal paths, rows in parallel.
+    parallel_for_(Range(0, H), [&](const Range& r) {
+        runHorizontalRows(a, r.start, r.end);
+    }, std::max(1, H / 8));
+
+    // 2. and 3. Vertical (and diagonal) paths, row by row; column strips in parallel.
+    a.ndirs = p.numPaths == 8 ? 3 : 1;
+    a.dx[0] = 0; a.dx[1] = 1; a.dx[2] = -1;
+    for (int k = 0; k < a.ndirs; k++)
+        for (int i = 0; i < 2; i++)
+        {
+            a.L[k][i].assign((size_t)W * a.stride, PATH_SENTINEL);
+            a.minL[k][i].assign(W, 0);
+        }
+    const int strips = std::max(1, std::min(getNumThreads(), W / 64));
+    a.rightKeys.assign((size_t)strips * W, 0xFFFFFFFFu);
+    AutoBuffer<unsigned> merged(W);
+    for (int down = 1; down >= 0; down--)
+    {
+        a.cur = 0;
+        for (int i = 0; i < H; i++)
+        {
+            const int y = down ? i : H - 1 - i;
+            parallel_for_(Range(0, strips), [&](const Range& r) {
+                for (int s = r.start; s < r.end; s++)
+                    runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, down != 0);
+            }, strips);
+            a.cur = 1 - a.cur;
+            if (down)
+                continue;
+            // The right view of row y: the lowest key any strip offered to each right pixel.
+            std::fill(merged.data(), merged.data() + W, 0xFFFFFFFFu);
+            for (int s = 0; s < strips; s++)
+            {
+                unsigned* rk = a.rightKeys.data() + (size_t)s * W;
+                for (int x = 0; x < W; x++)
+                    merged[x] = std::min(merged[x], rk[x]);
+                std::fill(rk, rk + W, 0xFFFFFFFFu);
+            }
+            rightKeysToDisparity(merged.data(), W, p.minDisparity, dispRight.ptr<short>(y));
+        }
+    }
+}
+
+void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,
+                         Mat& cost)
+{
+    AggregationState a;
+    initState(a, censusL, censusR, prior16, Mat(), p);
+    cost.create(a.H, a.W * a.D, CV_16UC1);
+    parallel_for_(Range(0, a.H), [&](const Range& r) {
+        runCostRows(a, r.start, r.end, cost);
+    }, std::max(1, a.H / 16));
+}
+
+void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight)
+{
+    CV_Assert(sum.type() == CV_16UC1 && sum.cols == width * p.numDisparities);
+    AggregationState a;
+    a.p = p;
+    a.W = width;
+    a.H = sum.rows;
+    a.D = p.numDisparities;
+    disp16.create(a.H, a.W, CV_16SC1);
+    dispInt.create(a.H, a.W, CV_16SC1);
+    dispRight.create(a.H, a.W, CV_16SC1);
+    Mat keys(a.H, a.W, CV_32SC1, Scalar::all(-1));
+    parallel_for_(Range(0, a.H), [&](const Range& r) {
+        runSelectRows(a, sum, r.start, r.end, disp16, dispInt, keys);
+        for (int y = r.start; y < r.end; y++)
+            rightKeysToDisparity(keys.ptr<unsigned>(y), a.W, p.minDisparity, dispRight.ptr<short>(y));
+    }, std::max(1, a.H / 16));
+}
+
+}}} // namespace cv::lidarsgm::detail

@@ -1,0 +1,248 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// Semi-global aggregation (paper Eq. 2; the jump penalty is jumpPenalty, pipeline.hpp) over 4 paths (left-right,
+// right-left, top-down, bottom-up) or 8 (plus the four diagonals), with the matching cost computed as the paths go
+// (no cost volume) and the winner-takes-all done as each pixel's sum completes. Three sweeps, one 16-bit volume:
+//  1. horizontalRows: the two horizontal paths of each row (rows in parallel) write sum = L(lr) + L(rl);
+//  2. verticalStrip, down: top-down paths (1 or 3 directions, previous row at x - dx) add into sum;
+//  3. verticalStrip, up: bottom-up paths complete each pixel's sum, and selectPixel takes the winner.
+// Sweeps 2 and 3 go row by row; within a row, column strips run in parallel (a row depends only on the row before).
+// Path costs stay below the matching cost plus P2, and the weights are scaled so that the sum of all paths fits in
+// 16 bits: the saturating adds never saturate on real values, only on the 0xFFFF sentinels that stand for "d - 1 /
+// d + 1 out of range". Compiled once per instruction set (CPU dispatch, aggregation.dispatch.cpp).
+
+#include "cpu_stages.hpp"
+#include "opencv2/core/hal/intrin.hpp"
+
+#ifndef LIDARSGM_AGGREGATION_STATE
+#define LIDARSGM_AGGREGATION_STATE
+namespace cv { namespace lidarsgm { namespace detail {
+
+//! Stands for "d - 1 / d + 1 out of range" beside a pixel's path costs (and for "no key" in the right view).
+const ushort PATH_SENTINEL = 0xFFFF;
+
+//! Everything the sweeps of one call share (made by aggregation.dispatch.cpp).
+struct AggregationState
+{
+    Mat censusL, censusR, prior16, intensity;   // intensity: CV_16U left image, empty without the edge rule
+    PipelineParams p;
+    int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
+    Mat sum;                                    // H x (W * D) 16-bit: horizontal paths, then + top-down
+    Mat finalSum;                               // optional (tests): the complete sums
+    Mat disp16, dispInt;                        // outputs of the winner-takes-all
+    int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
+    std::vector<ushort> L[3][2], minL[3][2];    // per direction, the previous and current row of path costs
+    int cur;                                    // which of the two rows is the current one
+    std::vector<unsigned> rightKeys;            // per strip, W keys of the right view (selectPixel)
+};
+
+}}} // namespace cv::lidarsgm::detail
+#endif
+
+namespace cv { namespace lidarsgm { namespace detail {
+CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
+
+void horizontalRows(AggregationState& a, int y0, int y1);
+void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down);
+void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
+void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& rightKeys);
+
+#ifndef CV_CPU_OPTIMIZATION_DECLARATIONS_ONLY
+
+#include "matching_cost.simd.hpp"
+#include "winner_takes_all.simd.hpp"
+
+namespace {
+
+const ushort SENTINEL = PATH_SENTINEL;
+
+/** One step of the recursion for one pixel: Lout(d) = C(d) + min(Lp(d), Lp(d-1) + P1, Lp(d+1) + P1, minPrev + P2)
+ - minPrev. Lp[-1] and Lp[D] must hold SENTINEL. Returns min_d Lout(d). */
+inline ushort pathStep(const ushort* C, const ushort* Lp, ushort minPrev, ushort* Lout, int D, ushort P1, ushort P2)
+{
+    int d = 0;
+    ushort m = SENTINEL;
+#if (CV_SIMD || CV_SIMD_SCALABLE)
+    const int n = VTraits<v_uint16>::vlanes();
+    const v_uint16 vp1 = vx_setall_u16(P1), vjump = vx_setall_u16((ushort)(minPrev + P2)),
+                   vmp = vx_setall_u16(minPrev);
+    v_uint16 vmin = vx_setall_u16(SENTINEL);
+    for (; d <= D - n; d += n)
+    {
+        v_uint16 a = vx_load(Lp + d);
+        v_uint16 b = v_add(vx_load(Lp + d - 1), vp1);   // saturating: SENTINEL stays SENTINEL
+        v_uint16 c = v_add(vx_load(Lp + d + 1), vp1);
+        v_uint16 best = v_min(v_min(a, b), v_min(c, vjump));
+        v_uint16 l = v_sub(v_add(vx_load(C + d), best), vmp);
+        v_store(Lout + d, l);
+        vmin = v_min(vmin, l);
+    }
+    m = (ushort)v_reduce_min(vmin);
+#endif
+    for (; d < D; d++)
+    {
+        int best = std::min(std::min((int)Lp[d], (int)Lp[d - 1] + P1), std::min((int)Lp[d + 1] + P1, minPrev + P2));
+        ushort l = (ushort)(C[d] + best - minPrev);
+        Lout[d] = l;
+        m = std::min(m, l);
+    }
+    return m;
+}
+
+//! First pixel of a path: L = C.
+inline ushort pathStart(const ushort* C, ushort* Lout, int D)
+{
+    ushort m = SENTINEL;
+    for (int d = 0; d < D; d++)
+    {
+        Lout[d] = C[d];
+        m = std::min(m, C[d]);
+    }
+    return m;
+}
+
+//! S = A + B (B may be null: S = A), and the same with a third and fourth operand where given.
+inline void sumInto(ushort* S, const ushort* A, const ushort* B, const ushort* C, const ushort* E, int D)
+{
+    int d = 0;
+#if (CV_SIMD || CV_SIMD_SCALABLE)
+    const int n = VTraits<v_uint16>::vlanes();
+    for (; d <= D - n; d += n)
+    {
+        v_uint16 v = vx_load(A + d);
+        if (B) v = v_add(v, vx_load(B + d));
+        if (C) v = v_add(v, vx_load(C + d));
+        if (E) v = v_add(v, vx_load(E + d));
+        v_store(S + d, v);
+    }
+#endif
+    for (; d < D; d++)
+        S[d] = (ushort)(A[d] + (B ? B[d] : 0) + (C ? C[d] : 0) + (E ? E[d] : 0));
+}
+
+//! The jump penalty from (xq, yq) to (x, y).
+inline ushort jump(const AggregationState& a, int y, int x, int yq, int xq)
+{
+    if (a.intensity.empty())
+        return (ushort)a.p.w.p2;
+    return (ushort)jumpPenalty(a.intensity.at<ushort>(y, x), a.intensity.at<ushort>(yq, xq), a.p.edgeThreshold, a.p.w);
+}
+
+} // namespace
+
+void horizontalRows(AggregationState& a, int y0, int y1)
+{
+    const int W = a.W, D = a.D;
+    const ushort P1 = (ushort)a.p.w.p1;
+    AutoBuffer<ushort> costBuf((size_t)W * D), pathBuf(2 * (size_t)a.stride);
+    AutoBuffer<unsigned> rvBuf(W + D);
+    ushort* C = costBuf.data();
+    ushort* pa = pathBuf.data() + 1;
+    ushort* pb = pa + a.stride;
+    pa[-1] = pa[D] = pb[-1] = pb[D] = SENTINEL;
+    for (int y = y0; y < y1; y++)
+    {
+        const unsigned* L = a.censusL.ptr<unsigned>(y);
+        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvBuf.data());
+        const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
+        for (int x = 0; x < W; x++)
+            costVector(rvBuf.data() + (W - 1 - x), L[x], prior ? priorIndex(prior[x], a.p.minDisparity) : -1, a.p.w,
+                       D, C + (size_t)x * D);
+        ushort* S = a.sum.ptr<ushort>(y);
+        ushort *u = pa, *v = pb;
+        ushort m = pathStart(C, u, D);
+        memcpy(S, u, D * sizeof(ushort));
+        for (int x = 1; x < W; x++)
+        {
+            m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, y, x, y, x - 1));
+            memcpy(S + (size_t)x * D, v, D * sizeof(ushort));
+            std::swap(u, v);
+        }
+        m = pathStart(C + (size_t)(W - 1) * D, u, D);
+        sumInto(S + (size_t)(W - 1) * D, S + (size_t)(W - 1) * D, u, nullptr, nullptr, D);
+        for (int x = W - 2; x >= 0; x--)
+        {
+            m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, y, x, y, x + 1));
+            sumInto(S + (size_t)x * D, S + (size_t)x * D, v, nullptr, nullptr, D);
+            std::swap(u, v);
+        }
+    }
+}
+
+void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down)
+{
+    const int W = a.W, D = a.D, st = a.stride, minD = a.p.minDisparity;
+    const ushort P1 = (ushort)a.p.w.p1;
+    const bool first = down ? y == 0 : y == a.H - 1;
+    const int yq = down ? y - 1 : y + 1;
+    // The cost is needed for x in [x0, x1); the right strings of those pixels: rv[W - 1 - x + d].
+    AutoBuffer<unsigned> rvBuf(W + D);
+    reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, rvBuf.data());
+    AutoBuffer<ushort> cBuf(D), fBuf(D);
+    ushort* c = cBuf.data();
+    const unsigned* L = a.censusL.ptr<unsigned>(y);
+    const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
+    ushort* S = a.sum.ptr<ushort>(y);
+    const int prev = 1 - a.cur;
+    unsigned* rk = down ? nullptr : a.rightKeys.data() + (size_t)strip * W;
+    for (int x = x0; x < x1; x++)
+    {
+        costVector(rvBuf.data() + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1, a.p.w, D, c);
+        const ushort* out[3] = { nullptr, nullptr, nullptr };
+        for (int k = 0; k < a.ndirs; k++)
+        {
+            const int xp = x - a.dx[k];
+            ushort* o = a.L[k][a.cur].data() + (size_t)x * st + 1;
+            if (first || xp < 0 || xp >= W)
+                a.minL[k][a.cur][x] = pathStart(c, o, D);
+            else
+                a.minL[k][a.cur][x] = pathStep(c, a.L[k][prev].data() + (size_t)xp * st + 1, a.minL[k][prev][xp], o, D,
+                                               P1, jump(a, y, x, yq, xp));
+            out[k] = o;
+        }
+        ushort* s = S + (size_t)x * D;
+        if (down)
+        {
+            sumInto(s, s, out[0], out[1], out[2], D);
+            continue;
+        }
+        ushort* f = fBuf.data();
+        sumInto(f, s, out[0], out[1], out[2], D);
+        if (!a.finalSum.empty())
+            memcpy(a.finalSum.ptr<ushort>(y) + (size_t)x * D, f, D * sizeof(ushort));
+        selectPixel(f, x, W, a.p, a.disp16.ptr<short>(y)[x], a.dispInt.ptr<short>(y)[x], rk);
+    }
+}
+
+void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
+{
+    const int W = a.W, D = a.D;
+    AutoBuffer<unsigned> rvBuf(W + D);
+    for (int y = y0; y < y1; y++)
+    {
+        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvBuf.data());
+        const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
+        for (int x = 0; x < W; x++)
+            costVector(rvBuf.data() + (W - 1 - x), a.censusL.ptr<unsigned>(y)[x],
+                       prior ? priorIndex(prior[x], a.p.minDisparity) : -1, a.p.w, D, cost.ptr<ushort>(y) + (size_t)x * D);
+    }
+}
+
+void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& rightKeys)
+{
+    const int W = a.W, D = a.D;
+    AutoBuffer<ushort> fBuf(D);
+    for (int y = y0; y < y1; y++)
+        for (int x = 0; x < W; x++)
+        {
+            memcpy(fBuf.data(), sum.ptr<ushort>(y) + (size_t)x * D, D * sizeof(ushort));
+            selectPixel(fBuf.data(), x, W, a.p, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x],
+                        rightKeys.ptr<unsigned>(y));
+        }
+}
+
+#endif // CV_CPU_OPTIMIZATION_DECLARATIONS_ONLY
+
+CV_CPU_OPTIMIZATION_NAMESPACE_END
+}}} // namespace cv::lidarsgm::detail
