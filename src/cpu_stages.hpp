@@ -23,7 +23,7 @@ CV_EXPORTS void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p,
 CV_EXPORTS void censusTransform(const Mat& image, Mat& census);
 
 /** Semidensification (paper Eq. 5): among the sparse disparities q in the (2 rs + 1)^2 window of p, the best
-SemidenseCandidate (census cost H(p, round(q)) first) wins if its cost is below Ts; otherwise p keeps its own sparse
+candidate (semidenseKey: census cost H(p, round(q)) first) wins if its cost is below Ts; otherwise p keeps its own sparse
 value (or none). */
 CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
                             Mat& semidense16);

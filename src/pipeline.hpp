@@ -164,15 +164,16 @@ surface in front of it) when another value within its window is nearer, i.e. lar
 static LIDARSGM_HD bool hiddenBy(int other16, int d16, int tc16) { return other16 != NO_DISP && other16 - d16 > tc16; }
 
 /** Semidensification's candidate order (paper Eq. 5 is an argmin; most winners cost 0, so ties are common): the
-lowest census cost, then the nearest (squared distance), then the first row, then the first column. */
-struct SemidenseCandidate
+lowest census cost, then the nearest (squared distance), then the first row, then the first column, packed into one
+31-bit key, the lowest wins: cost (5 bits), dx^2 + dy^2 (12 bits), dy + rs and dx + rs (7 bits each), where
+(dx, dy) = (c - x, q - y) is the candidate's offset from the pixel and rs <= 32 the radius. For one pixel, dy and dx
+order candidates as their rows and columns do. */
+static LIDARSGM_HD unsigned semidenseKey(int cost, int dx, int dy, int rs)
 {
-    int cost, dist, row, col;
-    LIDARSGM_HD bool betterThan(const SemidenseCandidate& o) const
-    {
-        return cost != o.cost ? cost < o.cost : dist != o.dist ? dist < o.dist : row != o.row ? row < o.row : col < o.col;
-    }
-};
+    return ((unsigned)cost << 26) | ((unsigned)(dx * dx + dy * dy) << 14) | ((unsigned)(dy + rs) << 7) | (unsigned)(dx + rs);
+}
+//! The census cost of a key.
+static LIDARSGM_HD int semidenseKeyCost(unsigned key) { return (int)(key >> 26); }
 
 /* The 3x3 median of a disparity map: "no disparity" ranks above every value (so a pixel with 5 or more invalid
 neighbours stays invalid, as in the paper's public code), coordinates outside the image are clamped (the census'

@@ -1,11 +1,13 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Semidensification's rows (semidensification.dispatch.cpp), compiled once per instruction set: the census costs of
-// the candidates are popcounts, one instruction where the CPU has it.
+// Semidensification's rows (semidensification.dispatch.cpp), compiled once per instruction set. Each sparse point
+// offers itself to the pixels of its row span [c - rs, c + rs] in the rows within rs of it: the census costs of one
+// point at consecutive pixels are one vector of popcounts, and each pixel keeps the lowest semidenseKey.
 
 #include "cpu_stages.hpp"
 #include "sparse_window.hpp"
+#include "opencv2/core/hal/intrin.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
@@ -18,38 +20,61 @@ void semidensifyRows(const Mat& censusL, const Mat& censusR, const Mat& sparse16
 void semidensifyRows(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const SparseColumns& cols,
                      const PipelineParams& p, Mat& semidense16, const Range& r)
 {
-    const int W = censusL.cols, rs = p.semidenseRadius, Ts = p.semidenseThreshold;
+    const int W = censusL.cols, rs = p.semidenseRadius, Ts = p.semidenseThreshold, span = 2 * rs + 1;
+    // Sparse values are in the search range, so their rounded disparities k lie in [minD, minD + D - 1]: the right
+    // row padded (clamped) by that much on both sides gives R[clamp(x - k)] at Rp[pad + x - k] without a branch.
+    const int kLo = std::min(p.minDisparity, 0), kHi = std::max(p.minDisparity + p.numDisparities - 1, 0);
+    const int padL = kHi, padR = -kLo;
+    AutoBuffer<unsigned> rpBuf(W + padL + padR), keyBuf(W), valBuf(W), colBuf(span);
+    unsigned *Rp = rpBuf.data(), *keys = keyBuf.data(), *vals = valBuf.data(), *colPart = colBuf.data();
+    // The column part of the key at span position j (pixel x = c - rs + j, dx = rs - j).
+    for (int j = 0; j < span; j++)
+        colPart[j] = semidenseKey(0, rs - j, 0, rs) - semidenseKey(0, 0, 0, rs);
     WindowCursor cur(cols, rs, r.start);
     for (int y = r.start; y < r.end; y++)
     {
         cur.moveTo(y);
         const unsigned* L = censusL.ptr<unsigned>(y);
         const unsigned* R = censusR.ptr<unsigned>(y);
-        const short* own = sparse16.ptr<short>(y);
-        short* out = semidense16.ptr<short>(y);
-        for (int x = 0; x < W; x++)
-        {
-            SemidenseCandidate best = { INT_MAX, INT_MAX, INT_MAX, INT_MAX };
-            short bestVal = NO_DISP;
-            const int c0 = std::max(0, x - rs), c1 = std::min(W - 1, x + rs);
-            for (int c = c0; c <= c1; c++)
+        for (int j = -padL; j < W + padR; j++)
+            Rp[padL + j] = R[std::min(std::max(j, 0), W - 1)];
+        std::fill(keys, keys + W, 0xFFFFFFFFu);
+        for (int c = 0; c < W; c++)
+            for (int i = cur.lo[c]; i < cur.hi[c]; i++)
             {
-                for (int i = cur.lo[c]; i < cur.hi[c]; i++)
+                const int dy = cols.row[i] - y, k = roundDisp16(cols.value[i]);
+                const unsigned v = (unsigned)(ushort)cols.value[i];
+                const unsigned rowPart = semidenseKey(0, 0, dy, rs);
+                const unsigned* Rk = Rp + padL - k;
+                const int xs = std::max(c - rs, 0), xe = std::min(c + rs, W - 1);
+                int x = xs;
+#if (CV_SIMD || CV_SIMD_SCALABLE)
+                const int n = VTraits<v_uint32>::vlanes();
+                const v_uint32 vrow = vx_setall_u32(rowPart), vv = vx_setall_u32(v);
+                for (; x <= xe - n + 1; x += n)
                 {
-                    const int q = cols.row[i];
-                    const short v = cols.value[i];
-                    const int xr = std::min(std::max(x - roundDisp16(v), 0), W - 1);
-                    const SemidenseCandidate cand = { popcount32(L[x] ^ R[xr]),
-                                                      (c - x) * (c - x) + (q - y) * (q - y), q, c };
-                    if (cand.betterThan(best))
+                    const v_uint32 cost = v_popcount(v_xor(vx_load(L + x), vx_load(Rk + x)));
+                    const v_uint32 key = v_add(v_add(v_shl<26>(cost), vx_load(colPart + (x - c + rs))), vrow);
+                    const v_uint32 old = vx_load(keys + x);
+                    const v_uint32 better = v_lt(key, old);
+                    v_store(keys + x, v_select(better, key, old));
+                    v_store(vals + x, v_select(better, vv, vx_load(vals + x)));
+                }
+#endif
+                for (; x <= xe; x++)
+                {
+                    const unsigned key = semidenseKey(popcount32(L[x] ^ Rk[x]), c - x, dy, rs);
+                    if (key < keys[x])
                     {
-                        best = cand;
-                        bestVal = v;
+                        keys[x] = key;
+                        vals[x] = v;
                     }
                 }
             }
-            out[x] = best.cost < Ts ? bestVal : own[x];
-        }
+        const short* own = sparse16.ptr<short>(y);
+        short* out = semidense16.ptr<short>(y);
+        for (int x = 0; x < W; x++)
+            out[x] = semidenseKeyCost(keys[x]) < Ts ? (short)vals[x] : own[x];
     }
 }
 

@@ -1,8 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Semidensification, CUDA twin of src/semidensification.cpp: the same candidate order (SemidenseCandidate), so ties
-// resolve identically.
+// Semidensification, CUDA twin of src/semidensification.*: the same candidate order (semidenseKey), so ties resolve
+// identically.
 
 #include "sparse_window.cuh"
 #include "opencv2/core/cuda/common.hpp"
@@ -10,7 +10,7 @@
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 /* One block = 32 x 8 pixels; each pixel visits the sparse points of its block's tile (sparse_window.cuh). The choice
- uses the full key (SemidenseCandidate), so it does not depend on the order of the list. */
+ uses the full key (semidenseKey), so it does not depend on the order of the list. */
 __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                                 int rs, int Ts, PtrStepSz<short> out)
 {
@@ -23,7 +23,7 @@ __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, 
         return;
     const unsigned l = (unsigned)censusL(y, x);
     const int* R = censusR.ptr(y);
-    SemidenseCandidate best = { INT_MAX, INT_MAX, INT_MAX, INT_MAX };
+    unsigned best = 0xFFFFFFFFu;
     short bestVal = NO_DISP;
     for (int k = 0; k < n; k++)
     {
@@ -33,14 +33,14 @@ __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, 
             continue;
         const short v = (short)points[2 * k + 1];
         const int xr = ::min(::max(x - roundDisp16(v), 0), W - 1);
-        const SemidenseCandidate cand = { popcount32(l ^ (unsigned)R[xr]), (c - x) * (c - x) + (q - y) * (q - y), q, c };
-        if (cand.betterThan(best))
+        const unsigned key = semidenseKey(popcount32(l ^ (unsigned)R[xr]), c - x, q - y, rs);
+        if (key < best)
         {
-            best = cand;
+            best = key;
             bestVal = v;
         }
     }
-    out(y, x) = best.cost < Ts ? bestVal : sparse16(y, x);
+    out(y, x) = semidenseKeyCost(best) < Ts ? bestVal : sparse16(y, x);
 }
 
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,

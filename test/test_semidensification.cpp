@@ -72,3 +72,25 @@ TEST_F(Lidarsgm_Semidense, own_value_kept_when_nothing_matches)
 }
 
 }} // namespace
+
+namespace opencv_test { namespace {
+
+// semidenseKey orders the candidates of one pixel exactly as (cost, squared distance, row, column) lexicographically.
+TEST(Lidarsgm_Semidensify, key_order_is_the_lexicographic_order)
+{
+    using namespace cv::lidarsgm::detail;
+    RNG rng(11);
+    for (int rs : { 0, 1, 6, 32 })
+        for (int t = 0; t < 20000; t++)
+        {
+            const int c1 = rng.uniform(0, 32), c2 = rng.uniform(0, 32);
+            const int dx1 = rng.uniform(-rs, rs + 1), dy1 = rng.uniform(-rs, rs + 1);
+            const int dx2 = rng.uniform(-rs, rs + 1), dy2 = rng.uniform(-rs, rs + 1);
+            const int d1 = dx1 * dx1 + dy1 * dy1, d2 = dx2 * dx2 + dy2 * dy2;
+            const bool lex = c1 != c2 ? c1 < c2 : d1 != d2 ? d1 < d2 : dy1 != dy2 ? dy1 < dy2 : dx1 < dx2;
+            ASSERT_EQ(lex, semidenseKey(c1, dx1, dy1, rs) < semidenseKey(c2, dx2, dy2, rs));
+            ASSERT_EQ(c1, semidenseKeyCost(semidenseKey(c1, dx1, dy1, rs)));
+        }
+}
+
+}} // namespace
