@@ -34,9 +34,9 @@ void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, cons
 }
 
 // CV_CPU_DISPATCH returns from the function it stands in: one small function per kernel.
-void runHorizontalRows(AggregationState& a, int y0, int y1)
+void runHorizontalRow(AggregationState& a, int y)
 {
-    CV_CPU_DISPATCH(horizontalRows, (a, y0, y1), CV_CPU_DISPATCH_MODES_ALL);
+    CV_CPU_DISPATCH(horizontalRow, (a, y), CV_CPU_DISPATCH_MODES_ALL);
 }
 void runVerticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down)
 {
@@ -86,12 +86,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         a.finalSum = finalSum.getMat();
     }
 
-    // 1. Horizontal paths, rows in parallel.
-    parallel_for_(Range(0, H), [&](const Range& r) {
-        runHorizontalRows(a, r.start, r.end);
-    }, std::max(1, H / 8));
-
-    // 2. and 3. Vertical (and diagonal) paths, row by row; column strips in parallel.
+    // The strips of a row (a few more than threads, to balance with the horizontal paths of the row before).
     a.ndirs = p.numPaths == 8 ? 3 : 1;
     a.dx[0] = 0; a.dx[1] = 1; a.dx[2] = -1;
     for (int k = 0; k < a.ndirs; k++)
@@ -100,33 +95,47 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
             a.L[k][i].assign((size_t)W * a.stride, PATH_SENTINEL);
             a.minL[k][i].assign(W, 0);
         }
-    const int strips = std::max(1, std::min(getNumThreads(), W / 64));
+    a.costRow[0].create(1, W * D, CV_16UC1);
+    a.costRow[1].create(1, W * D, CV_16UC1);
+    const int threads = std::max(1, getNumThreads());
+    const int strips = threads == 1 ? 1 : std::max(1, std::min(2 * threads, W / 64));
     a.rightKeys.assign((size_t)strips * W, 0xFFFFFFFFu);
-    AutoBuffer<unsigned> merged(W);
-    for (int down = 1; down >= 0; down--)
+
+    // 1. Down: row y's strips (tasks 0 .. strips - 1) and the horizontal paths of row y - 1 (task strips) together.
+    a.cur = 0;
+    for (int y = 0; y <= H; y++)
     {
-        a.cur = 0;
-        for (int i = 0; i < H; i++)
+        const int first = y < H ? 0 : strips, last = y > 0 ? strips + 1 : strips;
+        parallel_for_(Range(first, last), [&](const Range& r) {
+            for (int t = r.start; t < r.end; t++)
+                if (t < strips)
+                    runVerticalStrip(a, y, W * t / strips, W * (t + 1) / strips, t, true);
+                else
+                    runHorizontalRow(a, y - 1);
+        }, last - first);
+        a.cur = 1 - a.cur;
+    }
+
+    // 2. Up: the bottom-up paths complete the sums; the winner is taken at once.
+    a.cur = 0;
+    AutoBuffer<unsigned> merged(W);
+    for (int y = H - 1; y >= 0; y--)
+    {
+        parallel_for_(Range(0, strips), [&](const Range& r) {
+            for (int s = r.start; s < r.end; s++)
+                runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, false);
+        }, strips);
+        a.cur = 1 - a.cur;
+        // The right view of row y: the lowest key any strip offered to each right pixel.
+        std::fill(merged.data(), merged.data() + W, 0xFFFFFFFFu);
+        for (int s = 0; s < strips; s++)
         {
-            const int y = down ? i : H - 1 - i;
-            parallel_for_(Range(0, strips), [&](const Range& r) {
-                for (int s = r.start; s < r.end; s++)
-                    runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, down != 0);
-            }, strips);
-            a.cur = 1 - a.cur;
-            if (down)
-                continue;
-            // The right view of row y: the lowest key any strip offered to each right pixel.
-            std::fill(merged.data(), merged.data() + W, 0xFFFFFFFFu);
-            for (int s = 0; s < strips; s++)
-            {
-                unsigned* rk = a.rightKeys.data() + (size_t)s * W;
-                for (int x = 0; x < W; x++)
-                    merged[x] = std::min(merged[x], rk[x]);
-                std::fill(rk, rk + W, 0xFFFFFFFFu);
-            }
-            rightKeysToDisparity(merged.data(), W, p.minDisparity, dispRight.ptr<short>(y));
+            unsigned* rk = a.rightKeys.data() + (size_t)s * W;
+            for (int x = 0; x < W; x++)
+                merged[x] = std::min(merged[x], rk[x]);
+            std::fill(rk, rk + W, 0xFFFFFFFFu);
         }
+        rightKeysToDisparity(merged.data(), W, p.minDisparity, dispRight.ptr<short>(y));
     }
 }
 

@@ -3,14 +3,16 @@
 
 // Semi-global aggregation (paper Eq. 2; the jump penalty is jumpPenalty, pipeline.hpp) over 4 paths (left-right,
 // right-left, top-down, bottom-up) or 8 (plus the four diagonals), with the matching cost computed as the paths go
-// (no cost volume) and the winner-takes-all done as each pixel's sum completes. Three sweeps, one 16-bit volume:
-//  1. horizontalRows: the two horizontal paths of each row (rows in parallel) write sum = L(lr) + L(rl);
-//  2. verticalStrip, down: top-down paths (1 or 3 directions, previous row at x - dx) add into sum;
-//  3. verticalStrip, up: bottom-up paths complete each pixel's sum, and selectPixel takes the winner.
-// Sweeps 2 and 3 go row by row; within a row, column strips run in parallel (a row depends only on the row before).
-// Path costs stay below the matching cost plus P2, and the weights are scaled so that the sum of all paths fits in
-// 16 bits: the saturating adds never saturate on real values, only on the 0xFFFF sentinels that stand for "d - 1 /
-// d + 1 out of range". Compiled once per instruction set (CPU dispatch, aggregation.dispatch.cpp).
+// (no cost volume) and the winner-takes-all done as each pixel's sum completes. Two sweeps over one 16-bit volume:
+//  1. down, row by row: verticalStrip (column strips in parallel) computes the row's costs into a cost row and the
+//     top-down paths (1 or 3 directions, previous row at x - dx), and stores their sum; horizontalRow then adds the
+//     row's two horizontal paths from the same cost row, while the strips already work on the next row;
+//  2. up, row by row: verticalStrip computes the costs again and the bottom-up paths, completes each pixel's sum,
+//     and selectPixel takes the winner.
+// A row depends only on the row before, so the strips of a row run in parallel. Path costs stay below the matching
+// cost plus P2, and the weights are scaled so that the sum of all paths fits in 16 bits: the saturating adds never
+// saturate on real values, only on the 0xFFFF sentinels that stand for "d - 1 / d + 1 out of range". Compiled once per
+// instruction set (CPU dispatch, aggregation.dispatch.cpp).
 
 #include "cpu_stages.hpp"
 #include "opencv2/core/hal/intrin.hpp"
@@ -28,7 +30,8 @@ struct AggregationState
     Mat censusL, censusR, prior16, intensity;   // intensity: CV_16U left image, empty without the edge rule
     PipelineParams p;
     int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
-    Mat sum;                                    // H x (W * D) 16-bit: horizontal paths, then + top-down
+    Mat sum;                                    // H x (W * D) 16-bit: top-down, then + horizontal paths
+    Mat costRow[2];                             // 1 x (W * D) 16-bit: the costs of the last two rows (down sweep)
     Mat finalSum;                               // optional (tests): the complete sums
     Mat disp16, dispInt;                        // outputs of the winner-takes-all
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
@@ -43,7 +46,7 @@ struct AggregationState
 namespace cv { namespace lidarsgm { namespace detail {
 CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 
-void horizontalRows(AggregationState& a, int y0, int y1);
+void horizontalRow(AggregationState& a, int y);
 void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down);
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
 void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& rightKeys);
@@ -131,42 +134,31 @@ inline ushort jump(const AggregationState& a, int y, int x, int yq, int xq)
 
 } // namespace
 
-void horizontalRows(AggregationState& a, int y0, int y1)
+void horizontalRow(AggregationState& a, int y)
 {
     const int W = a.W, D = a.D;
     const ushort P1 = (ushort)a.p.w.p1;
-    AutoBuffer<ushort> costBuf((size_t)W * D), pathBuf(2 * (size_t)a.stride);
-    AutoBuffer<unsigned> rvBuf(W + D);
-    ushort* C = costBuf.data();
-    ushort* pa = pathBuf.data() + 1;
-    ushort* pb = pa + a.stride;
-    pa[-1] = pa[D] = pb[-1] = pb[D] = SENTINEL;
-    for (int y = y0; y < y1; y++)
+    AutoBuffer<ushort> pathBuf(2 * (size_t)a.stride);
+    ushort* u = pathBuf.data() + 1;
+    ushort* v = u + a.stride;
+    u[-1] = u[D] = v[-1] = v[D] = SENTINEL;
+    const ushort* C = a.costRow[y & 1].ptr<ushort>();
+    ushort* S = a.sum.ptr<ushort>(y);
+    ushort m = pathStart(C, u, D);
+    sumInto(S, S, u, nullptr, nullptr, D);
+    for (int x = 1; x < W; x++)
     {
-        const unsigned* L = a.censusL.ptr<unsigned>(y);
-        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvBuf.data());
-        const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
-        for (int x = 0; x < W; x++)
-            costVector(rvBuf.data() + (W - 1 - x), L[x], prior ? priorIndex(prior[x], a.p.minDisparity) : -1, a.p.w,
-                       D, C + (size_t)x * D);
-        ushort* S = a.sum.ptr<ushort>(y);
-        ushort *u = pa, *v = pb;
-        ushort m = pathStart(C, u, D);
-        memcpy(S, u, D * sizeof(ushort));
-        for (int x = 1; x < W; x++)
-        {
-            m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, y, x, y, x - 1));
-            memcpy(S + (size_t)x * D, v, D * sizeof(ushort));
-            std::swap(u, v);
-        }
-        m = pathStart(C + (size_t)(W - 1) * D, u, D);
-        sumInto(S + (size_t)(W - 1) * D, S + (size_t)(W - 1) * D, u, nullptr, nullptr, D);
-        for (int x = W - 2; x >= 0; x--)
-        {
-            m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, y, x, y, x + 1));
-            sumInto(S + (size_t)x * D, S + (size_t)x * D, v, nullptr, nullptr, D);
-            std::swap(u, v);
-        }
+        m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, y, x, y, x - 1));
+        sumInto(S + (size_t)x * D, S + (size_t)x * D, v, nullptr, nullptr, D);
+        std::swap(u, v);
+    }
+    m = pathStart(C + (size_t)(W - 1) * D, u, D);
+    sumInto(S + (size_t)(W - 1) * D, S + (size_t)(W - 1) * D, u, nullptr, nullptr, D);
+    for (int x = W - 2; x >= 0; x--)
+    {
+        m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, y, x, y, x + 1));
+        sumInto(S + (size_t)x * D, S + (size_t)x * D, v, nullptr, nullptr, D);
+        std::swap(u, v);
     }
 }
 
@@ -176,55 +168,70 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const ushort P1 = (ushort)a.p.w.p1;
     const bool first = down ? y == 0 : y == a.H - 1;
     const int yq = down ? y - 1 : y + 1;
-    // The cost is needed for x in [x0, x1); the right strings of those pixels: rv[W - 1 - x + d].
-    AutoBuffer<unsigned> rvBuf(W + D);
-    reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, rvBuf.data());
-    AutoBuffer<ushort> cBuf(D), fBuf(D);
-    ushort* c = cBuf.data();
+    // The right strings of the strip's pixels: rv[W - 1 - x + d].
+    AutoBuffer<ushort> rvBuf(2 * (W + D)), cBuf(D), fBuf(D);
+    ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
+    reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, rvLo, rvHi);
     const unsigned* L = a.censusL.ptr<unsigned>(y);
     const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
     ushort* S = a.sum.ptr<ushort>(y);
+    // Down: the costs go to the row's cost row, for horizontalRow. Up: to a scratch vector.
+    ushort* costRow = down ? a.costRow[y & 1].ptr<ushort>() : nullptr;
     const int prev = 1 - a.cur;
-    unsigned* rk = down ? nullptr : a.rightKeys.data() + (size_t)strip * W;
-    for (int x = x0; x < x1; x++)
+    ushort *curL[3] = {}, *prevL[3] = {}, *curMin[3] = {}, *prevMin[3] = {};
+    for (int k = 0; k < a.ndirs; k++)
     {
-        costVector(rvBuf.data() + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1, a.p.w, D, c);
+        curL[k] = a.L[k][a.cur].data() + 1;
+        prevL[k] = a.L[k][prev].data() + 1;
+        curMin[k] = a.minL[k][a.cur].data();
+        prevMin[k] = a.minL[k][prev].data();
+    }
+    const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
+    const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
+    unsigned* rk = down ? nullptr : a.rightKeys.data() + (size_t)strip * W;
+    auto pixel = [&](int x) {
+        ushort* c = down ? costRow + (size_t)x * D : cBuf.data();
+        costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1, a.p.w, D, c);
         const ushort* out[3] = { nullptr, nullptr, nullptr };
         for (int k = 0; k < a.ndirs; k++)
         {
             const int xp = x - a.dx[k];
-            ushort* o = a.L[k][a.cur].data() + (size_t)x * st + 1;
+            ushort* o = curL[k] + (size_t)x * st;
             if (first || xp < 0 || xp >= W)
-                a.minL[k][a.cur][x] = pathStart(c, o, D);
+                curMin[k][x] = pathStart(c, o, D);
             else
-                a.minL[k][a.cur][x] = pathStep(c, a.L[k][prev].data() + (size_t)xp * st + 1, a.minL[k][prev][xp], o, D,
-                                               P1, jump(a, y, x, yq, xp));
+                curMin[k][x] = pathStep(c, prevL[k] + (size_t)xp * st, prevMin[k][xp], o, D, P1,
+                                        Iq ? (ushort)jumpPenalty(I[x], Iq[xp], a.p.edgeThreshold, a.p.w)
+                                           : (ushort)a.p.w.p2);
             out[k] = o;
         }
         ushort* s = S + (size_t)x * D;
         if (down)
         {
-            sumInto(s, s, out[0], out[1], out[2], D);
-            continue;
+            sumInto(s, out[0], out[1], out[2], nullptr, D);
+            return;
         }
         ushort* f = fBuf.data();
         sumInto(f, s, out[0], out[1], out[2], D);
         if (!a.finalSum.empty())
             memcpy(a.finalSum.ptr<ushort>(y) + (size_t)x * D, f, D * sizeof(ushort));
         selectPixel(f, x, W, a.p, a.disp16.ptr<short>(y)[x], a.dispInt.ptr<short>(y)[x], rk);
-    }
+    };
+    for (int x = x0; x < x1; x++)
+        pixel(x);
 }
 
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
 {
     const int W = a.W, D = a.D;
-    AutoBuffer<unsigned> rvBuf(W + D);
+    AutoBuffer<ushort> rvBuf(2 * (W + D));
+    ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
     for (int y = y0; y < y1; y++)
     {
-        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvBuf.data());
+        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvLo, rvHi);
         const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
         for (int x = 0; x < W; x++)
-            costVector(rvBuf.data() + (W - 1 - x), a.censusL.ptr<unsigned>(y)[x],
+            costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), a.censusL.ptr<unsigned>(y)[x],
                        prior ? priorIndex(prior[x], a.p.minDisparity) : -1, a.p.w, D, cost.ptr<ushort>(y) + (size_t)x * D);
     }
 }

@@ -5,36 +5,49 @@
 // disparity-matching cost (DDC) where a prior (sparse or semidense) disparity exists (matchingCost, pipeline.hpp).
 // Included by aggregation.simd.hpp, inside its CPU-dispatch namespace: compiled once per instruction set.
 
-/** The reversed, clamped right census row: rv[j] = R[clamp(W - 1 - minD - j)], j in [0, W + D - 1). The right pixels
-x - minD - d of left pixel x are then rv[W - 1 - x + d]: contiguous and increasing in d. */
-static inline void reversedRightRow(const unsigned* R, int W, int minD, int D, unsigned* rv)
+/** The reversed, clamped right census row, split into 16-bit halves: rv[j] = R[clamp(W - 1 - minD - j)], j in
+[0, W + D - 1), low halves in rvLo, high halves in rvHi. The right pixels x - minD - d of left pixel x are then at
+j = W - 1 - x + d: contiguous and increasing in d. 16-bit halves keep the Hamming distances in 16-bit lanes. */
+static inline void reversedRightRow(const unsigned* R, int W, int minD, int D, ushort* rvLo, ushort* rvHi)
 {
     for (int j = 0; j < W + D - 1; j++)
-        rv[j] = R[std::min(std::max(W - 1 - minD - j, 0), W - 1)];
+    {
+        const unsigned r = R[std::min(std::max(W - 1 - minD - j, 0), W - 1)];
+        rvLo[j] = (ushort)(r & 0xFFFF);
+        rvHi[j] = (ushort)(r >> 16);
+    }
 }
 
-/** C(p, d) for d in [0, D): left census string l, right strings rvx[d] (rv + W - 1 - x), prior index k (-1: none).
-The vector loop adds Q2 at every disparity where a prior exists; the three costs around it then follow the rule. */
-static inline void costVector(const unsigned* rvx, unsigned l, int k, const CostWeights& w, int D, ushort* c)
+/** C(p, d) for d in [0, D): left census string l, the right strings' halves at rvLo[d], rvHi[d] (offset W - 1 - x),
+prior index k (-1: none). The vector loop adds Q2 at every disparity where a prior exists; the three costs around it
+then follow the rule. */
+static inline void costVector(const ushort* rvLo, const ushort* rvHi, unsigned l, int k, const CostWeights& w, int D,
+                              ushort* c)
 {
     int d = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
-    const int n32 = VTraits<v_uint32>::vlanes(), n16 = VTraits<v_uint16>::vlanes();
-    const v_uint32 vl = vx_setall_u32(l), vw = vx_setall_u32((unsigned)w.census256), vhalf = vx_setall_u32(128);
-    const v_uint16 vadd = vx_setall_u16(k >= 0 ? (ushort)w.q2 : (ushort)0);
+    // The Hamming distance: byte popcounts of both halves added (at most 16 a byte), then the two bytes of each
+    // 16-bit lane. census256 * h / 256 rounded: with census256 = 256 hi + lo, it is hi h + (lo h + 128) / 256 (exact:
+    // 256 hi h is a multiple of 256), and both products stay below 2^13 for h <= 31.
+    const int n16 = VTraits<v_uint16>::vlanes();
+    const v_uint16 vlLo = vx_setall_u16((ushort)(l & 0xFFFF)), vlHi = vx_setall_u16((ushort)(l >> 16)),
+                   vbyte = vx_setall_u16(0xFF), vhi = vx_setall_u16((ushort)(w.census256 >> 8)),
+                   vlo = vx_setall_u16((ushort)(w.census256 & 255)), vhalf = vx_setall_u16(128),
+                   vadd = vx_setall_u16(k >= 0 ? (ushort)w.q2 : (ushort)0);
     for (; d <= D - n16; d += n16)
     {
-        v_uint32 h0 = v_popcount(v_xor(vx_load(rvx + d), vl));
-        v_uint32 h1 = v_popcount(v_xor(vx_load(rvx + d + n32), vl));
-        h0 = v_shr<8>(v_add(v_mul(h0, vw), vhalf));
-        h1 = v_shr<8>(v_add(v_mul(h1, vw), vhalf));
-        v_store(c + d, v_add(v_pack(h0, h1), vadd));
+        const v_uint8 pc = v_add(v_popcount(v_reinterpret_as_u8(v_xor(vx_load(rvLo + d), vlLo))),
+                                 v_popcount(v_reinterpret_as_u8(v_xor(vx_load(rvHi + d), vlHi))));
+        const v_uint16 pw = v_reinterpret_as_u16(pc);
+        const v_uint16 h = v_add(v_and(pw, vbyte), v_shr<8>(pw));
+        const v_uint16 t = v_add(v_mul(h, vhi), v_shr<8>(v_add(v_mul(h, vlo), vhalf)));
+        v_store(c + d, v_add(t, vadd));
     }
 #endif
     for (; d < D; d++)
-        c[d] = (ushort)matchingCost(popcount32(rvx[d] ^ l), d, k, w);
+        c[d] = (ushort)matchingCost(popcount32((((unsigned)rvHi[d] << 16) | rvLo[d]) ^ l), d, k, w);
     for (int j = std::max(k - 1, 0); k >= 0 && j <= std::min(k + 1, D - 1); j++)
-        c[j] = (ushort)matchingCost(popcount32(rvx[j] ^ l), j, k, w);
+        c[j] = (ushort)matchingCost(popcount32((((unsigned)rvHi[j] << 16) | rvLo[j]) ^ l), j, k, w);
 }
 
 //! The prior index of a prior value (1/16 pixel, NO_DISP: none): round(prior) - minD, or -1.

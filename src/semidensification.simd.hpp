@@ -24,21 +24,33 @@ void semidensifyRows(const Mat& censusL, const Mat& censusR, const Mat& sparse16
     // Sparse values are in the search range, so their rounded disparities k lie in [minD, minD + D - 1]: the right
     // row padded (clamped) by that much on both sides gives R[clamp(x - k)] at Rp[pad + x - k] without a branch.
     const int kLo = std::min(p.minDisparity, 0), kHi = std::max(p.minDisparity + p.numDisparities - 1, 0);
-    const int padL = kHi, padR = -kLo;
-    AutoBuffer<unsigned> rpBuf(W + padL + padR), keyBuf(W), valBuf(W), colBuf(span);
-    unsigned *Rp = rpBuf.data(), *keys = keyBuf.data(), *vals = valBuf.data(), *colPart = colBuf.data();
-    // The column part of the key at span position j (pixel x = c - rs + j, dx = rs - j).
-    for (int j = 0; j < span; j++)
-        colPart[j] = semidenseKey(0, rs - j, 0, rs) - semidenseKey(0, 0, 0, rs);
+#if (CV_SIMD || CV_SIMD_SCALABLE)
+    const int n = VTraits<v_uint32>::vlanes();
+#else
+    const int n = 1;
+#endif
+    // Whole vectors cover a span: the pixels, keys and values run n past the row's end, and the lanes past a span's
+    // end carry the largest key (they never win).
+    const int spanV = (span + n - 1) / n * n;
+    const int padL = kHi, padR = -kLo + spanV;
+    AutoBuffer<unsigned> rpBuf(W + padL + padR), lBuf(W + spanV), keyBuf(W + spanV), valBuf(W + spanV),
+                         colBuf(spanV + n);
+    unsigned *Rp = rpBuf.data(), *Lp = lBuf.data(), *keys = keyBuf.data(), *vals = valBuf.data(),
+             *colPart = colBuf.data();
+    std::fill(Lp + W, Lp + W + spanV, 0u);
+    // The column part of the key at span position j (pixel x = c - rs + j, dx = rs - j); a span that starts at the
+    // image's left edge starts at j > 0, so its last vector may reach j = span + n - 2.
+    for (int j = 0; j < spanV + n; j++)
+        colPart[j] = j < span ? semidenseKey(0, rs - j, 0, rs) - semidenseKey(0, 0, 0, rs) : 0xFFFFFFFFu;
     WindowCursor cur(cols, rs, r.start);
     for (int y = r.start; y < r.end; y++)
     {
         cur.moveTo(y);
-        const unsigned* L = censusL.ptr<unsigned>(y);
         const unsigned* R = censusR.ptr<unsigned>(y);
         for (int j = -padL; j < W + padR; j++)
             Rp[padL + j] = R[std::min(std::max(j, 0), W - 1)];
-        std::fill(keys, keys + W, 0xFFFFFFFFu);
+        memcpy(Lp, censusL.ptr<unsigned>(y), W * sizeof(unsigned));
+        std::fill(keys, keys + W + spanV, 0xFFFFFFFFu);
         for (int c = 0; c < W; c++)
             for (int i = cur.lo[c]; i < cur.hi[c]; i++)
             {
@@ -49,12 +61,13 @@ void semidensifyRows(const Mat& censusL, const Mat& censusR, const Mat& sparse16
                 const int xs = std::max(c - rs, 0), xe = std::min(c + rs, W - 1);
                 int x = xs;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
-                const int n = VTraits<v_uint32>::vlanes();
                 const v_uint32 vrow = vx_setall_u32(rowPart), vv = vx_setall_u32(v);
-                for (; x <= xe - n + 1; x += n)
+                for (; x <= xe; x += n)
                 {
-                    const v_uint32 cost = v_popcount(v_xor(vx_load(L + x), vx_load(Rk + x)));
-                    const v_uint32 key = v_add(v_add(v_shl<26>(cost), vx_load(colPart + (x - c + rs))), vrow);
+                    // Past xe, colPart holds the largest key: v_max keeps it there whatever the sum wrapped to.
+                    const v_uint32 cost = v_popcount(v_xor(vx_load(Lp + x), vx_load(Rk + x)));
+                    const v_uint32 col = vx_load(colPart + (x - c + rs));
+                    const v_uint32 key = v_max(v_add(v_add(v_shl<26>(cost), col), vrow), col);
                     const v_uint32 old = vx_load(keys + x);
                     const v_uint32 better = v_lt(key, old);
                     v_store(keys + x, v_select(better, key, old));
@@ -63,7 +76,7 @@ void semidensifyRows(const Mat& censusL, const Mat& censusR, const Mat& sparse16
 #endif
                 for (; x <= xe; x++)
                 {
-                    const unsigned key = semidenseKey(popcount32(L[x] ^ Rk[x]), c - x, dy, rs);
+                    const unsigned key = semidenseKey(popcount32(Lp[x] ^ Rk[x]), c - x, dy, rs);
                     if (key < keys[x])
                     {
                         keys[x] = key;
