@@ -46,16 +46,10 @@ void runCostRows(const AggregationState& a, int y0, int y1, Mat& cost)
 {
     CV_CPU_DISPATCH(costRows, (a, y0, y1, cost), CV_CPU_DISPATCH_MODES_ALL);
 }
-void runSelectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& keys)
+void runSelectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt,
+                   Mat& dispRight)
 {
-    CV_CPU_DISPATCH(selectRows, (a, sum, y0, y1, disp16, dispInt, keys), CV_CPU_DISPATCH_MODES_ALL);
-}
-
-//! Right-view keys (cost << 16 | d) to disparities.
-void rightKeysToDisparity(const unsigned* key, int W, int minD, short* dispRight)
-{
-    for (int x = 0; x < W; x++)
-        dispRight[x] = (short)(key[x] == 0xFFFFFFFFu ? NO_DISP : (int)(key[x] & 0xFFFFu) + minD);
+    CV_CPU_DISPATCH(selectRows, (a, sum, y0, y1, disp16, dispInt, dispRight), CV_CPU_DISPATCH_MODES_ALL);
 }
 
 } // namespace
@@ -86,7 +80,8 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         a.finalSum = finalSum.getMat();
     }
 
-    // The strips of a row (a few more than threads, to balance with the horizontal paths of the row before).
+    // The strips of a row: several per thread, so that the threads that do not take the horizontal paths of the row
+    // before (the longest task of a down step, started first) share the strips evenly.
     a.ndirs = p.numPaths == 8 ? 3 : 1;
     a.dx[0] = 0; a.dx[1] = 1; a.dx[2] = -1;
     for (int k = 0; k < a.ndirs; k++)
@@ -98,27 +93,28 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.costRow[0].create(1, W * D, CV_16UC1);
     a.costRow[1].create(1, W * D, CV_16UC1);
     const int threads = std::max(1, getNumThreads());
-    const int strips = threads == 1 ? 1 : std::max(1, std::min(2 * threads, W / 64));
-    a.rightKeys.assign((size_t)strips * W, 0xFFFFFFFFu);
+    const int strips = threads == 1 ? 1 : std::max(1, std::min(4 * threads, W / 32));
+    a.rightCost.assign((size_t)strips * W, 0);
+    a.rightIndex.assign((size_t)strips * W, (ushort)RightView::NONE);
 
-    // 1. Down: row y's strips (tasks 0 .. strips - 1) and the horizontal paths of row y - 1 (task strips) together.
+    // 1. Down: the horizontal paths of row y - 1 (task 0) and row y's strips (tasks 1 .. strips) together.
     a.cur = 0;
     for (int y = 0; y <= H; y++)
     {
-        const int first = y < H ? 0 : strips, last = y > 0 ? strips + 1 : strips;
+        const int first = y > 0 ? 0 : 1, last = y < H ? strips + 1 : 1;
         parallel_for_(Range(first, last), [&](const Range& r) {
             for (int t = r.start; t < r.end; t++)
-                if (t < strips)
-                    runVerticalStrip(a, y, W * t / strips, W * (t + 1) / strips, t, true);
-                else
+                if (t == 0)
                     runHorizontalRow(a, y - 1);
+                else
+                    runVerticalStrip(a, y, W * (t - 1) / strips, W * t / strips, t - 1, true);
         }, last - first);
         a.cur = 1 - a.cur;
     }
 
     // 2. Up: the bottom-up paths complete the sums; the winner is taken at once.
     a.cur = 0;
-    AutoBuffer<unsigned> merged(W);
+    AutoBuffer<ushort> mergedCost(W), mergedIndex(W);
     for (int y = H - 1; y >= 0; y--)
     {
         parallel_for_(Range(0, strips), [&](const Range& r) {
@@ -126,16 +122,30 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
                 runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, false);
         }, strips);
         a.cur = 1 - a.cur;
-        // The right view of row y: the lowest key any strip offered to each right pixel.
-        std::fill(merged.data(), merged.data() + W, 0xFFFFFFFFu);
+        // The right view of row y: strip by strip from the left, a strip's candidate replaces the one so far only at
+        // a lower cost (its disparities are larger: RightView). Strip s offers to right pixels
+        // [x0 - minD - D + 1, x1 - minD) only, u = W - 1 - xr.
+        std::fill(mergedIndex.data(), mergedIndex.data() + W, (ushort)RightView::NONE);
         for (int s = 0; s < strips; s++)
         {
-            unsigned* rk = a.rightKeys.data() + (size_t)s * W;
-            for (int x = 0; x < W; x++)
-                merged[x] = std::min(merged[x], rk[x]);
-            std::fill(rk, rk + W, 0xFFFFFFFFu);
+            ushort* c = a.rightCost.data() + (size_t)s * W;
+            ushort* k = a.rightIndex.data() + (size_t)s * W;
+            const int lo = std::max(W - W * (s + 1) / strips + p.minDisparity, 0);
+            const int hi = std::min(W - W * s / strips + p.minDisparity + D - 1, W);
+            for (int u = lo; u < hi; u++)
+                if (k[u] != RightView::NONE && (mergedIndex[u] == RightView::NONE || c[u] < mergedCost[u]))
+                {
+                    mergedCost[u] = c[u];
+                    mergedIndex[u] = k[u];
+                }
+            std::fill(k + lo, k + std::max(lo, hi), (ushort)RightView::NONE);
         }
-        rightKeysToDisparity(merged.data(), W, p.minDisparity, dispRight.ptr<short>(y));
+        short* dr = dispRight.ptr<short>(y);
+        for (int xr = 0; xr < W; xr++)
+        {
+            const ushort k = mergedIndex[W - 1 - xr];
+            dr[xr] = (short)(k == RightView::NONE ? NO_DISP : k + p.minDisparity);
+        }
     }
 }
 
@@ -161,11 +171,8 @@ void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& dis
     disp16.create(a.H, a.W, CV_16SC1);
     dispInt.create(a.H, a.W, CV_16SC1);
     dispRight.create(a.H, a.W, CV_16SC1);
-    Mat keys(a.H, a.W, CV_32SC1, Scalar::all(-1));
     parallel_for_(Range(0, a.H), [&](const Range& r) {
-        runSelectRows(a, sum, r.start, r.end, disp16, dispInt, keys);
-        for (int y = r.start; y < r.end; y++)
-            rightKeysToDisparity(keys.ptr<unsigned>(y), a.W, p.minDisparity, dispRight.ptr<short>(y));
+        runSelectRows(a, sum, r.start, r.end, disp16, dispInt, dispRight);
     }, std::max(1, a.H / 16));
 }
 

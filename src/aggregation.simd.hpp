@@ -24,6 +24,18 @@ namespace cv { namespace lidarsgm { namespace detail {
 //! Stands for "d - 1 / d + 1 out of range" beside a pixel's path costs (and for "no key" in the right view).
 const ushort PATH_SENTINEL = 0xFFFF;
 
+/** The right view's best candidates so far, indexed by u = W - 1 - xr (reversed, so that the candidates one pixel
+offers are contiguous and increasing in d): the lowest cost and its disparity index, NONE where nothing was offered
+yet. A later candidate replaces an earlier one only at a lower cost, so of equal costs the first one offered stays:
+the pixels of a row offer in increasing x, i.e. in increasing d for a given right pixel, so that is the smallest d,
+as on the GPU (where the (cost << 16 | d) keys are compared). */
+struct RightView
+{
+    enum { NONE = 0xFFFF };
+    ushort* cost;
+    ushort* index;
+};
+
 //! Everything the sweeps of one call share (made by aggregation.dispatch.cpp).
 struct AggregationState
 {
@@ -37,7 +49,7 @@ struct AggregationState
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
     std::vector<ushort> L[3][2], minL[3][2];    // per direction, the previous and current row of path costs
     int cur;                                    // which of the two rows is the current one
-    std::vector<unsigned> rightKeys;            // per strip, W keys of the right view (selectPixel)
+    std::vector<ushort> rightCost, rightIndex;  // per strip, W entries of the right view (RightView)
 };
 
 }}} // namespace cv::lidarsgm::detail
@@ -49,7 +61,7 @@ CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 void horizontalRow(AggregationState& a, int y);
 void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down);
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
-void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& rightKeys);
+void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight);
 
 #ifndef CV_CPU_OPTIMIZATION_DECLARATIONS_ONLY
 
@@ -188,7 +200,12 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     }
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
     const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
-    unsigned* rk = down ? nullptr : a.rightKeys.data() + (size_t)strip * W;
+    RightView rv = { nullptr, nullptr };
+    if (!down)
+    {
+        rv.cost = a.rightCost.data() + (size_t)strip * W;
+        rv.index = a.rightIndex.data() + (size_t)strip * W;
+    }
     auto pixel = [&](int x) {
         ushort* c = down ? costRow + (size_t)x * D : cBuf.data();
         costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1, a.p.w, D, c);
@@ -215,7 +232,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
         sumInto(f, s, out[0], out[1], out[2], D);
         if (!a.finalSum.empty())
             memcpy(a.finalSum.ptr<ushort>(y) + (size_t)x * D, f, D * sizeof(ushort));
-        selectPixel(f, x, W, a.p, a.disp16.ptr<short>(y)[x], a.dispInt.ptr<short>(y)[x], rk);
+        selectPixel(f, x, W, a.p, a.disp16.ptr<short>(y)[x], a.dispInt.ptr<short>(y)[x], rv);
     };
     for (int x = x0; x < x1; x++)
         pixel(x);
@@ -236,17 +253,26 @@ void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
     }
 }
 
-void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& rightKeys)
+void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight)
 {
     const int W = a.W, D = a.D;
-    AutoBuffer<ushort> fBuf(D);
+    AutoBuffer<ushort> fBuf(D), costBuf(W), indexBuf(W);
+    RightView rv = { costBuf.data(), indexBuf.data() };
     for (int y = y0; y < y1; y++)
+    {
+        std::fill(rv.index, rv.index + W, (ushort)RightView::NONE);
         for (int x = 0; x < W; x++)
         {
             memcpy(fBuf.data(), sum.ptr<ushort>(y) + (size_t)x * D, D * sizeof(ushort));
-            selectPixel(fBuf.data(), x, W, a.p, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x],
-                        rightKeys.ptr<unsigned>(y));
+            selectPixel(fBuf.data(), x, W, a.p, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x], rv);
         }
+        short* dr = dispRight.ptr<short>(y);
+        for (int xr = 0; xr < W; xr++)
+        {
+            const ushort k = rv.index[W - 1 - xr];
+            dr[xr] = (short)(k == RightView::NONE ? NO_DISP : k + a.p.minDisparity);
+        }
+    }
 }
 
 #endif // CV_CPU_OPTIMIZATION_DECLARATIONS_ONLY

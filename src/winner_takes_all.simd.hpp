@@ -4,12 +4,13 @@
 // Winner-takes-all of one pixel (paper Eq. 3) from its aggregated costs, with
 //  - the uniqueness check: best * 1024 <= uniqueness1024 * (lowest cost more than one disparity away), else invalid;
 //  - the parabola fit through the costs at d - 1, d, d + 1 (subpixelOffset16, pipeline.hpp);
-//  - the right view: the pixel offers (cost << 16 | d) to the right pixel x - minD - d; each right pixel keeps the
-//    lowest key, so the right-view disparity is the lowest cost along its diagonal x + d.
+//  - the right view: the pixel offers its cost at d to the right pixel x - minD - d; each right pixel keeps the lowest
+//    cost (the first of equal ones, see RightView), so its disparity is the lowest cost along its diagonal x + d.
 // Ties go to the smallest disparity everywhere (the CUDA twin compares the same keys).
 // Included by aggregation.simd.hpp, inside its CPU-dispatch namespace: compiled once per instruction set.
+// (RightView is defined in aggregation.simd.hpp, outside that namespace.)
 
-static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p, short& d16, short& dInt, unsigned* rightKey)
+static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p, short& d16, short& dInt, RightView rv)
 {
     const int D = p.numDisparities, minD = p.minDisparity;
     int d = 0;
@@ -38,32 +39,37 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
         if (s[d] == minv)
             best = d;
 
-    // Right view, before the uniqueness check may reject this pixel (it does not affect the right view).
-    const int xr0 = x - minD;
-    const int kEnd = std::min(D, xr0 + 1);
-    int k = std::max(0, xr0 - (W - 1));
+    // Right view, before the uniqueness check may reject this pixel (it does not affect the right view). In the
+    // reversed index u = W - 1 - xr this pixel's candidates are contiguous: u = u0 + d.
+    const int u0 = W - 1 - x + minD;
+    const int kEnd = std::min(D, W - u0);
+    int k = std::max(0, -u0);
+    ushort* rc = rv.cost + u0;
+    ushort* ri = rv.index + u0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
     {
-        const int n32 = VTraits<v_uint32>::vlanes();
-        static const unsigned iota[64] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
+        static const ushort iota[128] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
             21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46,
-            47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63 };
-        const v_uint32 vi = vx_load(iota);
-        // Keys of disparities k .. k + n32 - 1 go to right pixels xr0 - k down to xr0 - k - n32 + 1: reversed lanes.
-        for (; n32 <= 64 && k <= kEnd - n32; k += n32)
+            47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64, 65, 66, 67, 68, 69, 70, 71, 72,
+            73, 74, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97, 98,
+            99, 100, 101, 102, 103, 104, 105, 106, 107, 108, 109, 110, 111, 112, 113, 114, 115, 116, 117, 118, 119,
+            120, 121, 122, 123, 124, 125, 126, 127 };
+        const v_uint16 vi = vx_load(iota), vnone = vx_setall_u16(RightView::NONE);
+        for (; n16 <= 128 && k <= kEnd - n16; k += n16)
         {
-            const v_uint32 key = v_or(v_shl<16>(vx_load_expand(s + k)), v_add(vi, vx_setall_u32((unsigned)k)));
-            unsigned* r = rightKey + xr0 - k - n32 + 1;
-            v_store(r, v_min(vx_load(r), v_reverse(key)));
+            const v_uint16 c = vx_load(s + k), oc = vx_load(rc + k), oi = vx_load(ri + k);
+            const v_uint16 take = v_or(v_lt(c, oc), v_eq(oi, vnone));
+            v_store(rc + k, v_select(take, c, oc));
+            v_store(ri + k, v_select(take, v_add(vi, vx_setall_u16((ushort)k)), oi));
         }
     }
 #endif
     for (; k < kEnd; k++)
-    {
-        const unsigned key = ((unsigned)s[k] << 16) | (unsigned)k;
-        unsigned& r = rightKey[xr0 - k];
-        r = std::min(r, key);
-    }
+        if (s[k] < rc[k] || ri[k] == RightView::NONE)
+        {
+            rc[k] = s[k];
+            ri[k] = (ushort)k;
+        }
 
     if (p.uniqueness1024 < 1024)
     {
