@@ -90,63 +90,91 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
             a.L[k][i].assign((size_t)W * a.stride, PATH_SENTINEL);
             a.minL[k][i].assign(W, 0);
         }
-    a.costRow[0].create(1, W * D, CV_16UC1);
-    a.costRow[1].create(1, W * D, CV_16UC1);
+    // With 4 paths a column depends only on itself: a strip runs a block of rows on its own, and the horizontal paths
+    // of the block before run beside it (fewer barriers). The diagonals of 8 paths need the neighbours' last row.
+    const int block = a.ndirs == 1 ? 8 : 1;
+    a.costRows.create(2 * block, W * D, CV_16UC1);
     const int threads = std::max(1, getNumThreads());
     const int strips = threads == 1 ? 1 : std::max(1, std::min(4 * threads, W / 32));
-    a.rightCost.assign((size_t)strips * W, 0);
-    a.rightIndex.assign((size_t)strips * W, (ushort)RightView::NONE);
-
-    // 1. Down: the horizontal paths of row y - 1 (task 0) and row y's strips (tasks 1 .. strips) together.
-    a.cur = 0;
-    for (int y = 0; y <= H; y++)
+    // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
+    // [W - x1 + minD, W - x0 + minD + D - 1): room for every row.
+    a.rightAt.resize(strips);
+    a.rightLo.resize(strips);
+    a.rightWidth.resize(strips);
+    size_t total = 0;
+    for (int s = 0; s < strips; s++)
     {
-        const int first = y > 0 ? 0 : 1, last = y < H ? strips + 1 : 1;
-        parallel_for_(Range(first, last), [&](const Range& r) {
+        const int x0 = W * s / strips, x1 = W * (s + 1) / strips;
+        a.rightLo[s] = std::max(W - x1 + p.minDisparity, 0);
+        a.rightWidth[s] = std::max(std::min(W - x0 + p.minDisparity + D - 1, W) - a.rightLo[s], 0);
+        a.rightAt[s] = (int)total;
+        total += (size_t)a.rightWidth[s] * H;
+    }
+    a.rightCost.resize(total);
+    a.rightIndex.assign(total, (ushort)RightView::NONE);
+
+    // 1. Down, block by block: the horizontal paths of the rows of the block before (first, a task per row: they
+    // are the longest tasks) and the strips of this block's rows together.
+    const int blocks = (H + block - 1) / block;
+    for (int b = 0; b <= blocks; b++)
+    {
+        const int y0 = b * block, y1 = std::min(H, y0 + block);
+        const int h0 = (b - 1) * block, hRows = b > 0 ? std::min(H, h0 + block) - h0 : 0;
+        const int tasks = hRows + (b < blocks ? strips : 0);
+        parallel_for_(Range(0, tasks), [&](const Range& r) {
             for (int t = r.start; t < r.end; t++)
-                if (t == 0)
-                    runHorizontalRow(a, y - 1);
+                if (t < hRows)
+                    runHorizontalRow(a, h0 + t);
                 else
-                    runVerticalStrip(a, y, W * (t - 1) / strips, W * t / strips, t - 1, true);
-        }, last - first);
-        a.cur = 1 - a.cur;
+                    for (int y = y0; y < y1; y++)
+                        runVerticalStrip(a, y, W * (t - hRows) / strips, W * (t - hRows + 1) / strips, t - hRows, true);
+        }, tasks);
     }
 
-    // 2. Up: the bottom-up paths complete the sums; the winner is taken at once.
-    a.cur = 0;
-    AutoBuffer<ushort> mergedCost(W), mergedIndex(W);
-    for (int y = H - 1; y >= 0; y--)
-    {
+    // 2. Up: the bottom-up paths complete the sums; the winner is taken at once. With 4 paths a column depends only
+    // on itself, so each strip runs all rows on its own; the diagonals of 8 paths need the neighbours' last row.
+    const auto up = [&](int s, int y) { runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, false); };
+    if (a.ndirs == 1)
         parallel_for_(Range(0, strips), [&](const Range& r) {
             for (int s = r.start; s < r.end; s++)
-                runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, false);
+                for (int y = H - 1; y >= 0; y--)
+                    up(s, y);
         }, strips);
-        a.cur = 1 - a.cur;
-        // The right view of row y: strip by strip from the left, a strip's candidate replaces the one so far only at
-        // a lower cost (its disparities are larger: RightView). Strip s offers to right pixels
-        // [x0 - minD - D + 1, x1 - minD) only, u = W - 1 - xr.
-        std::fill(mergedIndex.data(), mergedIndex.data() + W, (ushort)RightView::NONE);
-        for (int s = 0; s < strips; s++)
+    else
+        for (int y = H - 1; y >= 0; y--)
+            parallel_for_(Range(0, strips), [&](const Range& r) {
+                for (int s = r.start; s < r.end; s++)
+                    up(s, y);
+            }, strips);
+
+    // The right view: strip by strip from the left, a strip's candidate replaces the one so far only at a lower cost
+    // (its disparities are larger: RightView).
+    parallel_for_(Range(0, H), [&](const Range& r) {
+        AutoBuffer<ushort> costBuf(W), indexBuf(W);
+        ushort *mc = costBuf.data(), *mi = indexBuf.data();
+        for (int y = r.start; y < r.end; y++)
         {
-            ushort* c = a.rightCost.data() + (size_t)s * W;
-            ushort* k = a.rightIndex.data() + (size_t)s * W;
-            const int lo = std::max(W - W * (s + 1) / strips + p.minDisparity, 0);
-            const int hi = std::min(W - W * s / strips + p.minDisparity + D - 1, W);
-            for (int u = lo; u < hi; u++)
-                if (k[u] != RightView::NONE && (mergedIndex[u] == RightView::NONE || c[u] < mergedCost[u]))
-                {
-                    mergedCost[u] = c[u];
-                    mergedIndex[u] = k[u];
-                }
-            std::fill(k + lo, k + std::max(lo, hi), (ushort)RightView::NONE);
+            std::fill(mi, mi + W, (ushort)RightView::NONE);
+            for (int s = 0; s < strips; s++)
+            {
+                const size_t at = (size_t)a.rightAt[s] + (size_t)y * a.rightWidth[s];
+                const ushort* c = a.rightCost.data() + at;
+                const ushort* k = a.rightIndex.data() + at;
+                for (int i = 0, u = a.rightLo[s]; i < a.rightWidth[s]; i++, u++)
+                    if (k[i] != RightView::NONE && (mi[u] == RightView::NONE || c[i] < mc[u]))
+                    {
+                        mc[u] = c[i];
+                        mi[u] = k[i];
+                    }
+            }
+            short* dr = dispRight.ptr<short>(y);
+            for (int xr = 0; xr < W; xr++)
+            {
+                const ushort k = mi[W - 1 - xr];
+                dr[xr] = (short)(k == RightView::NONE ? NO_DISP : k + p.minDisparity);
+            }
         }
-        short* dr = dispRight.ptr<short>(y);
-        for (int xr = 0; xr < W; xr++)
-        {
-            const ushort k = mergedIndex[W - 1 - xr];
-            dr[xr] = (short)(k == RightView::NONE ? NO_DISP : k + p.minDisparity);
-        }
-    }
+    }, std::max(1, H / 16));
 }
 
 void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,

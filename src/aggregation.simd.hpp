@@ -6,7 +6,7 @@
 // (no cost volume) and the winner-takes-all done as each pixel's sum completes. Two sweeps over one 16-bit volume:
 //  1. down, row by row: verticalStrip (column strips in parallel) computes the row's costs into a cost row and the
 //     top-down paths (1 or 3 directions, previous row at x - dx), and stores their sum; horizontalRow then adds the
-//     row's two horizontal paths from the same cost row, while the strips already work on the next row;
+//     row's two horizontal paths from the same cost row, while the strips already work on the next rows;
 //  2. up, row by row: verticalStrip computes the costs again and the bottom-up paths, completes each pixel's sum,
 //     and selectPixel takes the winner.
 // A row depends only on the row before, so the strips of a row run in parallel. Path costs stay below the matching
@@ -43,13 +43,15 @@ struct AggregationState
     PipelineParams p;
     int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
     Mat sum;                                    // H x (W * D) 16-bit: top-down, then + horizontal paths
-    Mat costRow[2];                             // 1 x (W * D) 16-bit: the costs of the last two rows (down sweep)
+    Mat costRows;                               // ring of rows of costs (down sweep): row y in row y % costRows.rows
     Mat finalSum;                               // optional (tests): the complete sums
     Mat disp16, dispInt;                        // outputs of the winner-takes-all
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
-    std::vector<ushort> L[3][2], minL[3][2];    // per direction, the previous and current row of path costs
-    int cur;                                    // which of the two rows is the current one
-    std::vector<ushort> rightCost, rightIndex;  // per strip, W entries of the right view (RightView)
+    std::vector<ushort> L[3][2], minL[3][2];    // per direction, rows of path costs: row y in [y & 1]
+    // The right view's candidates per strip and row (RightView): strip s, row y at rightAt[s] + y * rightWidth[s],
+    // covering u in [rightLo[s], rightLo[s] + rightWidth[s]).
+    std::vector<ushort> rightCost, rightIndex;
+    std::vector<int> rightAt, rightLo, rightWidth;
 };
 
 }}} // namespace cv::lidarsgm::detail
@@ -154,7 +156,7 @@ void horizontalRow(AggregationState& a, int y)
     ushort* u = pathBuf.data() + 1;
     ushort* v = u + a.stride;
     u[-1] = u[D] = v[-1] = v[D] = SENTINEL;
-    const ushort* C = a.costRow[y & 1].ptr<ushort>();
+    const ushort* C = a.costRows.ptr<ushort>(y % a.costRows.rows);
     ushort* S = a.sum.ptr<ushort>(y);
     ushort m = pathStart(C, u, D);
     sumInto(S, S, u, nullptr, nullptr, D);
@@ -188,14 +190,14 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
     ushort* S = a.sum.ptr<ushort>(y);
     // Down: the costs go to the row's cost row, for horizontalRow. Up: to a scratch vector.
-    ushort* costRow = down ? a.costRow[y & 1].ptr<ushort>() : nullptr;
-    const int prev = 1 - a.cur;
+    ushort* costRow = down ? a.costRows.ptr<ushort>(y % a.costRows.rows) : nullptr;
+    const int cur = y & 1, prev = 1 - cur;
     ushort *curL[3] = {}, *prevL[3] = {}, *curMin[3] = {}, *prevMin[3] = {};
     for (int k = 0; k < a.ndirs; k++)
     {
-        curL[k] = a.L[k][a.cur].data() + 1;
+        curL[k] = a.L[k][cur].data() + 1;
         prevL[k] = a.L[k][prev].data() + 1;
-        curMin[k] = a.minL[k][a.cur].data();
+        curMin[k] = a.minL[k][cur].data();
         prevMin[k] = a.minL[k][prev].data();
     }
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
@@ -203,8 +205,9 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     RightView rv = { nullptr, nullptr };
     if (!down)
     {
-        rv.cost = a.rightCost.data() + (size_t)strip * W;
-        rv.index = a.rightIndex.data() + (size_t)strip * W;
+        const size_t at = (size_t)a.rightAt[strip] + (size_t)y * a.rightWidth[strip] - a.rightLo[strip];
+        rv.cost = a.rightCost.data() + at;
+        rv.index = a.rightIndex.data() + at;
     }
     auto pixel = [&](int x) {
         ushort* c = down ? costRow + (size_t)x * D : cBuf.data();

@@ -28,7 +28,8 @@ static inline void costVector(const ushort* rvLo, const ushort* rvHi, unsigned l
 #if (CV_SIMD || CV_SIMD_SCALABLE)
     // The Hamming distance: byte popcounts of both halves added (at most 16 a byte), then the two bytes of each
     // 16-bit lane. census256 * h / 256 rounded: with census256 = 256 hi + lo, it is hi h + (lo h + 128) / 256 (exact:
-    // 256 hi h is a multiple of 256), and both products stay below 2^13 for h <= 31.
+    // 256 hi h is a multiple of 256), and both products stay below 2^13 for h <= 31: wrapping multiplies (one
+    // instruction; OpenCV's v_mul saturates 16-bit products, which costs several) give the same.
     const int n16 = VTraits<v_uint16>::vlanes();
     const v_uint16 vlLo = vx_setall_u16((ushort)(l & 0xFFFF)), vlHi = vx_setall_u16((ushort)(l >> 16)),
                    vbyte = vx_setall_u16(0xFF), vhi = vx_setall_u16((ushort)(w.census256 >> 8)),
@@ -40,7 +41,7 @@ static inline void costVector(const ushort* rvLo, const ushort* rvHi, unsigned l
                                  v_popcount(v_reinterpret_as_u8(v_xor(vx_load(rvHi + d), vlHi))));
         const v_uint16 pw = v_reinterpret_as_u16(pc);
         const v_uint16 h = v_add(v_and(pw, vbyte), v_shr<8>(pw));
-        const v_uint16 t = v_add(v_mul(h, vhi), v_shr<8>(v_add(v_mul(h, vlo), vhalf)));
+        const v_uint16 t = v_add(v_mul_wrap(h, vhi), v_shr<8>(v_add(v_mul_wrap(h, vlo), vhalf)));
         v_store(c + d, v_add(t, vadd));
     }
 #endif

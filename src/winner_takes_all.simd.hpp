@@ -73,27 +73,33 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
 
     if (p.uniqueness1024 < 1024)
     {
-        // The lowest cost more than one disparity away: the three around the best masked out for the search.
-        ushort saved[3] = { 0, 0, 0 };
-        for (int j = -1; j <= 1; j++)
-            if (best + j >= 0 && best + j < D)
-            {
-                saved[j + 1] = s[best + j];
-                s[best + j] = 0xFFFF;
-            }
+        // The lowest cost more than one disparity away: the costs at best - 1 .. best + 1 masked out in registers
+        // (writing them in s and reading s back in vectors would stall each load on the little stores).
+        const int lo = best - 1, hi = best + 1;
         ushort second = 0xFFFF;
         d = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
+        static const ushort iota16[64] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
+            21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46,
+            47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63 };
         v_uint16 vmin = vx_setall_u16(0xFFFF);
-        for (; d <= D - n16; d += n16)
-            vmin = v_min(vmin, vx_load(s + d));
+        for (; n16 <= 64 && d <= D - n16; d += n16)
+        {
+            v_uint16 v = vx_load(s + d);
+            if (d + n16 > lo && d <= hi)
+            {
+                // index - lo <= 2 (unsigned: indices below lo wrap to large values) marks best - 1 .. best + 1
+                const v_uint16 rel = v_sub_wrap(v_add_wrap(vx_load(iota16), vx_setall_u16((ushort)d)),
+                                                vx_setall_u16((ushort)lo));
+                v = v_select(v_le(rel, vx_setall_u16(2)), vx_setall_u16(0xFFFF), v);
+            }
+            vmin = v_min(vmin, v);
+        }
         second = (ushort)v_reduce_min(vmin);
 #endif
         for (; d < D; d++)
-            second = std::min(second, s[d]);
-        for (int j = -1; j <= 1; j++)
-            if (best + j >= 0 && best + j < D)
-                s[best + j] = saved[j + 1];
+            if (d < lo || d > hi)
+                second = std::min(second, s[d]);
         if ((int)minv * 1024 > p.uniqueness1024 * (int)second)
         {
             d16 = NO_DISP;
