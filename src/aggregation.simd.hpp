@@ -138,12 +138,10 @@ inline void sumInto(ushort* S, const ushort* A, const ushort* B, const ushort* C
         S[d] = (ushort)(A[d] + (B ? B[d] : 0) + (C ? C[d] : 0) + (E ? E[d] : 0));
 }
 
-//! The jump penalty from (xq, yq) to (x, y).
-inline ushort jump(const AggregationState& a, int y, int x, int yq, int xq)
+//! The jump penalty from xq to x on an intensity row I (nullptr: no edge rule, always P2).
+inline ushort jump(const AggregationState& a, const ushort* I, int x, int xq)
 {
-    if (a.intensity.empty())
-        return (ushort)a.p.w.p2;
-    return (ushort)jumpPenalty(a.intensity.at<ushort>(y, x), a.intensity.at<ushort>(yq, xq), a.p.edgeThreshold, a.p.w);
+    return I ? (ushort)jumpPenalty(I[x], I[xq], a.p.edgeThreshold, a.p.w) : (ushort)a.p.w.p2;
 }
 
 } // namespace
@@ -157,12 +155,13 @@ void horizontalRow(AggregationState& a, int y)
     ushort* v = u + a.stride;
     u[-1] = u[D] = v[-1] = v[D] = SENTINEL;
     const ushort* C = a.costRows.ptr<ushort>(y % a.costRows.rows);
+    const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
     ushort* S = a.sum.ptr<ushort>(y);
     ushort m = pathStart(C, u, D);
     sumInto(S, S, u, nullptr, nullptr, D);
     for (int x = 1; x < W; x++)
     {
-        m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, y, x, y, x - 1));
+        m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, I, x, x - 1));
         sumInto(S + (size_t)x * D, S + (size_t)x * D, v, nullptr, nullptr, D);
         std::swap(u, v);
     }
@@ -170,7 +169,7 @@ void horizontalRow(AggregationState& a, int y)
     sumInto(S + (size_t)(W - 1) * D, S + (size_t)(W - 1) * D, u, nullptr, nullptr, D);
     for (int x = W - 2; x >= 0; x--)
     {
-        m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, y, x, y, x + 1));
+        m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, I, x, x + 1));
         sumInto(S + (size_t)x * D, S + (size_t)x * D, v, nullptr, nullptr, D);
         std::swap(u, v);
     }
@@ -209,6 +208,9 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
         rv.cost = a.rightCost.data() + at;
         rv.index = a.rightIndex.data() + at;
     }
+    ushort* finalSum = a.finalSum.empty() ? nullptr : a.finalSum.ptr<ushort>(y);
+    short* d16 = down ? nullptr : a.disp16.ptr<short>(y);
+    short* dInt = down ? nullptr : a.dispInt.ptr<short>(y);
     auto pixel = [&](int x) {
         ushort* c = down ? costRow + (size_t)x * D : cBuf.data();
         costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1, a.p.w, D, c);
@@ -233,9 +235,9 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
         }
         ushort* f = fBuf.data();
         sumInto(f, s, out[0], out[1], out[2], D);
-        if (!a.finalSum.empty())
-            memcpy(a.finalSum.ptr<ushort>(y) + (size_t)x * D, f, D * sizeof(ushort));
-        selectPixel(f, x, W, a.p, a.disp16.ptr<short>(y)[x], a.dispInt.ptr<short>(y)[x], rv);
+        if (finalSum)
+            memcpy(finalSum + (size_t)x * D, f, D * sizeof(ushort));
+        selectPixel(f, x, W, a.p, d16[x], dInt[x], rv);
     };
     for (int x = x0; x < x1; x++)
         pixel(x);

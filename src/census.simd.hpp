@@ -26,8 +26,8 @@ struct PaddedWindow
 };
 
 #if (CV_SIMD || CV_SIMD_SCALABLE)
-inline v_uint32 load32(const uchar* p) { return vx_load_expand_q(p); }
-inline v_uint32 load32(const ushort* p) { return vx_load_expand(p); }
+inline v_uint16 load16(const uchar* p) { return vx_load_expand(p); }
+inline v_uint16 load16(const ushort* p) { return vx_load(p); }
 #endif
 
 template <typename T>
@@ -49,23 +49,30 @@ void rows(const Mat& img, Mat& census, const Range& r)
         unsigned* out = census.ptr<unsigned>(y);
         int x = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
-        const int n = VTraits<v_uint32>::vlanes();
-        const v_uint32 one = vx_setall_u32(1);
+        // The bits of censusString, a 16-bit lane per pixel: the first 15 pairs make the high half, the last 16 the
+        // low half (in the string's order), joined into 32-bit strings at the end.
+        const int n = VTraits<v_uint16>::vlanes(), n32 = VTraits<v_uint32>::vlanes();
+        const v_uint16 one = vx_setall_u16(1);
         for (; x <= W - n; x += n)
         {
-            // The bits of censusString, a lane per pixel, in the same order.
-            v_uint32 c = vx_setzero_u32();
+            v_uint16 half[2] = { vx_setzero_u16(), vx_setzero_u16() };
+            int bit = 0;
             for (int dy = -ry; dy <= 0; dy++)
             {
                 const int dxEnd = dy < 0 ? rx : -1;
-                for (int dx = -rx; dx <= dxEnd; dx++)
+                for (int dx = -rx; dx <= dxEnd; dx++, bit++)
                 {
-                    const v_uint32 a = load32(padded[ry + dy] + x + rx + dx);
-                    const v_uint32 b = load32(padded[ry - dy] + x + rx - dx);
-                    c = v_or(v_shl<1>(c), v_and(v_gt(a, b), one));
+                    const v_uint16 a = load16(padded[ry + dy] + x + rx + dx);
+                    const v_uint16 b = load16(padded[ry - dy] + x + rx - dx);
+                    v_uint16& h = half[bit < CENSUS_BITS - 16 ? 0 : 1];
+                    h = v_or(v_shl<1>(h), v_and(v_gt(a, b), one));
                 }
             }
-            v_store(out + x, c);
+            v_uint32 lo0, lo1, hi0, hi1;
+            v_expand(half[1], lo0, lo1);
+            v_expand(half[0], hi0, hi1);
+            v_store(out + x, v_or(v_shl<16>(hi0), lo0));
+            v_store(out + x + n32, v_or(v_shl<16>(hi1), lo1));
         }
 #endif
         PaddedWindow<T> at = { padded, x };
