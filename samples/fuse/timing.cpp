@@ -11,11 +11,29 @@
 #include "opencv2/cudastereo.hpp"
 #endif
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <functional>
 
 using namespace cv;
 
 namespace lidarsgm_fuse {
+
+namespace {
+
+//! A field of /proc/self/status in MB (Linux: VmRSS, VmHWM); -1 where there is none.
+double procStatusMB(const char* field)
+{
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    const std::string key = std::string(field) + ":";
+    while (std::getline(status, line))
+        if (line.compare(0, key.size(), key) == 0)
+            return std::atof(line.c_str() + key.size()) * 1024.0 / 1e6;   // kB (1024 bytes) to MB
+    return -1;
+}
+
+} // namespace
 
 int runCpuTiming(const Options& o, const Frame& f, int reps)
 {
@@ -29,7 +47,12 @@ int runCpuTiming(const Options& o, const Frame& f, int reps)
     for (const auto& s : sgbmModes)
         sgbm.push_back(StereoSGBM::create(minD, numD, 3, 72, 288, 1, 0, 10, 100, 2, s.mode));
     Mat disp;
-    m->compute(f.left, f.right, f.sparse, disp);  // warm-up: buffers
+    // The first call (buffers made): the growth of the process's peak resident memory is what one instance needs.
+    // (Writing 5 to clear_refs resets the peak to the current resident size, Linux 4.0 and later.)
+    std::ofstream("/proc/self/clear_refs") << "5";
+    const double rssBefore = procStatusMB("VmRSS");
+    m->compute(f.left, f.right, f.sparse, disp);
+    const double peakAfter = procStatusMB("VmHWM");
     for (const Ptr<StereoSGBM>& s : sgbm)
         s->compute(f.left, f.right, disp);
     std::vector<std::vector<double> > t(1 + sgbm.size());
@@ -49,6 +72,9 @@ int runCpuTiming(const Options& o, const Frame& f, int reps)
     printf("timing (%d runs alternating in one process, %d threads, %dx%d, %d disparities, %d paths), medians:\n", reps,
            getNumThreads(), f.left.cols, f.left.rows, numD, m->getNumPaths());
     printf("| lidarsgm %-22s | %8.1f ms |                   |\n", modeLabel(m->getMode()), ours);
+    if (rssBefore >= 0 && peakAfter >= 0)
+        printf("working memory of one lidarsgm instance (peak resident growth over its first call): %.1f MB\n",
+               peakAfter - rssBefore);
     for (size_t k = 0; k < sgbm.size(); k++)
         printf("| cv::StereoSGBM %-16s | %8.1f ms | lidarsgm / it %.2f |\n", sgbmModes[k].name, medianMs(t[k + 1]),
                ours / medianMs(t[k + 1]));
