@@ -16,9 +16,10 @@ import sys
 import numpy as np
 import cv2 as cv
 
-args = [a for a in sys.argv[1:] if not a.startswith("--")]
-DATA = os.path.join(args[0] if args else os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data"),
-                    "kitti2015_lidar")
+# The shared data beside the checkout, or the folder given on the command line (when run as a script).
+_args = [a for a in sys.argv[1:] if not a.startswith("--")] if __name__ == "__main__" else []
+DATA = os.path.join(_args[0] if _args else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..",
+                                                         "shared", "data"), "kitti2015_lidar")
 
 
 def calib():
