@@ -32,8 +32,9 @@ as on the GPU (where the (cost << 16 | d) keys are compared). */
 struct RightView
 {
     enum { NONE = 0xFFFF };
-    ushort* cost;
+    ushort* cost;    // cost[i], index[i]: u = lo + i
     ushort* index;
+    int lo;
 };
 
 //! Everything the sweeps of one call share (made by aggregation.dispatch.cpp).
@@ -201,12 +202,11 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     }
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
     const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
-    RightView rv = { nullptr, nullptr };
-    if (!down)
+    RightView rv = { nullptr, nullptr, 0 };
+    if (!down && a.rightWidth[strip] > 0)
     {
-        const size_t at = (size_t)a.rightAt[strip] + (size_t)y * a.rightWidth[strip] - a.rightLo[strip];
-        rv.cost = a.rightCost.data() + at;
-        rv.index = a.rightIndex.data() + at;
+        const size_t at = (size_t)a.rightAt[strip] + (size_t)y * a.rightWidth[strip];
+        rv = { a.rightCost.data() + at, a.rightIndex.data() + at, a.rightLo[strip] };
     }
     ushort* finalSum = a.finalSum.empty() ? nullptr : a.finalSum.ptr<ushort>(y);
     short* d16 = down ? nullptr : a.disp16.ptr<short>(y);
@@ -262,7 +262,7 @@ void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& 
 {
     const int W = a.W, D = a.D;
     AutoBuffer<ushort> fBuf(D), costBuf(W), indexBuf(W);
-    RightView rv = { costBuf.data(), indexBuf.data() };
+    RightView rv = { costBuf.data(), indexBuf.data(), 0 };
     for (int y = y0; y < y1; y++)
     {
         std::fill(rv.index, rv.index + W, (ushort)RightView::NONE);

@@ -42,10 +42,12 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
     // Right view, before the uniqueness check may reject this pixel (it does not affect the right view). In the
     // reversed index u = W - 1 - xr this pixel's candidates are contiguous: u = u0 + d.
     const int u0 = W - 1 - x + minD;
-    const int kEnd = std::min(D, W - u0);
-    int k = std::max(0, -u0);
-    ushort* rc = rv.cost + u0;
-    ushort* ri = rv.index + u0;
+    const int k0 = std::max(0, -u0), n = std::min(D, W - u0) - k0;
+    // rc[j], ri[j]: the candidate at u = u0 + k0 + j (disparity index k0 + j); pointers formed only inside the view.
+    ushort* rc = n > 0 ? rv.cost + (u0 + k0 - rv.lo) : nullptr;
+    ushort* ri = n > 0 ? rv.index + (u0 + k0 - rv.lo) : nullptr;
+    const ushort* sk = s + k0;
+    int j = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
     {
         static const ushort iota[128] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
@@ -55,20 +57,20 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
             99, 100, 101, 102, 103, 104, 105, 106, 107, 108, 109, 110, 111, 112, 113, 114, 115, 116, 117, 118, 119,
             120, 121, 122, 123, 124, 125, 126, 127 };
         const v_uint16 vi = vx_load(iota), vnone = vx_setall_u16(RightView::NONE);
-        for (; n16 <= 128 && k <= kEnd - n16; k += n16)
+        for (; n16 <= 128 && j <= n - n16; j += n16)
         {
-            const v_uint16 c = vx_load(s + k), oc = vx_load(rc + k), oi = vx_load(ri + k);
+            const v_uint16 c = vx_load(sk + j), oc = vx_load(rc + j), oi = vx_load(ri + j);
             const v_uint16 take = v_or(v_lt(c, oc), v_eq(oi, vnone));
-            v_store(rc + k, v_select(take, c, oc));
-            v_store(ri + k, v_select(take, v_add(vi, vx_setall_u16((ushort)k)), oi));
+            v_store(rc + j, v_select(take, c, oc));
+            v_store(ri + j, v_select(take, v_add(vi, vx_setall_u16((ushort)(k0 + j))), oi));
         }
     }
 #endif
-    for (; k < kEnd; k++)
-        if (s[k] < rc[k] || ri[k] == RightView::NONE)
+    for (; j < n; j++)
+        if (sk[j] < rc[j] || ri[j] == RightView::NONE)
         {
-            rc[k] = s[k];
-            ri[k] = (ushort)k;
+            rc[j] = sk[j];
+            ri[j] = (ushort)(k0 + j);
         }
 
     if (p.uniqueness1024 < 1024)
