@@ -47,6 +47,8 @@ const OptionSpec kOptions[] = {
     { "format", 's', "LIST", "disparity formats, comma list of kitti (16-bit PNG, d * 256, 0 = invalid), pfm (float,\n"
       "invalid = inf), s16 (the matcher's CV_16S x16, little-endian, no header); default kitti", nullptr },
     { "quiet", 'i', "1", "no progress line on folder runs", nullptr },
+    { "resume", 'f', nullptr, "(KITTI folder with --out) take the frames whose outputs are complete (their\n"
+      "metrics.yml, written last) from the earlier run instead of computing them again", nullptr },
     { nullptr, 0, nullptr, "What runs:", nullptr },
     { "modes", 's', "LIST", "comma list of sgm, dsgm, sdsgm (default: sdsgm for a frame, all for a folder)", nullptr },
     { "check", 's', "C", "none | stereo | camera-lidar | stereo-lidar (default stereo-lidar)", nullptr },
@@ -275,6 +277,8 @@ void checkOptions(const Options& o)
     char rest = 0;
     if (o.has("resize") && (sscanf(o.str("resize").c_str(), "%dx%d%c", &w, &h, &rest) != 2 || w <= 0 || h <= 0))
         CV_Error(Error::StsBadArg, "--resize takes WIDTHxHEIGHT, got '" + o.str("resize") + "'");
+    if (o.has("resume") && (!o.has("kitti") || !o.has("out")))
+        CV_Error(Error::StsBadArg, "--resume needs --kitti and --out (the earlier run's outputs)");
     if (o.has("params") && !utils::fs::exists(o.str("params")))
         CV_Error(Error::StsObjectNotFound, "cannot open --params " + o.str("params"));
     makeMatcher(o, Matcher::MODE_SDSGM, check);   // every parameter value and relation

@@ -7,6 +7,7 @@
 #include "opencv2/core/utils/filesystem.hpp"
 #include <algorithm>
 #include <cstdio>
+#include <unistd.h>
 
 using namespace cv;
 using namespace lidarsgm_data;
@@ -20,10 +21,34 @@ void makeDir(const std::string& dir)
         CV_Error(Error::StsError, "cannot create the output folder " + dir);
 }
 
+void writeAtomically(const std::string& path, const std::function<bool(const std::string&)>& write)
+{
+    // A hidden name beside the file, the extension kept last (imwrite picks the format by it), made unique per run.
+    const size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
+    const size_t nameAt = slash == std::string::npos ? 0 : slash + 1;
+    const size_t extAt = dot == std::string::npos || dot < nameAt ? path.size() : dot;
+    const std::string tmp = path.substr(0, nameAt) + "." + path.substr(nameAt, extAt - nameAt) +
+                            format(".partial-%d", (int)getpid()) + path.substr(extAt);
+    bool ok = false;
+    try
+    {
+        ok = write(tmp);
+    }
+    catch (const cv::Exception&)
+    {
+        std::remove(tmp.c_str());
+        throw;
+    }
+    if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0)
+    {
+        std::remove(tmp.c_str());
+        CV_Error(Error::StsError, "cannot write " + path);
+    }
+}
+
 static void writeImage(const std::string& path, const Mat& img)
 {
-    if (!imwrite(path, img))
-        CV_Error(Error::StsError, "cannot write " + path);
+    writeAtomically(path, [&](const std::string& tmp) { return imwrite(tmp, img); });
 }
 
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const Mat& disp16,
@@ -35,10 +60,10 @@ void writeDisparity(const Options& o, const std::string& dir, const std::string&
     {
         if (format == "kitti")
             writeImage(base + ".png", toKittiPng(d));
-        else if (format == "pfm" && !writePfm(base + ".pfm", d))
-            CV_Error(Error::StsError, "cannot write " + base + ".pfm");
-        else if (format == "s16" && !writeRawS16(base + ".s16", disp16))
-            CV_Error(Error::StsError, "cannot write " + base + ".s16");
+        else if (format == "pfm")
+            writeAtomically(base + ".pfm", [&](const std::string& tmp) { return writePfm(tmp, d); });
+        else if (format == "s16")
+            writeAtomically(base + ".s16", [&](const std::string& tmp) { return writeRawS16(tmp, disp16); });
     }
     Mat colour;
     lidarsgm::colorizeDisparity(d, colour, minD + numD);

@@ -10,6 +10,7 @@
 
 #include "opencv2/lidarsgm.hpp"
 #include "lidarsgm_datasets.hpp"
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -49,6 +50,9 @@ std::vector<int> lidarLineCounts(const Options& o);
 
 // ---- outputs.cpp ------------------------------------------------------------------------------------------------
 void makeDir(const std::string& dir);
+/** Writes path through a temporary name beside it, renamed when write() returned true: a run killed mid-write leaves
+no file under the final name. Raises cv::Exception naming path when writing fails. */
+void writeAtomically(const std::string& path, const std::function<bool(const std::string&)>& write);
 //! The disparity in the --format formats, its colour picture and, with ground truth, the error picture.
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const cv::Mat& disp16,
                     int minD, int numD, const cv::Mat& gt);

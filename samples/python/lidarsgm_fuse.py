@@ -48,6 +48,48 @@ def read_grey(path):
     return img
 
 
+def load_kitti_frame(root, fid):
+    """Frame fid of a KITTI-layout folder as the C++ tool reads it: the grey pair, the full scan projected into a sparse
+    disparity map (CV_32F, 0 = none), and the ground truth PNG as stored (None where there is none)."""
+    left = read_grey(os.path.join(root, "image_2", fid + "_10.png"))
+    right = read_grey(os.path.join(root, "image_3", fid + "_10.png"))
+    P2, lidar_to_cam, fb = read_calib(os.path.join(root, "calib.txt"))
+    scan_path = os.path.join(root, "velodyne", fid + ".bin")
+    if not os.path.isfile(scan_path):
+        raise IOError("cannot open Velodyne scan " + scan_path)
+    if os.path.getsize(scan_path) % 16:
+        raise IOError("Velodyne scan %s is not a whole number of 16-byte points" % scan_path)
+    raw = np.fromfile(scan_path, dtype=np.float32)
+    h, w = left.shape
+    sparse = cv.lidarsgm.projectPointsToDisparity(raw.reshape(-1, 4), P2, lidar_to_cam, fb, (w, h))
+    gt_png = cv.imread(os.path.join(root, "disp_occ_0", fid + "_10.png"), cv.IMREAD_UNCHANGED)
+    return left, right, sparse, gt_png
+
+
+def disparity_to_float(disp16, min_disparity=0):
+    """A matcher's CV_16S (x16) output as float32 pixels, -1 = invalid ((minDisparity - 1) * 16 or below)."""
+    disp = disp16.astype(np.float32) / np.float32(16)
+    disp[disp16 <= (min_disparity - 1) * 16] = -1
+    return disp
+
+
+def to_kitti_png(disp):
+    """KITTI 16-bit PNG encoding: round(d * 256), 0 = invalid."""
+    return np.where(disp > 0, np.clip(np.floor(disp.astype(np.float64) * 256 + 0.5), 1, 65535), 0).astype(np.uint16)
+
+
+def draw_lidar_points(grey, sparse, max_disparity):
+    """The LiDAR points over the image as 3x3 dots in the KITTI disparity colours, nearest points on top."""
+    overlay = cv.cvtColor(grey, cv.COLOR_GRAY2BGR)
+    ys, xs = np.nonzero(sparse > 0)
+    order = np.argsort(sparse[ys, xs], kind="stable")  # nearest points drawn last
+    colours = cv.lidarsgm.colorizeDisparity(sparse[ys, xs][order][None, :].astype(np.float32), max_disparity)[0]
+    h, w = grey.shape
+    for (y, x), c in zip(zip(ys[order], xs[order]), colours):
+        overlay[max(y - 1, 0):min(y + 2, h), max(x - 1, 0):min(x + 2, w)] = c
+    return overlay
+
+
 def main(argv):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--kitti-frame", required=True, help="KITTI-layout folder (image_2, image_3, velodyne, calib.txt)")
@@ -62,16 +104,7 @@ def main(argv):
 
     root, fid = args.kitti_frame, args.id
     try:
-        left = read_grey(os.path.join(root, "image_2", fid + "_10.png"))
-        right = read_grey(os.path.join(root, "image_3", fid + "_10.png"))
-        P2, lidar_to_cam, fb = read_calib(os.path.join(root, "calib.txt"))
-        scan_path = os.path.join(root, "velodyne", fid + ".bin")
-        if not os.path.isfile(scan_path):
-            raise IOError("cannot open Velodyne scan " + scan_path)
-        points = np.fromfile(scan_path, dtype=np.float32).reshape(-1, 4)
-        h, w = left.shape
-        sparse = cv.lidarsgm.projectPointsToDisparity(points, P2, lidar_to_cam, fb, (w, h))
-
+        left, right, sparse, gt_png = load_kitti_frame(root, fid)
         sgm = cv.lidarsgm.StereoLidarSGM.load(args.params) if args.params else cv.lidarsgm.StereoLidarSGM.create()
         if args.num_disparities:
             sgm.setNumDisparities(args.num_disparities)
@@ -88,10 +121,8 @@ def main(argv):
         print("lidarsgm_fuse.py: error: %s" % e, file=sys.stderr)
         return 1
 
-    disp = disp16.astype(np.float32) / 16
-    disp[disp16 <= -16] = -1  # invalid = (minDisparity - 1) * 16
+    disp = disparity_to_float(disp16, sgm.getMinDisparity())
     line = "%s %-6s check %-12s %s %8.1f ms" % (fid, args.mode.upper(), args.check, "CUDA" if args.cuda else "CPU ", ms)
-    gt_png = cv.imread(os.path.join(root, "disp_occ_0", fid + "_10.png"), cv.IMREAD_UNCHANGED)
     if gt_png is not None:
         e = cv.lidarsgm.evaluateDisparity(disp16, gt_png)  # KITTI D1, both in their stored encodings
         line += "  coverage %6.2f %%  covered D1 %5.2f %%  total D1 %5.2f %%" % (
@@ -100,18 +131,10 @@ def main(argv):
 
     if args.out:
         os.makedirs(args.out, exist_ok=True)
-        png = np.where(disp > 0, np.maximum(np.floor(disp * 256 + 0.5), 1), 0).astype(np.uint16)
-        cv.imwrite(os.path.join(args.out, "disparity.png"), png)
+        cv.imwrite(os.path.join(args.out, "disparity.png"), to_kitti_png(disp))
         cv.imwrite(os.path.join(args.out, "disparity_color.png"),
                    cv.lidarsgm.colorizeDisparity(disp, sgm.getNumDisparities()))
-        overlay = cv.cvtColor(left, cv.COLOR_GRAY2BGR)
-        ys, xs = np.nonzero(sparse > 0)
-        order = np.argsort(sparse[ys, xs])  # nearest points drawn last
-        colours = cv.lidarsgm.colorizeDisparity(sparse[ys, xs][order][None, :].astype(np.float32),
-                                                sgm.getNumDisparities())[0]
-        for (y, x), c in zip(zip(ys[order], xs[order]), colours):
-            overlay[max(y - 1, 0):y + 2, max(x - 1, 0):x + 2] = c
-        cv.imwrite(os.path.join(args.out, "lidar_points.png"), overlay)
+        cv.imwrite(os.path.join(args.out, "lidar_points.png"), draw_lidar_points(left, sparse, sgm.getNumDisparities()))
         print("wrote %s/disparity.png, disparity_color.png, lidar_points.png" % args.out)
     return 0
 
