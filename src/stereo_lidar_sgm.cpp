@@ -104,8 +104,9 @@ bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArr
         const int type = sparse.type();
         if (type != CV_16UC1 && type != CV_32FC1)
             CV_Error_(Error::StsUnsupportedFormat,
-                      ("lidarsgm: the sparse disparity map must be CV_16UC1 (KITTI, value / 256) or CV_32FC1 (pixels); got %s",
-                       typeToString(type).c_str()));
+                      ("lidarsgm: the sparse disparity map must be CV_16UC1 (KITTI, value / 256) or CV_32FC1 (pixels); "
+                       "got %s: convert it first (C++: sparse.convertTo(sparse32f, CV_32F); numpy: "
+                       "sparse.astype(numpy.float32))", typeToString(type).c_str()));
         if (sparse.size() != sz)
             CV_Error_(Error::StsUnmatchedSizes, ("lidarsgm: the sparse disparity map is %dx%d but the images are %dx%d",
                                                  sparse.size().width, sparse.size().height, sz.width, sz.height));

@@ -188,7 +188,8 @@ void printHelp()
             help.insert(p + 1, 24, ' ');
         printf("  %-20s  %s\n", flag.c_str(), help.c_str());
     }
-    printf("Exit codes: 0 done, 1 error (unreadable input, bad value, ...), 2 bad command line.\n");
+    printf("Exit codes: 0 done, 1 error (unreadable input, bad value, ...; a folder run: some frame failed, the others\n"
+           "are done), 2 bad command line.\n");
 }
 
 int modeFromName(const std::string& s)

@@ -121,6 +121,12 @@ class lidarsgm_test(NewOpenCVTests):
         with self.assertRaises(cv.error) as ctx:
             m.compute(colour, colour, np.zeros((40, 60), np.float32))
         self.assertIn('COLOR_BGR2GRAY', str(ctx.exception))
+        # numpy's default float64 for the sparse map: refused with the conversion that fixes it.
+        grey = np.zeros((40, 60), np.uint8)
+        with self.assertRaises(cv.error) as ctx:
+            m.compute(grey, grey, np.zeros((40, 60), np.float64))
+        self.assertIn('CV_64FC1', str(ctx.exception))
+        self.assertIn('sparse.astype(numpy.float32)', str(ctx.exception))
 
 
 if __name__ == '__main__':
