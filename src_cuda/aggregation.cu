@@ -5,6 +5,10 @@
 // CPU) computed as the paths walk. One warp walks one path line; lane t holds the path
 // costs of a run of disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction adds
 // into the one 16-bit sum volume, the only large buffer. Integer sums: the order does not matter.
+// Two launch plans, same sums: all directions in one launch adding with atomics (small images: one direction alone
+// has too few lines to fill the GPU), or one launch per direction, each adding with plain loads and stores since no
+// other launch touches the volume meanwhile, the first storing without a load (large images: the atomics' throughput,
+// not the bytes, sets the time there).
 
 #include "cuda_stages.hpp"
 #include "opencv2/core/cuda/common.hpp"
@@ -40,21 +44,61 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
     return true;
 }
 
+//! The sum volume's pairs of 16-bit costs of disparities d0, d0 + 1, ... at pixel (x, y).
+__device__ __forceinline__ unsigned* sumPairs(PtrStepSz<ushort> sum, int x, int y, int D, int d0)
+{
+    return (unsigned*)(sum.ptr(y) + (size_t)x * D + d0);
+}
+
+/* The first n of PPT consecutive pairs. PPT 2 and 4: one vector access, n = PPT (d0 = lane * 2 * PPT and the row
+ offset x * D are multiples of 2 * PPT 16-bit values since D is a multiple of 16, so the address is aligned to the
+ access size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last active
+ lane's run may pass D: n < PPT). */
+template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, int n, unsigned (&v)[PPT])
+{
+    if (PPT == 4) { const uint4 a = *(const uint4*)S; v[0] = a.x; v[1 % PPT] = a.y; v[2 % PPT] = a.z; v[3 % PPT] = a.w; }
+    else if (PPT == 2) { const uint2 a = *(const uint2*)S; v[0] = a.x; v[1 % PPT] = a.y; }
+    else
+    {
+#pragma unroll
+        for (int i = 0; i < PPT; i++)
+            if (i < n)
+                v[i] = S[i];
+    }
+}
+
+template <int PPT> __device__ __forceinline__ void storePairs(unsigned* S, int n, const unsigned (&v)[PPT])
+{
+    if (PPT == 4) *(uint4*)S = make_uint4(v[0], v[1 % PPT], v[2 % PPT], v[3 % PPT]);
+    else if (PPT == 2) *(uint2*)S = make_uint2(v[0], v[1 % PPT]);
+    else
+    {
+#pragma unroll
+        for (int i = 0; i < PPT; i++)
+            if (i < n)
+                S[i] = v[i];
+    }
+}
+
 /* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 32-bit reductions on
  pairs of 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for that), so no
  carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
  The horizontal lines (1 row each, the longest walks: they are the critical path) stage their row of right census
  strings in shared memory when it fits (rowSmem); the left census and prior are warp-uniform loads. The loads for
  the next pixel are issued before the current step's recurrence, to hide their latency. The left image is read
- (warp-uniform) only for the edge rule of the jump penalty (jumpPenalty). */
-template <int PPT, typename T>
+ (warp-uniform) only for the edge rule of the jump penalty (jumpPenalty).
+ WRITE: SUM_ATOMIC (all directions, blockIdx.y = direction), SUM_STORE or SUM_ADD (direction oneDir alone; the
+ sum of the next pixel is loaded one step ahead with the census strings). */
+enum SumWrite { SUM_ATOMIC, SUM_STORE, SUM_ADD };
+
+template <int WRITE, int PPT, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, bool rowSmem)
+                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, bool rowSmem, int oneDir)
 {
     const int DPT = 2 * PPT;
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
     // indexed by blockIdx would live in local memory).
-    const int dir = blockIdx.y;
+    const int dir = WRITE == SUM_ATOMIC ? (int)blockIdx.y : oneDir;
     const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
     const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
     const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
@@ -65,7 +109,8 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         return;
     const CostWeights w = p.w;
     const int d0 = lane * DPT;
-    const bool active = d0 < D;   // D is a multiple of 16, so pairs never straddle D
+    const bool active = d0 < D;
+    const int pairs = active ? ::min(PPT, (D - d0) / 2) : 0;   // D is even: pairs never straddle it
 
     extern __shared__ int rowBuf[];
     const bool staged = rowSmem && dy == 0;
@@ -90,6 +135,11 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         r[j] = (unsigned)(staged ? rowR[::min(::max(x - minD - d0 - j, 0), W - 1)]
                                  : censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1)));
 
+    // SUM_ADD: the sums of the current pixel, loaded one step ahead.
+    unsigned acc[PPT];
+    if (WRITE == SUM_ADD && active)
+        loadPairs<PPT>(sumPairs(sum, x, y, D, d0), pairs, acc);
+
     int L[DPT];
     int minPrev = 0;
     for (bool start = true; ; start = false)
@@ -100,7 +150,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         for (int j = 0; j < DPT; j++)
         {
             const int d = d0 + j;
-            C[j] = active ? matchingCost(popcount32(l ^ r[j]), d, k, w) : BIG;
+            C[j] = d < D ? matchingCost(popcount32(l ^ r[j]), d, k, w) : BIG;
         }
         const int cx = x, cy = y, curIntensity = intensity;
         x += dx; y += dy;
@@ -116,6 +166,9 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                 r[j] = (unsigned)(staged ? rowR[::min(::max(x - minD - d0 - j, 0), W - 1)]
                                          : censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1)));
         }
+        unsigned accNext[PPT];
+        if (WRITE == SUM_ADD && active && more)
+            loadPairs<PPT>(sumPairs(sum, x, y, D, d0), pairs, accNext);
         if (start)
         {
 #pragma unroll
@@ -134,7 +187,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                 const int lm = j > 0 ? L[j - 1] : (lane > 0 ? left : BIG);
                 const int lp = j < DPT - 1 ? L[j + 1] : (lane < 31 ? right : BIG);
                 const int best = ::min(::min(L[j], jump), ::min(lm, lp) + w.p1);
-                Ln[j] = active ? C[j] + best - minPrev : BIG;
+                Ln[j] = d0 + j < D ? C[j] + best - minPrev : BIG;
             }
 #pragma unroll
             for (int j = 0; j < DPT; j++)
@@ -147,10 +200,31 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         minPrev = __reduce_min_sync(0xFFFFFFFFu, m);
         if (active)
         {
-            unsigned* S = (unsigned*)(sum.ptr(cy) + (size_t)cx * D + d0);
+            unsigned* S = sumPairs(sum, cx, cy, D, d0);
+            unsigned v[PPT];
 #pragma unroll
             for (int i = 0; i < PPT; i++)
-                atomicAdd(S + i, (unsigned)L[2 * i] | ((unsigned)L[2 * i + 1] << 16));
+                v[i] = (unsigned)L[2 * i] | ((unsigned)L[2 * i + 1] << 16);
+            if (WRITE == SUM_ATOMIC)
+            {
+#pragma unroll
+                for (int i = 0; i < PPT; i++)
+                    if (i < pairs)
+                        atomicAdd(S + i, v[i]);
+            }
+            else
+            {
+                if (WRITE == SUM_ADD)
+                {
+#pragma unroll
+                    for (int i = 0; i < PPT; i++)
+                    {
+                        v[i] += acc[i];
+                        acc[i] = accNext[i];
+                    }
+                }
+                storePairs<PPT>(S, pairs, v);
+            }
         }
         prevIntensity = curIntensity;
         if (!more)
@@ -160,46 +234,64 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 
 template <int PPT, typename T>
 void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-              const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+              const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-    const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths);
     // Every block gets the shared memory of 4 rows; up to 24 KB (rows up to 1536 pixels) it costs no occupancy
     // worth having, beyond that the rows are read through the caches.
     const size_t smem = (size_t)WARPS_PER_BLOCK * W * sizeof(int);
     const bool rowSmem = smem <= 24 * 1024;
-    pathKernel<PPT, T><<<grid, 32 * WARPS_PER_BLOCK, rowSmem ? smem : 0, stream>>>(censusL, censusR, prior16, image, p,
-                                                                                   sum, rowSmem);
-    cudaSafeCall(cudaGetLastError());
+    const size_t smemBytes = rowSmem ? smem : 0;
+    const dim3 block(32 * WARPS_PER_BLOCK);
+    if (!perDirection)
+    {
+        cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+        const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
+        const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths);
+        pathKernel<SUM_ATOMIC, PPT, T><<<grid, block, smemBytes, stream>>>(censusL, censusR, prior16, image, p, sum,
+                                                                          rowSmem, 0);
+        cudaSafeCall(cudaGetLastError());
+        return;
+    }
+    for (int dir = 0; dir < p.numPaths; dir++)
+    {
+        const int lines = dir < 2 ? H : dir < 4 ? W : W + H - 1;   // rows, columns, diagonals
+        const dim3 grid((lines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK);
+        if (dir == 0)
+            pathKernel<SUM_STORE, PPT, T><<<grid, block, smemBytes, stream>>>(censusL, censusR, prior16, image, p,
+                                                                             sum, rowSmem, dir);
+        else
+            pathKernel<SUM_ADD, PPT, T><<<grid, block, smemBytes, stream>>>(censusL, censusR, prior16, image, p,
+                                                                           sum, rowSmem, dir);
+        cudaSafeCall(cudaGetLastError());
+    }
 }
 
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-               const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+               const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
 {
-    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPaths<1>(censusL, censusR, prior16, image, p, sum, stream); break;
-    case 2: runPaths<2>(censusL, censusR, prior16, image, p, sum, stream); break;
-    case 3: runPaths<3>(censusL, censusR, prior16, image, p, sum, stream); break;
-    default: runPaths<4>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 1: runPaths<1>(censusL, censusR, prior16, image, p, sum, perDirection, stream); break;
+    case 2: runPaths<2>(censusL, censusR, prior16, image, p, sum, perDirection, stream); break;
+    case 3: runPaths<3>(censusL, censusR, prior16, image, p, sum, perDirection, stream); break;
+    default: runPaths<4>(censusL, censusR, prior16, image, p, sum, perDirection, stream); break;
     }
 }
 
 } // namespace
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, stream);
+    aggregate(censusL, censusR, prior16, left, p, sum, perDirection, stream);
 }
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, stream);
+    aggregate(censusL, censusR, prior16, left, p, sum, perDirection, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

@@ -8,6 +8,7 @@
 
 #include "precomp.hpp"
 #include "opencv2/core/cuda_stream_accessor.hpp"
+#include "opencv2/core/utils/configuration.private.hpp"
 #include "cuda_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
@@ -20,6 +21,17 @@ void cudaCheck(cudaError_t err)
 {
     if (err != cudaSuccess)
         CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
+}
+
+/* From this many pixels on, the aggregation runs one launch per direction without atomics; below, all directions in
+one launch with atomics (one direction alone has too few lines to fill the GPU). Both give the same sums; the
+crossover was measured (doc/perf.md). OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS overrides it (0: always per
+direction), for measuring and for the tests of both plans. */
+bool aggregatePerDirection(Size sz)
+{
+    static const size_t minPixels =
+        utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS", 1000000);
+    return (size_t)sz.area() >= minPixels;
 }
 
 } // namespace
@@ -119,11 +131,12 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
 
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
+    const bool perDirection = aggregatePerDirection(sz);
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
     if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, perDirection, st);
     else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, perDirection, st);
     b.disp16.create(sz, CV_16SC1);
     b.dispInt.create(sz, CV_16SC1);
     b.rightKey.create(sz, CV_32SC1);

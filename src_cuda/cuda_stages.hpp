@@ -36,11 +36,12 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
 
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
-The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). */
+The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). perDirection: one
+launch per direction without atomics (large images) instead of one launch with atomics; the same sums. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
 right-view disparity as on the CPU. */

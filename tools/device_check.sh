@@ -68,6 +68,58 @@ if [ "${PERF:-0}" = 1 ]; then
     > "$OUT/perf_cuda.log" 2>&1
   grep -E "^\[ RUN|PERFSTAT" "$OUT/perf_cuda.log" | paste - - | sed -E 's/.*Lidarsgm_KITTI_CUDA[_A-Za-z]*\.([a-zA-Z_0-9]+)\/[0-9]+, where GetParam\(\) = (.*) \[ PERFSTAT.*median=([0-9.]+).*/\1 \2 median \3 ms/' | head -20
 fi
+if [ "${PLANS:-0}" = 1 ]; then
+  # The CUDA tests again with the aggregation's other launch plan forced (one launch per direction at every size;
+  # the default picks it from 1 Mpixel on), then CUDA-event timings of both plans at each size.
+  OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS=0 OPENCV_TEST_DATA_PATH=testdata $B/opencv_test_lidarsgm \
+    --gtest_filter="${1:-*CUDA*}" > "$OUT/tests_per_direction.log" 2>&1 || true
+  echo "CUDA tests, one launch per direction at every size:"
+  grep -E "^\[  FAILED|^\[  PASSED|Failure" "$OUT/tests_per_direction.log" | sort | uniq -c | head -20
+  for plan in 0 1000000000; do
+    for sz in 1242x375 1920x1080 3840x2160; do
+      nd=256; [ $sz = 1242x375 ] && nd=128
+      for paths in 8 4; do
+        [ $sz = 3840x2160 ] && [ $paths = 4 ] && continue
+        echo "plan $([ $plan = 0 ] && echo per-direction || echo one-launch) $sz $nd disparities $paths paths:"
+        OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS=$plan $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
+          --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities $nd --paths $paths | grep "lidarsgm\|cv::cuda"
+      done
+    done
+  done
+  if command -v compute-sanitizer >/dev/null; then
+    OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS=0 timeout 240 compute-sanitizer --tool memcheck --error-exitcode 99 \
+      env OPENCV_TEST_DATA_PATH=testdata $B/opencv_test_lidarsgm --gtest_filter='*CUDA_Random*' \
+      > "$OUT/memcheck_per_direction.log" 2>&1
+    echo "memcheck, random-input tests, one launch per direction: exit $? ($(grep 'ERROR SUMMARY' "$OUT/memcheck_per_direction.log" | tail -1))"
+  fi
+fi
+if [ "${BEST:-0}" = 1 ]; then
+  echo "doc/params/kitti_best.yml at KITTI size (against the defaults above):"
+  $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 \
+    --params doc/params/kitti_best.yml | grep "lidarsgm"
+fi
+if [ "${THROUGHPUT:-0}" = 1 ]; then
+  # A KITTI folder of 100 frames (the two test frames, alternating) through 1-8 workers with their own streams.
+  TP=/tmp/tp; rm -rf $TP; cp -r testdata/kitti $TP
+  for i in $(seq 50); do echo 000002; echo 000046; done > $TP/frames.txt
+  for s in 1 2 4 8; do
+    echo "folder run, --cuda 1 --streams $s:"
+    $B/lidarsgm_lidarsgm_fuse --kitti $TP --cuda 1 --streams $s --quiet 1 | grep -E "SDSGM|frames:"
+  done
+  for s in 1 8; do
+    echo "folder run with outputs (--out, KITTI PNGs and pictures), --cuda 1 --streams $s:"
+    rm -rf /tmp/tp_out; $B/lidarsgm_lidarsgm_fuse --kitti $TP --cuda 1 --streams $s --quiet 1 --out /tmp/tp_out | grep -E "frames:"
+  done
+  echo "the same folder on the CPU (16 threads), for the table:"
+  $B/lidarsgm_lidarsgm_fuse --kitti $TP --quiet 1 --threads 16 | grep -E "SDSGM|frames:"
+fi
+if [ "${CPU_SCALING:-0}" = 1 ]; then
+  # The CPU path on the host's cores: cv::setNumThreads 1..16, every cv::StereoSGBM mode alongside.
+  for t in 1 2 4 8 16; do
+    $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --timing ${CPU_REPS:-5} --threads $t \
+      ${CPU_ARGS:-} | grep -E "timing|lidarsgm|SGBM_3WAY"
+  done
+fi
 if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
   # Per-kernel durations of one SDSGM call (the second: the first includes module loading).
   ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 6 --launch-count 7 \

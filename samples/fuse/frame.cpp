@@ -57,8 +57,11 @@ int runFrame(const Options& o, Frame& f)
     }
     if (!out.empty())
     {
-        writeInputs(out, f, makeMatcher(o, Matcher::MODE_SDSGM, check),
-                    std::find(modes.begin(), modes.end(), "sdsgm") != modes.end());
+        const Ptr<Matcher> sdsgm = makeMatcher(o, Matcher::MODE_SDSGM, check);
+        Mat semi;
+        if (std::find(modes.begin(), modes.end(), "sdsgm") != modes.end())
+            sdsgm->semidensify(f.left, f.right, f.sparse, semi);
+        writeInputs(out, f, sdsgm->getMinDisparity(), sdsgm->getNumDisparities(), semi);
         printf("wrote %s/: disparity (%s), colour and error pictures, LiDAR points\n", out.c_str(),
                o.str("format", "kitti").c_str());
     }

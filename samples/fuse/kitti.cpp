@@ -8,71 +8,28 @@
 
 #include "tool.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
+#include <algorithm>
+#include <atomic>
 #include <cstdio>
+#include <mutex>
+#include <thread>
 
 using namespace cv;
 using namespace lidarsgm_data;
 
 namespace lidarsgm_fuse {
 
+std::vector<Row*> PassRows::all()
+{
+    std::vector<Row*> r;
+    for (Row& m : modes) r.push_back(&m);
+    r.push_back(&lidar);
+    r.push_back(&semi);
+    for (Row& t : table5) r.push_back(&t);
+    return r;
+}
+
 namespace {
-
-lidarsgm::DisparityErrors score(const Mat& disp, const Mat& gt, int minD)
-{
-    return lidarsgm::evaluateDisparity(disp, gt, lidarsgm::METRIC_KITTI_D1, 0, minD);
-}
-
-//! The rows of one pass: the modes, the LiDAR points, the semidense map, Table V.
-struct PassRows
-{
-    std::vector<Row> modes, table5;
-    Row lidar, semi;
-    std::vector<Row*> all()
-    {
-        std::vector<Row*> r;
-        for (Row& m : modes) r.push_back(&m);
-        r.push_back(&lidar);
-        r.push_back(&semi);
-        for (Row& t : table5) r.push_back(&t);
-        return r;
-    }
-};
-
-//! One frame's rows, computed (and its files written when there is a folder for it).
-void computeFrame(const Options& o, const Frame& f, const std::string& frameOut, PassRows& fr)
-{
-    const std::vector<std::string> modes = o.list("modes", "sgm,dsgm,sdsgm");
-    const int check = checkFromName(o.str("check", "stereo-lidar"));
-    for (size_t k = 0; k < modes.size(); k++)
-    {
-        Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check);
-        Mat disp;
-        TickMeter tm;
-        tm.start();
-        m->compute(f.left, f.right, f.sparse, disp);
-        tm.stop();
-        fr.modes[k].stats = score(disp, f.gt, m->getMinDisparity());
-        fr.modes[k].ms.push_back(tm.getTimeMilli());
-        if (!frameOut.empty())
-            writeDisparity(o, frameOut, "_" + modes[k], disp, m->getMinDisparity(), m->getNumDisparities(), f.gt);
-    }
-    for (size_t c = 0; c < fr.table5.size(); c++)
-    {
-        Ptr<Matcher> m = makeMatcher(o, Matcher::MODE_SDSGM, (int)c);
-        Mat disp;
-        m->compute(f.left, f.right, f.sparse, disp);
-        fr.table5[c].stats = score(disp, f.gt, m->getMinDisparity());
-    }
-    Mat sp = f.sparse.clone();
-    sp.setTo(-1.f, f.sparse <= 0);
-    fr.lidar.stats = score(sp, f.gt, 0);
-    Ptr<Matcher> m = makeMatcher(o, Matcher::MODE_SDSGM, check);
-    Mat sd;
-    m->semidensify(f.left, f.right, f.sparse, sd);
-    fr.semi.stats = score(sd, f.gt, m->getMinDisparity());
-    if (!frameOut.empty())
-        writeInputs(frameOut, f, m, true);
-}
 
 //! The frame's folder, without the partial files of a run killed mid-write.
 void prepareFrameDir(const std::string& dir)
@@ -84,12 +41,13 @@ void prepareFrameDir(const std::string& dir)
         std::remove(n.c_str());
 }
 
-//! The options that decide a frame's results (not the output folder, the threads, the progress line).
+//! The options that decide a frame's results (not the output folder, the device, threads, the progress line).
 std::string optionsKey(const Options& o)
 {
     std::string key;
     for (const auto& kv : o.kv)
-        if (kv.first != "out" && kv.first != "quiet" && kv.first != "threads" && kv.first != "resume")
+        if (kv.first != "out" && kv.first != "quiet" && kv.first != "threads" && kv.first != "resume" &&
+            kv.first != "streams" && kv.first != "cuda")   // CPU and CUDA outputs are the same
             key += "--" + kv.first + " " + kv.second + " ";
     return key;
 }
@@ -133,7 +91,17 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr)
     return true;
 }
 
-//! One pass over the frames; failed frames are appended to failures ("id: why").
+//! What a frame gave: its rows, or why it failed; whether it was taken from an earlier run.
+struct FrameResult
+{
+    PassRows rows;
+    std::string failure;
+    bool resumed = false;
+};
+
+/* One pass over the frames; failed frames are appended to failures ("id: why"). The frames go to --streams workers
+(default 1), each on its own thread taking the next frame when done with one: reading and writing on the CPU overlap
+the other workers' matching. The sums are taken in frame order at the end. */
 void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines, bool lineTitle,
                std::vector<std::string>& failures)
 {
@@ -152,63 +120,86 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
     sums.lidar.label = "LiDAR points alone";
     sums.semi.label = "semidense map (SDSGM input)";
 
-    size_t computed = 0, resumed = 0, failed = 0;
+    std::vector<FrameResult> results(ids.size());
+    std::atomic<size_t> next(0);
+    size_t done = 0;
+    std::mutex progressLock;
     TickMeter total;
     total.start();
+    auto work = [&]() {
+        FrameWorker worker(o);
+        for (size_t n; (n = next++) < ids.size(); )
+        {
+            const std::string frameOut = out.empty() ? "" : out + "/" + ids[n] + (lineTitle ? format("_%dlines", lines) : "");
+            const std::string metrics = frameOut + "/metrics.yml";
+            FrameResult& res = results[n];
+            res.rows = sums;   // labels; counts and times start empty
+            try
+            {
+                if (o.has("resume") && utils::fs::exists(metrics))
+                {
+                    if (!readMetrics(metrics, key, res.rows))
+                        CV_Error(Error::StsBadArg, metrics + " was written with other options (rerun without "
+                                                   "--resume, or into another --out)");
+                    res.resumed = true;
+                }
+                else
+                {
+                    const Frame f = loadKittiFrame(dir, ids[n], 64 / lines);
+                    if (f.gt.empty())
+                        CV_Error(Error::StsObjectNotFound, "no ground truth " + dir + "/disp_occ_0/" + ids[n] + "_10.png");
+                    if (!frameOut.empty())
+                        prepareFrameDir(frameOut);
+                    worker.compute(f, frameOut, res.rows);
+                    if (!frameOut.empty())
+                        writeMetrics(metrics, key, res.rows);
+                }
+            }
+            catch (const std::exception& e)
+            {
+                const cv::Exception* ce = dynamic_cast<const cv::Exception*>(&e);
+                res.failure = ce ? ce->err : std::string(e.what());
+            }
+            std::lock_guard<std::mutex> lock(progressLock);
+            if (!res.failure.empty() && !o.has("quiet"))
+                fprintf(stderr, "\nlidarsgm_fuse: frame %s skipped: %s\n", ids[n].c_str(), res.failure.c_str());
+            total.stop();
+            progress(o, ++done, ids.size(), total.getTimeSec());
+            total.start();
+        }
+    };
+    std::vector<std::thread> threads;
+    for (int t = 1; t < o.i("streams", 1); t++)
+        threads.emplace_back(work);
+    work();
+    for (std::thread& t : threads)
+        t.join();
+
+    size_t computed = 0, resumed = 0, failed = 0;
     for (size_t n = 0; n < ids.size(); n++)
     {
-        const std::string frameOut = out.empty() ? "" : out + "/" + ids[n] + (lineTitle ? format("_%dlines", lines) : "");
-        const std::string metrics = frameOut + "/metrics.yml";
-        PassRows fr = sums;   // labels; counts and times start empty
-        for (Row* r : fr.all())
+        FrameResult& res = results[n];
+        if (!res.failure.empty())
         {
-            r->stats = lidarsgm::DisparityErrors();
-            r->ms.clear();
-        }
-        try
-        {
-            if (o.has("resume") && utils::fs::exists(metrics))
-            {
-                if (!readMetrics(metrics, key, fr))
-                    CV_Error(Error::StsBadArg, metrics + " was written with other options (rerun without --resume, "
-                                               "or into another --out)");
-                resumed++;
-            }
-            else
-            {
-                const Frame f = loadKittiFrame(dir, ids[n], 64 / lines);
-                if (f.gt.empty())
-                    CV_Error(Error::StsObjectNotFound, "no ground truth " + dir + "/disp_occ_0/" + ids[n] + "_10.png");
-                if (!frameOut.empty())
-                    prepareFrameDir(frameOut);
-                computeFrame(o, f, frameOut, fr);
-                if (!frameOut.empty())
-                    writeMetrics(metrics, key, fr);
-                computed++;
-            }
-            std::vector<Row*> all = sums.all(), one = fr.all();
-            for (size_t i = 0; i < all.size(); i++)
-            {
-                all[i]->stats.add(one[i]->stats);
-                all[i]->ms.insert(all[i]->ms.end(), one[i]->ms.begin(), one[i]->ms.end());
-            }
-        }
-        catch (const std::exception& e)
-        {
-            const cv::Exception* ce = dynamic_cast<const cv::Exception*>(&e);
-            const std::string why = ce ? ce->err : std::string(e.what());
             failed++;
-            failures.push_back(ids[n] + (lineTitle ? format(" (%d lines)", lines) : "") + ": " + why);
-            if (!o.has("quiet"))
-                fprintf(stderr, "\nlidarsgm_fuse: frame %s skipped: %s\n", ids[n].c_str(), why.c_str());
+            failures.push_back(ids[n] + (lineTitle ? format(" (%d lines)", lines) : "") + ": " + res.failure);
+            continue;
         }
-        total.stop();
-        progress(o, n + 1, ids.size(), total.getTimeSec());
-        total.start();
+        (res.resumed ? resumed : computed)++;
+        std::vector<Row*> all = sums.all(), one = res.rows.all();
+        for (size_t i = 0; i < all.size(); i++)
+        {
+            all[i]->stats.add(one[i]->stats);
+            all[i]->ms.insert(all[i]->ms.end(), one[i]->ms.begin(), one[i]->ms.end());
+        }
     }
-    const std::string title = format("KITTI %s: %zu frames%s, D1 (KITTI devkit rules), sums over frames, %d threads",
+    total.stop();
+    const std::string title = format("KITTI %s: %zu frames%s, D1 (KITTI devkit rules), sums over frames, %s",
                                      dir.c_str(), computed + resumed,
-                                     lineTitle ? format(", %d LiDAR lines", lines).c_str() : "", getNumThreads());
+                                     lineTitle ? format(", %d LiDAR lines", lines).c_str() : "",
+                                     o.has("cuda") ? format("CUDA, %d stream(s), ms = GPU time per call",
+                                                            o.i("streams", 1)).c_str()
+                                                   : format("CPU, %d threads", getNumThreads()).c_str());
     std::vector<Row> table = sums.modes;
     table.push_back(sums.lidar);
     printTable(title, "D1", table);
@@ -216,7 +207,8 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
            sums.semi.stats.coveredError(), "-", "-");
     if (!sums.table5.empty())
         printTable("Consistency checks on SDSGM (the paper's Table V)", "D1", sums.table5);
-    printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed\n", computed, resumed, failed);
+    printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed; %.2f frames/s over the pass\n",
+           computed, resumed, failed, ids.size() / std::max(total.getTimeSec(), 1e-9));
 }
 
 } // namespace

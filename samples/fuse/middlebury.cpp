@@ -95,7 +95,12 @@ int runMiddlebury(const Options& o)
             {
                 writeDisparity(o, frameOut, "_" + modes[k], disp, m->getMinDisparity(), m->getNumDisparities(), Mat());
                 if (k == 0)
-                    writeInputs(frameOut, f, makeMatcher(o, Matcher::MODE_SDSGM, check, ndisp), true);
+                {
+                    const Ptr<Matcher> sdsgm = makeMatcher(o, Matcher::MODE_SDSGM, check, ndisp);
+                    Mat semi;
+                    sdsgm->semidensify(f.left, f.right, f.sparse, semi);
+                    writeInputs(frameOut, f, sdsgm->getMinDisparity(), sdsgm->getNumDisparities(), semi);
+                }
             }
         }
         total.stop();

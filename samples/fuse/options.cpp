@@ -63,6 +63,8 @@ const OptionSpec kOptions[] = {
       "cv::StereoSGBM mode; with --cuda: cv::cuda::StereoSGM, CUDA events, device memory)", nullptr },
     { "cuda", 'i', "1", "run on the GPU (GpuMat in and out)", nullptr },
     { "threads", 'i', "N", "cv::setNumThreads", nullptr },
+    { "streams", 'i', "N", "(KITTI folder) N workers fuse frames at once, each on its own thread with its own\n"
+      "matchers (with --cuda: own CUDA stream, page-locked buffers); default 1", nullptr },
     { "resize", 's', "WxH", "(speed runs) scale the frame to W x H first", nullptr },
     { "rounds", 'i', "N", "(GPU timing) repeat the timing table N times, to show the spread", nullptr },
     { nullptr, 0, nullptr, "Matcher parameters (StereoLidarSGM's; default: the paper's, or --params):", nullptr },
@@ -278,6 +280,8 @@ void checkOptions(const Options& o)
     char rest = 0;
     if (o.has("resize") && (sscanf(o.str("resize").c_str(), "%dx%d%c", &w, &h, &rest) != 2 || w <= 0 || h <= 0))
         CV_Error(Error::StsBadArg, "--resize takes WIDTHxHEIGHT, got '" + o.str("resize") + "'");
+    if (o.i("streams", 1) < 1 || o.i("streams", 1) > 64)
+        CV_Error(Error::StsBadArg, "--streams takes 1 to 64 workers, got " + o.str("streams"));
     if (o.has("resume") && (!o.has("kitti") || !o.has("out")))
         CV_Error(Error::StsBadArg, "--resume needs --kitti and --out (the earlier run's outputs)");
     if (o.has("params") && !utils::fs::exists(o.str("params")))

@@ -77,21 +77,19 @@ void writeDisparity(const Options& o, const std::string& dir, const std::string&
     }
 }
 
-void writeInputs(const std::string& dir, const Frame& f, const Ptr<Matcher>& sdsgm, bool semidense)
+void writeInputs(const std::string& dir, const Frame& f, int minD, int numD, const Mat& semidense16)
 {
     if (f.sparse.empty())
         return;
     Mat s;
     f.sparse.convertTo(s, CV_32F, f.sparse.depth() == CV_16U ? 1.0 / 256 : 1.0);
     s.setTo(0.f, ~(s > 0));
-    const int minD = sdsgm->getMinDisparity();
-    const float maxD = (float)(minD + sdsgm->getNumDisparities());
+    const float maxD = (float)(minD + numD);
     writeImage(dir + "/lidar_points.png", overlayPoints(f.left, s, maxD));
-    if (semidense)
+    if (!semidense16.empty())
     {
-        Mat semi, colour;
-        sdsgm->semidensify(f.left, f.right, f.sparse, semi);
-        const Mat sf = disparityToFloat(semi, minD);
+        Mat colour;
+        const Mat sf = disparityToFloat(semidense16, minD);
         writeImage(dir + "/semidense.png", toKittiPng(sf));
         lidarsgm::colorizeDisparity(sf, colour, maxD);
         writeImage(dir + "/semidense_color.png", colour);

@@ -5,7 +5,11 @@
 // GPU cv::cuda::StereoSGM, CUDA-event medians, and the device memory one instance holds.
 
 #include "tool.hpp"
+#if CV_VERSION_MAJOR >= 5
+#include "opencv2/stereo.hpp"     // cv::StereoSGBM moved from calib3d to stereo in OpenCV 5
+#else
 #include "opencv2/calib3d.hpp"
+#endif
 #include "opencv2/core/cuda.hpp"
 #ifdef LIDARSGM_HAVE_CUDASTEREO
 #include "opencv2/cudastereo.hpp"

@@ -56,8 +56,8 @@ void writeAtomically(const std::string& path, const std::function<bool(const std
 //! The disparity in the --format formats, its colour picture and, with ground truth, the error picture.
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const cv::Mat& disp16,
                     int minD, int numD, const cv::Mat& gt);
-//! LiDAR points over the left image and, with semidense, the semidense map.
-void writeInputs(const std::string& dir, const Frame& f, const cv::Ptr<Matcher>& sdsgm, bool semidense);
+//! LiDAR points over the left image and, where semidense16 (semidensify()'s output) is not empty, the semidense map.
+void writeInputs(const std::string& dir, const Frame& f, int minD, int numD, const cv::Mat& semidense16);
 
 //! One line of a summary table.
 struct Row
@@ -67,6 +67,35 @@ struct Row
     std::vector<double> ms;
 };
 void printTable(const std::string& title, const std::string& metric, const std::vector<Row>& rows);
+
+// ---- kitti_frame.cpp --------------------------------------------------------------------------------------------
+//! The rows of one frame or of a pass: the modes, the LiDAR points, the semidense map, Table V.
+struct PassRows
+{
+    std::vector<Row> modes, table5;
+    Row lidar, semi;
+    std::vector<Row*> all();
+};
+
+/** Computes the frames of a KITTI folder run, one at a time; several workers (--streams) run on their own threads.
+Keeps its matchers and, with --cuda, its stream and page-locked buffers between frames. */
+class FrameWorker
+{
+public:
+    explicit FrameWorker(const Options& o);
+    ~FrameWorker();
+    //! One frame's rows (fr has the labels; counts empty), its files written when frameOut is not empty.
+    void compute(const Frame& f, const std::string& frameOut, PassRows& fr);
+
+private:
+    FrameWorker(const FrameWorker&);
+    FrameWorker& operator=(const FrameWorker&);
+    cv::Ptr<Matcher> matcher(int mode, int check);
+    struct Gpu;
+    const Options& o_;
+    Gpu* gpu_;
+    std::map<int, cv::Ptr<Matcher> > matchers_;
+};
 //! The progress line of folder runs (stderr): frames done, frames per second, time left.
 void progress(const Options& o, size_t done, size_t total, double seconds);
 double medianMs(std::vector<double> v);

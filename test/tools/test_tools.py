@@ -88,6 +88,36 @@ class ToolTest(unittest.TestCase):
         self.assertEqual(rc, 0)
         self.assertEqual(row.groups(), METRICS.search(so1).groups())
 
+    def test_folder_workers(self):
+        # --streams 3: three workers on their own threads (more than frames); the same files and table as one.
+        kitti = os.path.join(self.tmp, "kitti")
+        shutil.copytree(KITTI, kitti)
+        with open(os.path.join(kitti, "frames.txt"), "w") as f:
+            f.write("000002\n000046\n")
+        outs, tables = [], []
+        rows = r"\| ([A-Za-z][^|]*?) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+|-) %?"
+        for streams in ["1", "3"]:
+            outs.append(os.path.join(self.tmp, "out" + streams))
+            rc, so, se = run([TOOL, "--kitti", kitti, "--out", outs[-1], "--modes", "sgm,sdsgm", "--table5",
+                              "--streams", streams, "--threads", "1"])
+            self.assertEqual(rc, 0, se)
+            self.assertIn("[2/2] frames", se)
+            self.assertIn("frames: 2 computed, 0 taken from earlier runs (--resume), 0 failed", so)
+            tables.append(re.findall(rows, so))
+        self.assertEqual(len(tables[0]), 8)
+        self.assertEqual(tables[0], tables[1])
+        for fid in ["000002", "000046"]:
+            names = sorted(os.listdir(os.path.join(outs[0], fid)))
+            self.assertEqual(names, sorted(os.listdir(os.path.join(outs[1], fid))))
+            for name in names:
+                if name != "metrics.yml":
+                    with open(os.path.join(outs[0], fid, name), "rb") as a, \
+                         open(os.path.join(outs[1], fid, name), "rb") as b:
+                        self.assertEqual(a.read(), b.read(), fid + "/" + name)
+        rc, _, se = run([TOOL, "--kitti", kitti, "--streams", "0"])
+        self.assertEqual(rc, 1)
+        self.assertIn("--streams takes 1 to 64 workers, got 0", se)
+
     def test_folder_bad_frame_partial_files_and_resume(self):
         kitti = os.path.join(self.tmp, "kitti")
         shutil.copytree(KITTI, kitti)

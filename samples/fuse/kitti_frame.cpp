@@ -1,0 +1,138 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// One frame of a KITTI folder run, by one worker (FrameWorker): each mode, Table V's checks and the semidense map,
+// scored with the devkit's rules, the files written. A worker keeps its matchers between frames (their buffers stay);
+// with --cuda it also keeps its own stream and page-locked host buffers, so that the workers' uploads, kernels and
+// downloads overlap each other and the other workers' reading and writing on the CPU.
+
+#include "tool.hpp"
+#include "opencv2/core/cuda.hpp"
+
+using namespace cv;
+
+namespace lidarsgm_fuse {
+
+namespace {
+
+lidarsgm::DisparityErrors score(const Mat& disp, const Mat& gt, int minD)
+{
+    return lidarsgm::evaluateDisparity(disp, gt, lidarsgm::METRIC_KITTI_D1, 0, minD);
+}
+
+//! One matcher call of a frame: its matcher, whether it is semidensify(), and its output.
+struct Job
+{
+    Ptr<Matcher> m;
+    bool semidense;
+    Mat out;
+    double ms;
+};
+
+//! The modes (3 at most), Table V's checks (4), the semidense map.
+const int kMaxJobs = 8;
+
+} // namespace
+
+struct FrameWorker::Gpu
+{
+    cuda::Stream stream;
+    cuda::HostMem in[3], out[kMaxJobs];   // page-locked: left, right, sparse; one output per job
+    cuda::GpuMat gin[3], gout[kMaxJobs];
+    cuda::Event start[kMaxJobs], stop[kMaxJobs];
+
+    //! src in page-locked memory, then uploaded on the stream (returns at once).
+    void upload(int i, const Mat& src)
+    {
+        in[i].create(src.size(), src.type());
+        Mat h = in[i].createMatHeader();
+        src.copyTo(h);
+        gin[i].upload(in[i], stream);
+    }
+};
+
+FrameWorker::FrameWorker(const Options& o) : o_(o), gpu_(o.has("cuda") ? new Gpu : nullptr) {}
+
+FrameWorker::~FrameWorker()
+{
+    delete gpu_;
+}
+
+Ptr<Matcher> FrameWorker::matcher(int mode, int check)
+{
+    Ptr<Matcher>& m = matchers_[mode * 4 + check];
+    if (m.empty())
+        m = makeMatcher(o_, mode, check);
+    return m;
+}
+
+void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows& fr)
+{
+    const std::vector<std::string> modes = o_.list("modes", "sgm,dsgm,sdsgm");
+    const int check = checkFromName(o_.str("check", "stereo-lidar"));
+    std::vector<Job> jobs;
+    for (const std::string& name : modes)
+        jobs.push_back({ matcher(modeFromName(name), check), false, Mat(), 0.0 });
+    for (size_t c = 0; c < fr.table5.size(); c++)
+        jobs.push_back({ matcher(Matcher::MODE_SDSGM, (int)c), false, Mat(), 0.0 });
+    jobs.push_back({ matcher(Matcher::MODE_SDSGM, check), true, Mat(), 0.0 });
+    CV_Assert(jobs.size() <= (size_t)kMaxJobs);
+    if (gpu_)
+    {
+        // Everything enqueued on this worker's stream, one wait at the end.
+        Gpu& g = *gpu_;
+        g.upload(0, f.left);
+        g.upload(1, f.right);
+        g.upload(2, f.sparse);
+        for (size_t j = 0; j < jobs.size(); j++)
+        {
+            g.start[j].record(g.stream);
+            if (jobs[j].semidense)
+                jobs[j].m->semidensify(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.stream);
+            else
+                jobs[j].m->compute(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.stream);
+            g.stop[j].record(g.stream);
+            g.out[j].create(g.gout[j].size(), g.gout[j].type());
+            g.gout[j].download(g.out[j], g.stream);
+        }
+        g.stream.waitForCompletion();
+        for (size_t j = 0; j < jobs.size(); j++)
+        {
+            jobs[j].out = g.out[j].createMatHeader();
+            jobs[j].ms = cuda::Event::elapsedTime(g.start[j], g.stop[j]);
+        }
+    }
+    else
+    {
+        for (Job& j : jobs)
+        {
+            TickMeter tm;
+            tm.start();
+            if (j.semidense)
+                j.m->semidensify(f.left, f.right, f.sparse, j.out);
+            else
+                j.m->compute(f.left, f.right, f.sparse, j.out);
+            tm.stop();
+            j.ms = tm.getTimeMilli();
+        }
+    }
+    for (size_t k = 0; k < modes.size(); k++)
+    {
+        const Job& j = jobs[k];
+        fr.modes[k].stats = score(j.out, f.gt, j.m->getMinDisparity());
+        fr.modes[k].ms.push_back(j.ms);
+        if (!frameOut.empty())
+            writeDisparity(o_, frameOut, "_" + modes[k], j.out, j.m->getMinDisparity(), j.m->getNumDisparities(), f.gt);
+    }
+    for (size_t c = 0; c < fr.table5.size(); c++)
+        fr.table5[c].stats = score(jobs[modes.size() + c].out, f.gt, jobs[modes.size() + c].m->getMinDisparity());
+    Mat sp = f.sparse.clone();
+    sp.setTo(-1.f, f.sparse <= 0);
+    fr.lidar.stats = score(sp, f.gt, 0);
+    const Job& semi = jobs.back();
+    fr.semi.stats = score(semi.out, f.gt, semi.m->getMinDisparity());
+    if (!frameOut.empty())
+        writeInputs(frameOut, f, semi.m->getMinDisparity(), semi.m->getNumDisparities(), semi.out);
+}
+
+} // namespace lidarsgm_fuse
