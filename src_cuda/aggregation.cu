@@ -20,6 +20,7 @@ namespace {
 
 const int BIG = 0x3FFFFFFF;       // stands for "no such disparity": never the minimum
 const int WARPS_PER_BLOCK = 4;
+const int PREFETCH = 8;           // steps ahead (one launch per direction)
 
 /* Line `line` of direction (dx, dy): its first pixel. Horizontal lines are rows, vertical lines columns; diagonal
  lines start on the row the direction enters from (W lines), then on the column it enters from (H - 1 lines). */
@@ -42,6 +43,12 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
         else { x = dx > 0 ? 0 : W - 1; y = dy > 0 ? line - W + 1 : H - 1 - (line - W + 1); }
     }
     return true;
+}
+
+//! Asks the line holding p into L2 without waiting for it.
+__device__ __forceinline__ void prefetchL2(const void* p)
+{
+    asm volatile("prefetch.global.L2 [%0];" :: "l"(p));
 }
 
 //! The sum volume's pairs of 16-bit costs of disparities d0, d0 + 1, ... at pixel (x, y).
@@ -168,7 +175,18 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         }
         unsigned accNext[PPT];
         if (WRITE == SUM_ADD && active && more)
+        {
             loadPairs<PPT>(sumPairs(sum, x, y, D, d0), pairs, accNext);
+            // The load above waits on memory every step; PREFETCH steps ahead the sums and (on lines that do not
+            // stage their row) the right census strings are asked into L2, so the loads find them there.
+            const int px = x + PREFETCH * dx, py = y + PREFETCH * dy;
+            if (px >= 0 && px < W && py >= 0 && py < H)
+            {
+                prefetchL2(sumPairs(sum, px, py, D, d0));
+                if (!staged)
+                    prefetchL2(censusR.ptr(py) + ::min(::max(px - minD - d0 - (DPT - 1), 0), W - 1));
+            }
+        }
         if (start)
         {
 #pragma unroll

@@ -6,6 +6,7 @@
 #include "tool.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <unistd.h>
 
@@ -23,12 +24,14 @@ void makeDir(const std::string& dir)
 
 void writeAtomically(const std::string& path, const std::function<bool(const std::string&)>& write)
 {
-    // A hidden name beside the file, the extension kept last (imwrite picks the format by it), made unique per run.
+    // A hidden name beside the file, the extension kept last (imwrite picks the format by it), unique per run and
+    // per call (the workers of --streams write at once).
+    static std::atomic<unsigned> calls(0);
     const size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
     const size_t nameAt = slash == std::string::npos ? 0 : slash + 1;
     const size_t extAt = dot == std::string::npos || dot < nameAt ? path.size() : dot;
     const std::string tmp = path.substr(0, nameAt) + "." + path.substr(nameAt, extAt - nameAt) +
-                            format(".partial-%d", (int)getpid()) + path.substr(extAt);
+                            format(".partial-%d-%u", (int)getpid(), calls++) + path.substr(extAt);
     bool ok = false;
     try
     {
