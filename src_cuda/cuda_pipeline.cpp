@@ -30,7 +30,7 @@ direction), for measuring and for the tests of both plans. */
 bool aggregatePerDirection(Size sz)
 {
     static const size_t minPixels =
-        utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS", 4000000);
+        utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS", 2000000);
     return (size_t)sz.area() >= minPixels;
 }
 

@@ -125,6 +125,13 @@ if [ "${CPU_SCALING:-0}" = 1 ]; then
       ${CPU_ARGS:-} | grep -E "timing|lidarsgm|SGBM" || true
   done
 fi
+if [ "${PROFILE_PATHS:-0}" = 1 ] && command -v ncu >/dev/null; then
+  # The path kernel of one SDSGM call: time, registers per thread, achieved occupancy, issue activity.
+  ncu --clock-control none -k regex:pathKernel --launch-skip 2 --launch-count 1 --metrics \
+      gpu__time_duration.sum,launch__registers_per_thread,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed.avg.per_cycle_active,smsp__issue_active.avg.pct_of_peak_sustained_active \
+      $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
+    | grep -E "pathKernel|gpu__|launch__|sm__|smsp__" | sed -E 's/ +/ /g' | cut -c1-150
+fi
 if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
   # Per-kernel durations of one SDSGM call (the second: the first includes module loading).
   ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 6 --launch-count 7 \
