@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <vector>
 
 using namespace cv;
 
@@ -136,6 +137,44 @@ int runCudaTiming(const Options& o, const Frame& f, int reps)
         const double mb = heldMB(m, [&](const Ptr<Matcher>& x) { x->compute(gl, gr, gs, gd); });
         const double ms = eventMedian([&](cuda::Stream& st) { m->compute(gl, gr, gs, gd, st); }, reps);
         printf("| lidarsgm %-5s | %8.3f ms | device memory held %.1f MB |\n", modeLabel(modes[k % 3]), ms, mb);
+    }
+    // Throughput: k instances, each on its own stream, frames handed round-robin; page-locked input and output, so
+    // one instance's uploads and downloads overlap the others' kernels. Frames per second over 200 frames.
+    double oneFps = 0;
+    for (int k : { 1, 2, 4 })
+    {
+        std::vector<Ptr<Matcher> > ms;
+        std::vector<cuda::Stream> st(k);
+        std::vector<cuda::GpuMat> dl(k), dr(k), ds(k), dd(k);
+        std::vector<cuda::HostMem> out(k);
+        cuda::HostMem hl(f.left), hr(f.right), hs(f.sparse);
+        for (int j = 0; j < k; j++)
+        {
+            ms.push_back(makeMatcher(o, Matcher::MODE_SDSGM, check));
+            ms[j]->compute(gl, gr, gs, dd[j], st[j]);   // buffers made
+        }
+        cuda::Stream::Null().waitForCompletion();
+        const int frames = 200;
+        TickMeter tm;
+        tm.start();
+        for (int i = 0; i < frames; i++)
+        {
+            const int j = i % k;
+            st[j].waitForCompletion();   // this instance's previous frame is back
+            dl[j].upload(hl, st[j]);
+            dr[j].upload(hr, st[j]);
+            ds[j].upload(hs, st[j]);
+            ms[j]->compute(dl[j], dr[j], ds[j], dd[j], st[j]);
+            dd[j].download(out[j], st[j]);
+        }
+        for (cuda::Stream& s : st)
+            s.waitForCompletion();
+        tm.stop();
+        const double fps = frames / tm.getTimeSec();
+        if (k == 1)
+            oneFps = fps;
+        printf("| %d SDSGM instance(s), own streams, upload + compute + download | %7.1f frames/s | %.2f x one |\n", k,
+               fps, fps / oneFps);
     }
 #ifdef LIDARSGM_HAVE_CUDASTEREO
     for (int p = 8; p >= 4; p -= 4)

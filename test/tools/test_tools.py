@@ -37,6 +37,14 @@ class ToolTest(unittest.TestCase):
     def tearDown(self):
         shutil.rmtree(self.tmp, ignore_errors=True)
 
+    def kitti_folder(self, frames):
+        """A copy of the test frames' KITTI folder whose frames.txt lists frames."""
+        kitti = os.path.join(self.tmp, "kitti")
+        shutil.copytree(KITTI, kitti)
+        with open(os.path.join(kitti, "frames.txt"), "w") as f:
+            f.write(frames)
+        return kitti
+
     def test_frame_outputs_and_formats(self):
         out = os.path.join(self.tmp, "out")
         rc, so, se = run([TOOL, "--kitti-frame", KITTI, "--id", "000002", "--out", out, "--format", "kitti,pfm,s16"])
@@ -64,10 +72,7 @@ class ToolTest(unittest.TestCase):
         self.assertTrue(np.all(err[gt > 0].max(axis=1) > 0))
 
     def test_folder_summary_and_progress(self):
-        kitti = os.path.join(self.tmp, "kitti")
-        shutil.copytree(KITTI, kitti)
-        with open(os.path.join(kitti, "frames.txt"), "w") as f:
-            f.write("000002\n000046\n")
+        kitti = self.kitti_folder("000002\n000046\n")
         out = os.path.join(self.tmp, "out")
         rc, so, se = run([TOOL, "--kitti", kitti, "--out", out, "--modes", "dsgm,sdsgm"])
         self.assertEqual(rc, 0, se)
@@ -90,10 +95,7 @@ class ToolTest(unittest.TestCase):
 
     def test_folder_workers(self):
         # --streams 3: three workers on their own threads (more than frames); the same files and table as one.
-        kitti = os.path.join(self.tmp, "kitti")
-        shutil.copytree(KITTI, kitti)
-        with open(os.path.join(kitti, "frames.txt"), "w") as f:
-            f.write("000002\n000046\n")
+        kitti = self.kitti_folder("000002\n000046\n")
         outs, tables = [], []
         rows = r"\| ([A-Za-z][^|]*?) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+|-) %?"
         for streams in ["1", "3"]:
@@ -119,10 +121,7 @@ class ToolTest(unittest.TestCase):
         self.assertIn("--streams takes 1 to 64 workers, got 0", se)
 
     def test_folder_bad_frame_partial_files_and_resume(self):
-        kitti = os.path.join(self.tmp, "kitti")
-        shutil.copytree(KITTI, kitti)
-        with open(os.path.join(kitti, "frames.txt"), "w") as f:
-            f.write("000002\n000046\n")
+        kitti = self.kitti_folder("000002\n000046\n")
         scan = os.path.join(kitti, "velodyne", "000046.bin")
         with open(scan, "rb") as f:
             whole = f.read()
@@ -200,10 +199,7 @@ class ToolTest(unittest.TestCase):
 
     def test_lidar_lines(self):
         # Fewer LiDAR lines: a table per line count, fewer LiDAR points, and the 64-line table as without the option.
-        kitti = os.path.join(self.tmp, "kitti")
-        shutil.copytree(KITTI, kitti)
-        with open(os.path.join(kitti, "frames.txt"), "w") as f:
-            f.write("000046\n")
+        kitti = self.kitti_folder("000046\n")
         rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1", "--lidar-lines", "64,32,16"])
         self.assertEqual(rc, 0, se)
         cov = [float(c) for c in re.findall(r"\| LiDAR points alone +\| +([\d.]+) %", so)]
