@@ -18,7 +18,14 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
-const int BIG = 0x3FFFFFFF;       // stands for "no such disparity": never the minimum
+const unsigned BIG16 = 0x7FFF;    // stands for "no such disparity": above every path cost, never the minimum
+const unsigned BIG16X2 = BIG16 * 0x10001u;
+
+//! Both 16-bit halves' minima (min.u16x2: one instruction from sm_90 on).
+__device__ __forceinline__ unsigned vmin2(unsigned a, unsigned b)
+{
+    return __vminu2(a, b);
+}
 const int WARPS_PER_BLOCK = 4;
 const int PREFETCH = 8;           // steps ahead (one launch per direction)
 
@@ -43,6 +50,25 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
         else { x = dx > 0 ? 0 : W - 1; y = dy > 0 ? line - W + 1 : H - 1 - (line - W + 1); }
     }
     return true;
+}
+
+/* The right census strings of disparities d0 .. d0 + DPT - 1 at a pixel: row[base - j], base = x - minD - d0, clamped
+ to the row. Away from the row's ends (nearly always) no clamp is needed and the loads take constant offsets. */
+template <int DPT> __device__ __forceinline__ void loadRight(const int* row, int base, int W, unsigned (&r)[DPT])
+{
+    if (base - (DPT - 1) >= 0 && base < W)
+    {
+        const int* q = row + base;
+#pragma unroll
+        for (int j = 0; j < DPT; j++)
+            r[j] = (unsigned)q[-j];
+    }
+    else
+    {
+#pragma unroll
+        for (int j = 0; j < DPT; j++)
+            r[j] = (unsigned)row[::min(::max(base - j, 0), W - 1)];
+    }
 }
 
 //! Asks the line holding p into L2 without waiting for it.
@@ -139,27 +165,28 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     int pr = prior16.data ? prior16(y, x) : NO_DISP;
     int intensity = edges ? (int)image(y, x) : 0, prevIntensity = intensity;
     unsigned r[DPT];
-#pragma unroll
-    for (int j = 0; j < DPT; j++)
-        r[j] = (unsigned)(staged ? rowR[::min(::max(x - minD - d0 - j, 0), W - 1)]
-                                 : censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1)));
+    loadRight<DPT>(staged ? rowR : censusR.ptr(y), x - minD - d0, W, r);
 
     // SUM_ADD: the sums of the current pixel, loaded one step ahead.
     unsigned acc[PPT];
     if (WRITE == SUM_ADD && active)
         loadPairs<PPT>(sumPairs(sum, x, y, D, d0), pairs, acc);
 
-    int L[DPT];
+    // The path costs of the lane's disparities, two per register (d0 + 2i low, d0 + 2i + 1 high): every value stays
+    // below BIG16 and BIG16 + P1 below 2^16, so plain 32-bit adds and subtractions never carry between the halves
+    // (C + best - minPrev >= 0 since best >= minPrev), and min.u16x2 takes both minima at once.
+    unsigned P[PPT];
     int minPrev = 0;
     for (bool start = true; ; start = false)
     {
         const int k = pr != NO_DISP ? roundDisp16(pr) - minD : -1;
-        int C[DPT];
+        unsigned Cp[PPT];
 #pragma unroll
-        for (int j = 0; j < DPT; j++)
+        for (int i = 0; i < PPT; i++)
         {
-            const int d = d0 + j;
-            C[j] = (ragged ? d < D : active) ? matchingCost(popcount32(l ^ r[j]), d, k, w) : BIG;
+            const int d = d0 + 2 * i;
+            Cp[i] = (unsigned)matchingCost(popcount32(l ^ r[2 * i]), d, k, w) |
+                    ((unsigned)matchingCost(popcount32(l ^ r[2 * i + 1]), d + 1, k, w) << 16);
         }
         const int cx = x, cy = y, curIntensity = intensity;
         x += dx; y += dy;
@@ -170,10 +197,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             pr = prior16.data ? prior16(y, x) : NO_DISP;
             if (edges)
                 intensity = image(y, x);
-#pragma unroll
-            for (int j = 0; j < DPT; j++)
-                r[j] = (unsigned)(staged ? rowR[::min(::max(x - minD - d0 - j, 0), W - 1)]
-                                         : censusR(y, ::min(::max(x - minD - d0 - j, 0), W - 1)));
+            loadRight<DPT>(staged ? rowR : censusR.ptr(y), x - minD - d0, W, r);
         }
         unsigned accNext[PPT];
         if (WRITE == SUM_ADD && active && more)
@@ -192,39 +216,48 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         if (start)
         {
 #pragma unroll
-            for (int j = 0; j < DPT; j++)
-                L[j] = C[j];
+            for (int i = 0; i < PPT; i++)
+                P[i] = Cp[i];
         }
         else
         {
-            const int left = __shfl_up_sync(0xFFFFFFFFu, L[DPT - 1], 1);     // L(d0 - 1)
-            const int right = __shfl_down_sync(0xFFFFFFFFu, L[0], 1);        // L(d0 + DPT)
-            const int jump = minPrev + jumpPenalty(curIntensity, prevIntensity, p.edgeThreshold, w);
-            int Ln[DPT];
+            // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles.
+            const unsigned up = __shfl_up_sync(0xFFFFFFFFu, P[PPT - 1], 1);
+            const unsigned down = __shfl_down_sync(0xFFFFFFFFu, P[0], 1);
+            const unsigned left = lane > 0 ? up : BIG16X2, rightPair = lane < 31 ? down : BIG16X2;
+            const unsigned jump =
+                (unsigned)(minPrev + jumpPenalty(curIntensity, prevIntensity, p.edgeThreshold, w)) * 0x10001u;
+            const unsigned p1 = (unsigned)w.p1 * 0x10001u, mp = (unsigned)minPrev * 0x10001u;
+            unsigned Pn[PPT];
 #pragma unroll
-            for (int j = 0; j < DPT; j++)
+            for (int i = 0; i < PPT; i++)
             {
-                const int lm = j > 0 ? L[j - 1] : (lane > 0 ? left : BIG);
-                const int lp = j < DPT - 1 ? L[j + 1] : (lane < 31 ? right : BIG);
-                const int best = ::min(::min(L[j], jump), ::min(lm, lp) + w.p1);
-                Ln[j] = (ragged ? d0 + j < D : active) ? C[j] + best - minPrev : BIG;
+                const unsigned lm = __byte_perm(i > 0 ? P[i - 1] : left, P[i], 0x5432);
+                const unsigned lp = __byte_perm(P[i], i < PPT - 1 ? P[i + 1] : rightPair, 0x5432);
+                const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + p1);
+                Pn[i] = Cp[i] + best - mp;
             }
 #pragma unroll
-            for (int j = 0; j < DPT; j++)
-                L[j] = Ln[j];
+            for (int i = 0; i < PPT; i++)
+                P[i] = Pn[i];
         }
-        int m = BIG;
+        // Disparities past D (inactive lanes; with PPT 3 the last active lane's tail) hold BIG16: never a minimum.
 #pragma unroll
-        for (int j = 0; j < DPT; j++)
-            m = ::min(m, L[j]);
-        minPrev = __reduce_min_sync(0xFFFFFFFFu, m);
+        for (int i = 0; i < PPT; i++)
+            if (!(ragged ? i < pairs : active))
+                P[i] = BIG16X2;
+        unsigned mPair = P[0];
+#pragma unroll
+        for (int i = 1; i < PPT; i++)
+            mPair = vmin2(mPair, P[i]);
+        minPrev = (int)__reduce_min_sync(0xFFFFFFFFu, ::min(mPair & 0xFFFFu, mPair >> 16));
         if (active)
         {
             unsigned* S = sumPairs(sum, cx, cy, D, d0);
             unsigned v[PPT];
 #pragma unroll
             for (int i = 0; i < PPT; i++)
-                v[i] = (unsigned)L[2 * i] | ((unsigned)L[2 * i + 1] << 16);
+                v[i] = P[i];
             if (WRITE == SUM_ATOMIC && PPT % 2 == 0)
             {
                 // Four 16-bit costs per 64-bit reduction (8-byte aligned: d0 is a multiple of 4 here): half the
