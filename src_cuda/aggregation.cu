@@ -180,13 +180,22 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     for (bool start = true; ; start = false)
     {
         const int k = pr != NO_DISP ? roundDisp16(pr) - minD : -1;
-        unsigned Cp[PPT];
+        // matchingCost (pipeline.hpp) in pairs: the census term, plus the DDC term, which is one value (0 without a
+        // prior, Q2 with one) except within one disparity of the prior, in at most two lanes that add it exactly.
+        unsigned ct[DPT], Cp[PPT];
+#pragma unroll
+        for (int j = 0; j < DPT; j++)
+            ct[j] = (unsigned)censusTerm(w.census256, popcount32(l ^ r[j]));
+        const unsigned ddcFar = (unsigned)ddcTerm(k < 0 ? 0 : k + 2 * D, k, w) * 0x10001u;
 #pragma unroll
         for (int i = 0; i < PPT; i++)
+            Cp[i] = (ct[2 * i] | (ct[2 * i + 1] << 16)) + ddcFar;
+        if (k >= 0 && k >= d0 - 1 && k <= d0 + DPT)
         {
-            const int d = d0 + 2 * i;
-            Cp[i] = (unsigned)matchingCost(popcount32(l ^ r[2 * i]), d, k, w) |
-                    ((unsigned)matchingCost(popcount32(l ^ r[2 * i + 1]), d + 1, k, w) << 16);
+#pragma unroll
+            for (int i = 0; i < PPT; i++)
+                Cp[i] = (ct[2 * i] + (unsigned)ddcTerm(d0 + 2 * i, k, w)) |
+                        ((ct[2 * i + 1] + (unsigned)ddcTerm(d0 + 2 * i + 1, k, w)) << 16);
         }
         const int cx = x, cy = y, curIntensity = intensity;
         x += dx; y += dy;
