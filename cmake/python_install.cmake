@@ -80,7 +80,8 @@ foreach(_component libs python)
   list(APPEND _files ${_m})
 endforeach()
 
-# The libraries' search path named the build's install prefix; here they find each other relative to themselves.
+# The libraries' search path names the build's install prefix (or $ORIGIN/../lib); here they find each other relative
+# to where they land.
 file(STRINGS "${OPENCV_BUILD}/CMakeCache.txt" _p REGEX "^CMAKE_INSTALL_PREFIX:")
 string(REGEX REPLACE "^[^=]*=" "" _build_prefix "${_p}")
 foreach(_f ${_files})
@@ -94,6 +95,7 @@ foreach(_f ${_files})
     file(READ_ELF "${_f}" RUNPATH _rp)
     string(REPLACE ";" ":" _rp "${_rp}")   # READ_ELF gives a CMake list
     string(REPLACE "${_build_prefix}/lib" "${_new}" _new_rp "${_rp}")
+    string(REPLACE "$ORIGIN/../lib" "${_new}" _new_rp "${_new_rp}")   # the superbuild's relocatable installs
     if(NOT _new_rp STREQUAL _rp)
       file(RPATH_CHANGE FILE "${_f}" OLD_RPATH "${_rp}" NEW_RPATH "${_new_rp}")
     endif()

@@ -11,6 +11,7 @@
 // not the bytes, sets the time there).
 
 #include "cuda_stages.hpp"
+#include "aggregation.cuh"
 #include "opencv2/core/cuda/common.hpp"
 #include <algorithm>
 
@@ -18,104 +19,13 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
-const unsigned BIG16 = 0x7FFF;    // stands for "no such disparity": above every path cost, never the minimum
-const unsigned BIG16X2 = BIG16 * 0x10001u;
-
-//! Both 16-bit halves' minima (min.u16x2: one instruction from sm_90 on).
-__device__ __forceinline__ unsigned vmin2(unsigned a, unsigned b)
-{
-    return __vminu2(a, b);
-}
 const int WARPS_PER_BLOCK = 4;
 const int PREFETCH = 8;           // steps ahead (one launch per direction)
+using namespace aggregation;
 
-/* Line `line` of direction (dx, dy): its first pixel. Horizontal lines are rows, vertical lines columns; diagonal
- lines start on the row the direction enters from (W lines), then on the column it enters from (H - 1 lines). */
-__device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H, int& x, int& y)
-{
-    if (dy == 0)
-    {
-        if (line >= H) return false;
-        y = line; x = dx > 0 ? 0 : W - 1;
-    }
-    else if (dx == 0)
-    {
-        if (line >= W) return false;
-        x = line; y = dy > 0 ? 0 : H - 1;
-    }
-    else
-    {
-        if (line >= W + H - 1) return false;
-        if (line < W) { x = line; y = dy > 0 ? 0 : H - 1; }
-        else { x = dx > 0 ? 0 : W - 1; y = dy > 0 ? line - W + 1 : H - 1 - (line - W + 1); }
-    }
-    return true;
-}
-
-/* The right census strings of disparities d0 .. d0 + DPT - 1 at a pixel: row[base - j], base = x - minD - d0, clamped
- to the row. Away from the row's ends (nearly always) no clamp is needed and the loads take constant offsets. */
-template <int DPT> __device__ __forceinline__ void loadRight(const int* row, int base, int W, unsigned (&r)[DPT])
-{
-    if (base - (DPT - 1) >= 0 && base < W)
-    {
-        const int* q = row + base;
-#pragma unroll
-        for (int j = 0; j < DPT; j++)
-            r[j] = (unsigned)q[-j];
-    }
-    else
-    {
-#pragma unroll
-        for (int j = 0; j < DPT; j++)
-            r[j] = (unsigned)row[::min(::max(base - j, 0), W - 1)];
-    }
-}
-
-//! Asks the line holding p into L2 without waiting for it.
-__device__ __forceinline__ void prefetchL2(const void* p)
-{
-    asm volatile("prefetch.global.L2 [%0];" :: "l"(p));
-}
-
-//! The sum volume's pairs of 16-bit costs of disparities d0, d0 + 1, ... at pixel (x, y).
-__device__ __forceinline__ unsigned* sumPairs(PtrStepSz<ushort> sum, int x, int y, int D, int d0)
-{
-    return (unsigned*)(sum.ptr(y) + (size_t)x * D + d0);
-}
-
-/* The first n of PPT consecutive pairs. PPT 2 and 4: one vector access, n = PPT (d0 = lane * 2 * PPT and the row
- offset x * D are multiples of 2 * PPT 16-bit values since D is a multiple of 16, so the address is aligned to the
- access size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last active
- lane's run may pass D: n < PPT). */
-template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, int n, unsigned (&v)[PPT])
-{
-    if (PPT == 4) { const uint4 a = *(const uint4*)S; v[0] = a.x; v[1 % PPT] = a.y; v[2 % PPT] = a.z; v[3 % PPT] = a.w; }
-    else if (PPT == 2) { const uint2 a = *(const uint2*)S; v[0] = a.x; v[1 % PPT] = a.y; }
-    else
-    {
-#pragma unroll
-        for (int i = 0; i < PPT; i++)
-            if (i < n)
-                v[i] = S[i];
-    }
-}
-
-template <int PPT> __device__ __forceinline__ void storePairs(unsigned* S, int n, const unsigned (&v)[PPT])
-{
-    if (PPT == 4) *(uint4*)S = make_uint4(v[0], v[1 % PPT], v[2 % PPT], v[3 % PPT]);
-    else if (PPT == 2) *(uint2*)S = make_uint2(v[0], v[1 % PPT]);
-    else
-    {
-#pragma unroll
-        for (int i = 0; i < PPT; i++)
-            if (i < n)
-                S[i] = v[i];
-    }
-}
-
-/* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 32-bit reductions on
- pairs of 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for that), so no
- carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
+/* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 64-bit (or 32-bit)
+ reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for
+ that), so no carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
  The horizontal lines (1 row each, the longest walks: they are the critical path) stage their row of right census
  strings in shared memory when it fits (rowSmem); the left census and prior are warp-uniform loads. The loads for
  the next pixel are issued before the current step's recurrence, to hide their latency. The left image is read

@@ -130,7 +130,8 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
         FrameWorker worker(o);
         for (size_t n; (n = next++) < ids.size(); )
         {
-            const std::string frameOut = out.empty() ? "" : out + "/" + ids[n] + (lineTitle ? format("_%dlines", lines) : "");
+            const std::string frameOut =
+                out.empty() ? "" : out + "/" + ids[n] + (lineTitle ? format("_%dlines", lines) : "");
             const std::string metrics = frameOut + "/metrics.yml";
             FrameResult& res = results[n];
             res.rows = sums;   // labels; counts and times start empty
@@ -147,7 +148,8 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
                 {
                     const Frame f = loadKittiFrame(dir, ids[n], 64 / lines);
                     if (f.gt.empty())
-                        CV_Error(Error::StsObjectNotFound, "no ground truth " + dir + "/disp_occ_0/" + ids[n] + "_10.png");
+                        CV_Error(Error::StsObjectNotFound,
+                                 "no ground truth " + dir + "/disp_occ_0/" + ids[n] + "_10.png");
                     if (!frameOut.empty())
                         prepareFrameDir(frameOut);
                     worker.compute(f, frameOut, res.rows);

@@ -23,66 +23,11 @@ import time
 import numpy as np
 import cv2 as cv
 
+import lidarsgm_folder as lfo
 import lidarsgm_fuse as lf
 
 MODE_NAMES = ["sgm", "dsgm", "sdsgm"]
 CHECK_NAMES = ["none", "stereo", "camera-lidar", "stereo-lidar"]
-
-
-def write_atomically(path, write):
-    """write(tmp) under a hidden name beside path (extension kept: imwrite picks the format by it), then rename."""
-    folder, name = os.path.split(path)
-    stem, ext = os.path.splitext(name)
-    tmp = os.path.join(folder, ".%s.partial-%d%s" % (stem, os.getpid(), ext))
-    try:
-        if write(tmp) is False:
-            raise IOError("cannot write " + path)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-
-
-def imwrite_atomically(path, img):
-    write_atomically(path, lambda tmp: cv.imwrite(tmp, img))
-
-
-def row_labels(modes, check):
-    return ["%s (%s)" % (m.upper(), check) for m in modes] + ["LiDAR points alone", "semidense map (SDSGM input)"]
-
-
-def write_metrics(path, key, rows):
-    """metrics.yml as the C++ tool writes it: the options key, then per row the devkit's counts and the time."""
-    def write(tmp):
-        fs = cv.FileStorage(tmp, cv.FILE_STORAGE_WRITE)
-        fs.write("options", key)
-        fs.startWriteStruct("rows", cv.FILE_NODE_SEQ)
-        for r in rows:
-            fs.startWriteStruct("", cv.FILE_NODE_MAP)
-            fs.write("label", r["label"])
-            for k in ("gt", "est", "estBad", "totalBad", "ms"):
-                fs.write(k, float(r[k]))
-            fs.endWriteStruct()
-        fs.endWriteStruct()
-        fs.release()
-    write_atomically(path, write)
-
-
-def read_metrics(path, key, labels):
-    """A finished frame's rows from its metrics.yml; None where it was written with other options or rows."""
-    fs = cv.FileStorage(path, cv.FILE_STORAGE_READ)
-    if fs.getNode("options").string() != key:
-        return None
-    node = fs.getNode("rows")
-    if node.size() != len(labels):
-        return None
-    rows = []
-    for i, label in enumerate(labels):
-        n = node.at(i)
-        if n.getNode("label").string() != label:
-            return None
-        rows.append(dict(label=label, **{k: n.getNode(k).real() for k in ("gt", "est", "estBad", "totalBad", "ms")}))
-    return rows
 
 
 class FrameFuser:
@@ -107,7 +52,7 @@ class FrameFuser:
         finally:
             if path:
                 os.remove(path)
-        self.labels = row_labels(modes, check)
+        self.labels = lfo.row_labels(modes, check)
         self.cuda = use_cuda
         self.stream = cv.cuda.Stream() if self.cuda else None
 
@@ -147,11 +92,12 @@ class FrameFuser:
 
         min_d = self.sdsgm.getMinDisparity()
         max_d = min_d + self.sdsgm.getNumDisparities()
-        imwrite_atomically(os.path.join(frame_out, "lidar_points.png"), lf.draw_lidar_points(left, sparse, max_d))
+        lfo.imwrite_atomically(os.path.join(frame_out, "lidar_points.png"), lf.draw_lidar_points(left, sparse, max_d))
         semi = lf.disparity_to_float(semi16, min_d)
-        imwrite_atomically(os.path.join(frame_out, "semidense.png"), lf.to_kitti_png(semi))
-        imwrite_atomically(os.path.join(frame_out, "semidense_color.png"), cv.lidarsgm.colorizeDisparity(semi, max_d))
-        write_metrics(os.path.join(frame_out, "metrics.yml"), key, rows)
+        lfo.imwrite_atomically(os.path.join(frame_out, "semidense.png"), lf.to_kitti_png(semi))
+        lfo.imwrite_atomically(os.path.join(frame_out, "semidense_color.png"),
+                               cv.lidarsgm.colorizeDisparity(semi, max_d))
+        lfo.write_metrics(os.path.join(frame_out, "metrics.yml"), key, rows)
         return rows
 
     @staticmethod
@@ -165,34 +111,10 @@ class FrameFuser:
         min_d = m.getMinDisparity()
         disp = lf.disparity_to_float(disp16, min_d)
         base = os.path.join(folder, "disparity" + suffix)
-        imwrite_atomically(base + ".png", lf.to_kitti_png(disp))
-        imwrite_atomically(base + "_color.png", cv.lidarsgm.colorizeDisparity(disp, min_d + m.getNumDisparities()))
+        lfo.imwrite_atomically(base + ".png", lf.to_kitti_png(disp))
+        lfo.imwrite_atomically(base + "_color.png", cv.lidarsgm.colorizeDisparity(disp, min_d + m.getNumDisparities()))
         err = cv.lidarsgm.colorizeDisparityError(cv.lidarsgm.interpolateBackground(disp), gt)
-        imwrite_atomically(os.path.join(folder, "error" + suffix + ".png"), err)
-
-
-def options_key(args):
-    """The tool's key of the options that decide a frame's results: '--NAME VALUE ' for each given one, by name."""
-    given = {"kitti": None, "modes": args.modes_given, "check": args.check_given, "params": args.params}
-    return lambda folder: "".join("--%s %s " % (k, folder if k == "kitti" else v)
-                                  for k, v in sorted(given.items()) if k == "kitti" or v is not None)
-
-
-def print_table(title, sums, times):
-    print("\n" + title)
-    print("| %-28s | coverage | covered %-5s | total %-5s | ms/frame |" % ("method", "D1", "D1"))
-    print("|------------------------------|----------|---------------|-------------|----------|")
-    for label, s in sums.items():
-        e = cv.lidarsgm.DisparityErrors()
-        e.groundTruthPixels, e.estimatedPixels = int(s["gt"]), int(s["est"])
-        e.estimatedOutliers, e.totalOutliers = int(s["estBad"]), int(s["totalBad"])
-        t = sorted(times.get(label, []))
-        ms = "%.1f" % t[len(t) // 2] if t else "-"
-        if label.startswith("semidense"):
-            print("| %-28s | %6.2f %% | %11.2f %% | %11s | %8s |" % (label, e.coverage(), e.coveredError(), "-", "-"))
-        else:
-            print("| %-28s | %6.2f %% | %11.2f %% | %9.2f %% | %8s |" % (label, e.coverage(), e.coveredError(),
-                                                                         e.totalError(), ms))
+        lfo.imwrite_atomically(os.path.join(folder, "error" + suffix + ".png"), err)
 
 
 def parse(argv):
@@ -225,8 +147,8 @@ def main(argv):
     try:
         jobs, sums, times = [], {}, {}
         params_text = open(args.params).read() if args.params else None
-        key_of = options_key(args)
-        labels = row_labels(args.modes, args.check)
+        key_of = lfo.options_key(args)
+        labels = lfo.row_labels(args.modes, args.check)
         for folder in args.kitti:
             with open(os.path.join(folder, "frames.txt")) as f:
                 ids = f.read().split()
@@ -257,7 +179,7 @@ def main(argv):
     for folder, fid, frame_out in jobs:
         metrics = os.path.join(frame_out, "metrics.yml")
         if args.resume and os.path.isfile(metrics):
-            rows = read_metrics(metrics, key_of(folder), labels)
+            rows = lfo.read_metrics(metrics, key_of(folder), labels)
             if rows is None:
                 failures.append("%s: %s was written with other options (rerun without --resume, or into another --out)"
                                 % (fid, metrics))
@@ -272,7 +194,8 @@ def main(argv):
     if todo:
         import ray
         import ray.cloudpickle
-        ray.cloudpickle.register_pickle_by_value(lf)  # workers get the helpers with the code, not from their sys.path
+        for m in (lf, lfo):   # workers get the helpers with the code, not from their sys.path
+            ray.cloudpickle.register_pickle_by_value(m)
         init = dict(include_dashboard=False, logging_level="ERROR", log_to_driver=False)
         if args.address:
             ray.init(address=args.address, **init)
@@ -316,7 +239,7 @@ def main(argv):
         ray.shutdown()
 
     for folder in args.kitti:
-        print_table("KITTI %s: %d frames, D1 (KITTI devkit rules), sums over frames, %d Ray workers (%s)"
+        lfo.print_table("KITTI %s: %d frames, D1 (KITTI devkit rules), sums over frames, %d Ray workers (%s)"
                     % (folder, frames[folder], workers, "GPU" if gpus else "CPU"), sums[folder], times[folder])
     print("frames: %d computed, %d taken from earlier runs (--resume), %d failed" % (done, resumed, len(failures)))
     if failures:
