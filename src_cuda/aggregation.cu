@@ -238,12 +238,14 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> p
     {
         const int lines = dir < 2 ? H : dir < 4 ? W : W + H - 1;   // rows, columns, diagonals
         const dim3 grid((lines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK);
+        // Only the horizontal lines stage their row: the other directions' launches take no shared memory.
+        const bool rows = dir < 2 && rowSmem;
         if (dir == 0)
-            pathKernel<SUM_STORE, PPT, T><<<grid, block, smemBytes, stream>>>(censusL, censusR, prior16, image, p,
-                                                                             sum, rowSmem, dir);
+            pathKernel<SUM_STORE, PPT, T><<<grid, block, rows ? smemBytes : 0, stream>>>(censusL, censusR, prior16,
+                                                                                        image, p, sum, rows, dir);
         else
-            pathKernel<SUM_ADD, PPT, T><<<grid, block, smemBytes, stream>>>(censusL, censusR, prior16, image, p,
-                                                                           sum, rowSmem, dir);
+            pathKernel<SUM_ADD, PPT, T><<<grid, block, rows ? smemBytes : 0, stream>>>(censusL, censusR, prior16,
+                                                                                      image, p, sum, rows, dir);
         cudaSafeCall(cudaGetLastError());
     }
 }
