@@ -91,10 +91,14 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
             a.minL[k][i].assign(W, 0);
         }
     // With 4 paths a column depends only on itself: a strip runs a block of rows on its own, and the horizontal paths
-    // of the block before run beside it (fewer barriers). The diagonals of 8 paths need the neighbours' last row.
-    const int block = a.ndirs == 1 ? 8 : 1;
-    a.costRows.create(2 * block, W * D, CV_16UC1);
+    // of the block before run beside it (fewer barriers). The diagonals of 8 paths need the neighbours' last row, so
+    // there a down step is one row; its horizontal paths (a quarter of a row's work, one task) wait for a batch of
+    // hBatch rows, one task each, so that no step waits on one long task while the other threads idle. The ring of
+    // cost rows holds the rows waiting for their horizontal paths and the block being written.
     const int threads = std::max(1, getNumThreads());
+    const int block = a.ndirs == 1 ? 8 : 1;
+    const int hBatch = a.ndirs == 1 ? block : std::min(threads, 8);
+    a.costRows.create(hBatch + block, W * D, CV_16UC1);
     const int strips = threads == 1 ? 1 : std::max(1, std::min(4 * threads, W / 32));
     // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
     // [W - x1 + minD, W - x0 + minD + D - 1): room for every row.
@@ -113,13 +117,15 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.rightCost.resize(total);
     a.rightIndex.assign(total, (ushort)RightView::NONE);
 
-    // 1. Down, block by block: the horizontal paths of the rows of the block before (first, a task per row: they
-    // are the longest tasks) and the strips of this block's rows together.
+    // 1. Down, block by block: the horizontal paths of the rows finished before (first, a task per row: they are the
+    // longest tasks), once hBatch of them wait or at the end, and the strips of this block's rows together.
     const int blocks = (H + block - 1) / block;
+    int hDone = 0;
     for (int b = 0; b <= blocks; b++)
     {
-        const int y0 = b * block, y1 = std::min(H, y0 + block);
-        const int h0 = (b - 1) * block, hRows = b > 0 ? std::min(H, h0 + block) - h0 : 0;
+        const int y0 = std::min(H, b * block), y1 = std::min(H, y0 + block);
+        const int h0 = hDone, hRows = y0 - hDone >= hBatch || b == blocks ? y0 - hDone : 0;
+        hDone += hRows;
         const int tasks = hRows + (b < blocks ? strips : 0);
         parallel_for_(Range(0, tasks), [&](const Range& r) {
             for (int t = r.start; t < r.end; t++)
