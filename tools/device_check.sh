@@ -11,22 +11,27 @@ CACHE=/tmp/lidarsgm-cache
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 date -u
 t0=$(date +%s)
-if [ -f .device/prebuilt.tar.xz ] && [ "${PY:-OFF}" != ON ]; then
+if [ -f .device/prebuilt.tar.xz ] && [ "${PY:-OFF}" != ON ] && [ "${OPENCV_VERSION:-4.14.0.94}" = 4.14.0.94 ]; then
   # The build made on the CPU machine (tools/pack_device_build.sh): no build here.
   tar -xJf .device/prebuilt.tar.xz -C /tmp
   B=/tmp/prebuilt/bin
   export LD_LIBRARY_PATH=/tmp/prebuilt/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
   echo "prebuilt binaries of $(head -c 12 /tmp/prebuilt/COMMIT) $(tail -n +2 /tmp/prebuilt/COMMIT)"
 else
-  SRC=$CACHE/src/opencv_contrib_python-4.14.0.94
-  if [ ! -f "$SRC/opencv/CMakeLists.txt" ]; then mkdir -p $CACHE/src && tar -xJf .device/opencv-trim.tar.xz -C $CACHE/src; fi
+  # OPENCV_VERSION=5.0.0.93: build against that OpenCV (tools/make_opencv_trim.sh with the same variable packs it).
+  V=${OPENCV_VERSION:-4.14.0.94}
+  SRC=$CACHE/src/opencv_contrib_python-$V
+  TRIM=.device/opencv-trim.tar.xz; [ "$V" = 4.14.0.94 ] || TRIM=.device/opencv-trim-$V.tar.xz
+  if [ ! -f "$SRC/opencv/CMakeLists.txt" ]; then mkdir -p $CACHE/src && tar -xJf $TRIM -C $CACHE/src; fi
   # The trimmed archive (tools/make_opencv_trim.sh) leaves out the modules' test folders; OpenCV's python module
   # adds its own unconditionally.
   mkdir -p "$SRC/opencv/modules/python/test" && touch "$SRC/opencv/modules/python/test/CMakeLists.txt"
   cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=${PY:-OFF} \
+    -DLIDARSGM_OPENCV=$V -DLIDARSGM_OPENCV_ALSO= \
     -DLIDARSGM_WITH_CUDA=ON -DLIDARSGM_WITH_SANITIZERS=OFF > "$OUT/configure.log" 2>&1 || { tail -40 "$OUT/configure.log"; exit 1; }
   cmake --build build-device > "$OUT/build.log" 2>&1 || { grep -E "error|FAILED" "$OUT/build.log" | head -30; exit 1; }
   B=$CACHE/build-cuda90/bin
+  [ "$V" = 4.14.0.94 ] || B=$CACHE/build-cuda90-opencv$V/bin
 fi
 echo "build: $(( $(date +%s) - t0 )) s"
 # The shared data travels packed (tools/make_device_data.py) when .device/shared exists.

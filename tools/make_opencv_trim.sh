@@ -2,26 +2,38 @@
 # Pack the part of the pinned OpenCV source that lidarsgm's build needs into .device/opencv-trim.tar.xz (about 10 MB),
 # so that tools/device_check.sh can build OpenCV on the lent GPU machine, which has no network. The source is the
 # superbuild's extracted PyPI archive (run the README's build once first); the archive keeps its top folder name.
-#   tools/make_opencv_trim.sh [cache dir, default ~/.cache/lidarsgm]
+#   [OPENCV_VERSION=5.0.0.93] tools/make_opencv_trim.sh [cache dir, default ~/.cache/lidarsgm]
+# (another version: .device/opencv-trim-<version>.tar.xz)
 set -eo pipefail
 cd "$(dirname "$0")/.."
-VERSION=4.14.0.94
+VERSION=${OPENCV_VERSION:-4.14.0.94}
 CACHE=${1:-${LIDARSGM_CACHE_DIR:-$HOME/.cache/lidarsgm}}
 TOP=opencv_contrib_python-$VERSION
+OUTF=.device/opencv-trim.tar.xz
+[ "$VERSION" = 4.14.0.94 ] || OUTF=.device/opencv-trim-$VERSION.tar.xz
 [ -f "$CACHE/src/$TOP/opencv/CMakeLists.txt" ] || { echo "no OpenCV source in $CACHE/src/$TOP (build once first)"; exit 1; }
 mkdir -p .device
-# The modules the superbuild builds (CMakeLists.txt: _modules), their sources without their own tests; the CMake
+# The modules the superbuild builds (CMakeLists.txt: _modules), their sources without their own tests (cudev's are
+# kept: its CMakeLists adds them unconditionally in 5.x); the CMake
 # machinery; the 3rdparty libraries that the build list pulls in.
 paths=()
-for m in core imgproc imgcodecs calib3d features2d flann ts python; do paths+=("$TOP/opencv/modules/$m"); done
+if [ "${VERSION%%.*}" -ge 5 ]; then
+  mods="core imgproc imgcodecs stereo geometry flann ts videoio highgui python"   # 5.x: ts needs videoio, highgui
+else
+  mods="core imgproc imgcodecs calib3d features2d flann ts python"
+fi
+for m in $mods; do paths+=("$TOP/opencv/modules/$m"); done
 for m in cudev cudastereo; do paths+=("$TOP/opencv_contrib/modules/$m"); done
-for d in cmake include platforms hal data/CMakeLists.txt doc/CMakeLists.txt CMakeLists.txt LICENSE; do paths+=("$TOP/opencv/$d"); done
+for d in cmake include platforms hal data/CMakeLists.txt doc/CMakeLists.txt docs_sphinx/CMakeLists.txt CMakeLists.txt \
+         LICENSE; do
+  [ -e "$CACHE/src/$TOP/opencv/$d" ] && paths+=("$TOP/opencv/$d")
+done
 for d in zlib zlib-ng libpng libspng libjpeg-turbo include cpufeatures ittnotify dlpack quirc fastcv; do
   [ -e "$CACHE/src/$TOP/opencv/3rdparty/$d" ] && paths+=("$TOP/opencv/3rdparty/$d")
 done
-tar -C "$CACHE/src" -cJf .device/opencv-trim.tar.xz \
+tar -C "$CACHE/src" -cJf "$OUTF" \
     --exclude="$TOP/opencv/modules/*/test" --exclude="$TOP/opencv/modules/*/perf" \
-    --exclude="$TOP/opencv_contrib/modules/*/test" --exclude="$TOP/opencv_contrib/modules/*/perf" \
+    --exclude="$TOP/opencv_contrib/modules/cudastereo/test" --exclude="$TOP/opencv_contrib/modules/*/perf" \
     --exclude="$TOP/opencv/modules/*/misc/java" --exclude="$TOP/opencv/modules/*/misc/objc" \
     "${paths[@]}"
-ls -l .device/opencv-trim.tar.xz
+ls -l "$OUTF"
