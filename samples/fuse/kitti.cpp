@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <exception>
 #include <mutex>
 #include <thread>
 
@@ -126,48 +127,60 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
     std::mutex progressLock;
     TickMeter total;
     total.start();
-    auto work = [&]() {
-        FrameWorker worker(o);
-        for (size_t n; (n = next++) < ids.size(); )
+    auto runOne = [&](FrameWorker& worker, size_t n) {
+        const std::string frameOut =
+            out.empty() ? "" : out + "/" + ids[n] + (lineTitle ? format("_%dlines", lines) : "");
+        const std::string metrics = frameOut + "/metrics.yml";
+        FrameResult& res = results[n];
+        res.rows = sums;   // labels; counts and times start empty
+        try
         {
-            const std::string frameOut =
-                out.empty() ? "" : out + "/" + ids[n] + (lineTitle ? format("_%dlines", lines) : "");
-            const std::string metrics = frameOut + "/metrics.yml";
-            FrameResult& res = results[n];
-            res.rows = sums;   // labels; counts and times start empty
-            try
+            if (o.has("resume") && utils::fs::exists(metrics))
             {
-                if (o.has("resume") && utils::fs::exists(metrics))
-                {
-                    if (!readMetrics(metrics, key, res.rows))
-                        CV_Error(Error::StsBadArg, metrics + " was written with other options (rerun without "
-                                                   "--resume, or into another --out)");
-                    res.resumed = true;
-                }
-                else
-                {
-                    const Frame f = loadKittiFrame(dir, ids[n], 64 / lines);
-                    if (f.gt.empty())
-                        CV_Error(Error::StsObjectNotFound,
-                                 "no ground truth " + dir + "/disp_occ_0/" + ids[n] + "_10.png");
-                    if (!frameOut.empty())
-                        prepareFrameDir(frameOut);
-                    worker.compute(f, frameOut, res.rows);
-                    if (!frameOut.empty())
-                        writeMetrics(metrics, key, res.rows);
-                }
+                if (!readMetrics(metrics, key, res.rows))
+                    CV_Error(Error::StsBadArg, metrics + " was written with other options (rerun without "
+                                               "--resume, or into another --out)");
+                res.resumed = true;
             }
-            catch (const std::exception& e)
+            else
             {
-                const cv::Exception* ce = dynamic_cast<const cv::Exception*>(&e);
-                res.failure = ce ? ce->err : std::string(e.what());
+                const Frame f = loadKittiFrame(dir, ids[n], 64 / lines);
+                if (f.gt.empty())
+                    CV_Error(Error::StsObjectNotFound,
+                             "no ground truth " + dir + "/disp_occ_0/" + ids[n] + "_10.png");
+                if (!frameOut.empty())
+                    prepareFrameDir(frameOut);
+                worker.compute(f, frameOut, res.rows);
+                if (!frameOut.empty())
+                    writeMetrics(metrics, key, res.rows);
             }
+        }
+        catch (const std::exception& e)
+        {
+            const cv::Exception* ce = dynamic_cast<const cv::Exception*>(&e);
+            res.failure = ce ? ce->err : std::string(e.what());
+        }
+        std::lock_guard<std::mutex> lock(progressLock);
+        if (!res.failure.empty() && !o.has("quiet"))
+            fprintf(stderr, "\nlidarsgm_fuse: frame %s skipped: %s\n", ids[n].c_str(), res.failure.c_str());
+        total.stop();
+        progress(o, ++done, ids.size(), total.getTimeSec());
+        total.start();
+    };
+    std::exception_ptr workerError;   // a worker that cannot start (no CUDA device, ...): the first one's reason
+    auto work = [&]() {
+        try
+        {
+            FrameWorker worker(o);
+            for (size_t n; (n = next++) < ids.size(); )
+                runOne(worker, n);
+        }
+        catch (...)
+        {
             std::lock_guard<std::mutex> lock(progressLock);
-            if (!res.failure.empty() && !o.has("quiet"))
-                fprintf(stderr, "\nlidarsgm_fuse: frame %s skipped: %s\n", ids[n].c_str(), res.failure.c_str());
-            total.stop();
-            progress(o, ++done, ids.size(), total.getTimeSec());
-            total.start();
+            if (!workerError)
+                workerError = std::current_exception();
+            next = ids.size();   // the others stop after their frame
         }
     };
     std::vector<std::thread> threads;
@@ -176,6 +189,8 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
     work();
     for (std::thread& t : threads)
         t.join();
+    if (workerError)
+        std::rethrow_exception(workerError);
 
     size_t computed = 0, resumed = 0, failed = 0;
     for (size_t n = 0; n < ids.size(); n++)

@@ -119,6 +119,14 @@ class ToolTest(unittest.TestCase):
         rc, _, se = run([TOOL, "--kitti", kitti, "--streams", "0"])
         self.assertEqual(rc, 1)
         self.assertIn("--streams takes 1 to 64 workers, got 0", se)
+        # GPU workers: the same table where there is a CUDA device; without one, the reason and exit 1, no abort.
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sgm,sdsgm", "--table5", "--cuda", "1", "--streams", "2",
+                          "--quiet", "1"])
+        if rc == 0:
+            self.assertEqual(re.findall(rows, so), tables[0])
+        else:
+            self.assertEqual(rc, 1, se)
+            self.assertIn("lidarsgm_fuse: error: ", se)
 
     def test_folder_bad_frame_partial_files_and_resume(self):
         kitti = self.kitti_folder("000002\n000046\n")
