@@ -8,6 +8,7 @@
 #include "precomp.hpp"
 #include "aggregation.simd.hpp"
 #include "aggregation.simd_declarations.hpp"
+#include "wavefront.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 
@@ -26,11 +27,14 @@ void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, cons
     a.H = censusL.rows;
     a.D = p.numDisparities;
     a.stride = a.D + 2;
+    a.finalSum.release();
     if (p.edgeThreshold > 0 && !left.empty())
     {
         CV_Assert(left.size() == censusL.size());
         left.convertTo(a.intensity, CV_16U);   // the edge rule reads 16-bit intensities (8-bit values unchanged)
     }
+    else
+        a.intensity.release();
 }
 
 // CV_CPU_DISPATCH returns from the function it stands in: one small function per kernel.
@@ -56,19 +60,17 @@ void runSelectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Ma
 
 void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
                     const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight, OutputArray finalSum,
-                    Mat* workVolume)
+                    Ptr<AggregationState>* work)
 {
     CV_Assert(p.edgeThreshold == 0 || !left.empty());
-    AggregationState a;
+    Ptr<AggregationState> temporary;
+    Ptr<AggregationState>& held = work ? *work : temporary;
+    if (!held)
+        held = makePtr<AggregationState>();
+    AggregationState& a = *held;
     initState(a, censusL, censusR, prior16, left, p);
     const int W = a.W, H = a.H, D = a.D;
-    if (workVolume)
-    {
-        workVolume->create(H, W * D, CV_16UC1);
-        a.sum = *workVolume;
-    }
-    else
-        a.sum.create(H, W * D, CV_16UC1);
+    a.sum.create(H, W * D, CV_16UC1);
     disp16.create(H, W, CV_16SC1);
     dispInt.create(H, W, CV_16SC1);
     dispRight.create(H, W, CV_16SC1);
@@ -80,8 +82,8 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         a.finalSum = finalSum.getMat();
     }
 
-    // The strips of a row: several per thread, so that the threads that do not take the horizontal paths of the row
-    // before (the longest task of a down step, started first) share the strips evenly.
+    // Several strips per thread, so that the threads share a row evenly. With 4 paths a column depends only on
+    // itself; the diagonals of 8 paths need the neighbouring strips' last row (Wavefront).
     a.ndirs = p.numPaths == 8 ? 3 : 1;
     a.dx[0] = 0; a.dx[1] = 1; a.dx[2] = -1;
     for (int k = 0; k < a.ndirs; k++)
@@ -90,18 +92,16 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
             a.L[k][i].assign((size_t)W * a.stride, PATH_SENTINEL);
             a.minL[k][i].assign(W, 0);
         }
-    // With 4 paths a column depends only on itself: a strip runs a block of rows on its own, and the horizontal paths
-    // of the block before run beside it (fewer barriers). The diagonals of 8 paths need the neighbours' last row, so
-    // there a down step is one row; its horizontal paths (a quarter of a row's work, one task) wait for a batch of
-    // hBatch rows, one task each, so that no step waits on one long task while the other threads idle. The ring of
-    // cost rows holds the rows waiting for their horizontal paths and the block being written.
     const int threads = std::max(1, getNumThreads());
-    const int block = a.ndirs == 1 ? 8 : 1;
-    const int hBatch = a.ndirs == 1 ? block : std::min(threads, 8);
-    a.costRows.create(hBatch + block, W * D, CV_16UC1);
     const int strips = threads == 1 ? 1 : std::max(1, std::min(4 * threads, W / 32));
+    // The rings of cost rows and of top-down sums: the rows whose horizontal paths wait or run, and the rows the
+    // strips write meanwhile (two per thread: a strip that waits for a slot holds up the rows after it).
+    const int ring = std::min(H, 2 * threads + 4);
+    a.costRows.create(ring, W * D, CV_16UC1);
+    a.downRows.create(ring, W * D, CV_16UC1);
     // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
-    // [W - x1 + minD, W - x0 + minD + D - 1): room for every row.
+    // [W - x1 + minD, W - x0 + minD + D - 1): room for every row. Each strip marks its row empty before the row
+    // (verticalStrip), so that nothing here runs alone over the whole.
     a.rightAt.resize(strips);
     a.rightLo.resize(strips);
     a.rightWidth.resize(strips);
@@ -115,43 +115,18 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         total += (size_t)a.rightWidth[s] * H;
     }
     a.rightCost.resize(total);
-    a.rightIndex.assign(total, (ushort)RightView::NONE);
+    a.rightIndex.resize(total);
 
-    // 1. Down, block by block: the horizontal paths of the rows finished before (first, a task per row: they are the
-    // longest tasks), once hBatch of them wait or at the end, and the strips of this block's rows together.
-    const int blocks = (H + block - 1) / block;
-    int hDone = 0;
-    for (int b = 0; b <= blocks; b++)
-    {
-        const int y0 = std::min(H, b * block), y1 = std::min(H, y0 + block);
-        const int h0 = hDone, hRows = y0 - hDone >= hBatch || b == blocks ? y0 - hDone : 0;
-        hDone += hRows;
-        const int tasks = hRows + (b < blocks ? strips : 0);
-        parallel_for_(Range(0, tasks), [&](const Range& r) {
-            for (int t = r.start; t < r.end; t++)
-                if (t < hRows)
-                    runHorizontalRow(a, h0 + t);
-                else
-                    for (int y = y0; y < y1; y++)
-                        runVerticalStrip(a, y, W * (t - hRows) / strips, W * (t - hRows + 1) / strips, t - hRows, true);
-        }, tasks);
-    }
-
-    // 2. Up: the bottom-up paths complete the sums; the winner is taken at once. With 4 paths a column depends only
-    // on itself, so each strip runs all rows on its own; the diagonals of 8 paths need the neighbours' last row.
-    const auto up = [&](int s, int y) { runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, false); };
-    if (a.ndirs == 1)
-        parallel_for_(Range(0, strips), [&](const Range& r) {
-            for (int s = r.start; s < r.end; s++)
-                for (int y = H - 1; y >= 0; y--)
-                    up(s, y);
-        }, strips);
-    else
-        for (int y = H - 1; y >= 0; y--)
-            parallel_for_(Range(0, strips), [&](const Range& r) {
-                for (int s = r.start; s < r.end; s++)
-                    up(s, y);
-            }, strips);
+    const auto strip = [&](int s, int y, bool down) {
+        runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, down);
+    };
+    // 1. Down: the strips compute the costs and the top-down paths, then the row's horizontal paths complete the
+    // partial sums. The row's strips run in order of the rows (neighbours), so that the rows finish in order.
+    Wavefront(strips, H, true, ring).run(threads,
+        [&](int s, int i) { strip(s, i, true); }, [&](int i) { runHorizontalRow(a, i); });
+    // 2. Up: the bottom-up paths complete the sums; the winner is taken at once.
+    Wavefront(strips, H, a.ndirs > 1, 0).run(threads,
+        [&](int s, int i) { strip(s, H - 1 - i, false); }, [](int) {});
 
     // The right view: strip by strip from the left, a strip's candidate replaces the one so far only at a lower cost
     // (its disparities are larger: RightView).

@@ -5,8 +5,9 @@
 // right-left, top-down, bottom-up) or 8 (plus the four diagonals), with the matching cost computed as the paths go
 // (no cost volume) and the winner-takes-all done as each pixel's sum completes. Two sweeps over one 16-bit volume:
 //  1. down, row by row: verticalStrip (column strips in parallel) computes the row's costs into a cost row and the
-//     top-down paths (1 or 3 directions, previous row at x - dx), and stores their sum; horizontalRow then adds the
-//     row's two horizontal paths from the same cost row, while the strips already work on the next rows;
+//     top-down paths (1 or 3 directions, previous row at x - dx) and their sum into a ring row; horizontalRow then
+//     stores that plus the row's two horizontal paths (from the same cost row) in the volume, while the strips
+//     already work on the next rows;
 //  2. up, row by row: verticalStrip computes the costs again and the bottom-up paths, completes each pixel's sum,
 //     and selectPixel takes the winner.
 // A row depends only on the row before, so the strips of a row run in parallel. Path costs stay below the matching
@@ -43,8 +44,9 @@ struct AggregationState
     Mat censusL, censusR, prior16, intensity;   // intensity: CV_16U left image, empty without the edge rule
     PipelineParams p;
     int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
-    Mat sum;                                    // H x (W * D) 16-bit: top-down, then + horizontal paths
-    Mat costRows;                               // ring of rows of costs (down sweep): row y in row y % costRows.rows
+    Mat sum;                                    // H x (W * D) 16-bit: top-down + horizontal paths
+    Mat costRows, downRows;                     // rings (down sweep) of rows of costs and of top-down path sums:
+                                                // row y in row y % rows
     Mat finalSum;                               // optional (tests): the complete sums
     Mat disp16, dispInt;                        // outputs of the winner-takes-all
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
@@ -149,29 +151,30 @@ inline ushort jump(const AggregationState& a, const ushort* I, int x, int xq)
 
 void horizontalRow(AggregationState& a, int y)
 {
-    const int W = a.W, D = a.D;
+    const int W = a.W, D = a.D, st = a.stride;
     const ushort P1 = (ushort)a.p.w.p1;
-    AutoBuffer<ushort> pathBuf(2 * (size_t)a.stride);
+    // The left-right path costs of the whole row, each pixel's between sentinels, so that the right-left pass writes
+    // the sum of the row's paths at once: the volume row is written once, the ring rows are still in the cache.
+    AutoBuffer<ushort> rowBuf((size_t)W * st), pathBuf(2 * (size_t)st);
+    ushort* lr = rowBuf.data() + 1;
     ushort* u = pathBuf.data() + 1;
-    ushort* v = u + a.stride;
+    ushort* v = u + st;
     u[-1] = u[D] = v[-1] = v[D] = SENTINEL;
     const ushort* C = a.costRows.ptr<ushort>(y % a.costRows.rows);
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
+    const ushort* V = a.downRows.ptr<ushort>(y % a.downRows.rows);
     ushort* S = a.sum.ptr<ushort>(y);
-    ushort m = pathStart(C, u, D);
-    sumInto(S, S, u, nullptr, nullptr, D);
+    for (int x = 0; x < W; x++)
+        lr[(size_t)x * st - 1] = lr[(size_t)x * st + D] = SENTINEL;
+    ushort m = pathStart(C, lr, D);
     for (int x = 1; x < W; x++)
-    {
-        m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, I, x, x - 1));
-        sumInto(S + (size_t)x * D, S + (size_t)x * D, v, nullptr, nullptr, D);
-        std::swap(u, v);
-    }
+        m = pathStep(C + (size_t)x * D, lr + (size_t)(x - 1) * st, m, lr + (size_t)x * st, D, P1, jump(a, I, x, x - 1));
     m = pathStart(C + (size_t)(W - 1) * D, u, D);
-    sumInto(S + (size_t)(W - 1) * D, S + (size_t)(W - 1) * D, u, nullptr, nullptr, D);
+    sumInto(S + (size_t)(W - 1) * D, V + (size_t)(W - 1) * D, u, lr + (size_t)(W - 1) * st, nullptr, D);
     for (int x = W - 2; x >= 0; x--)
     {
         m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, I, x, x + 1));
-        sumInto(S + (size_t)x * D, S + (size_t)x * D, v, nullptr, nullptr, D);
+        sumInto(S + (size_t)x * D, V + (size_t)x * D, v, lr + (size_t)x * st, nullptr, D);
         std::swap(u, v);
     }
 }
@@ -189,8 +192,10 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const unsigned* L = a.censusL.ptr<unsigned>(y);
     const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
     ushort* S = a.sum.ptr<ushort>(y);
-    // Down: the costs go to the row's cost row, for horizontalRow. Up: to a scratch vector.
+    // Down: the costs and the sums of the top-down paths go to the row's ring rows, for horizontalRow. Up: the costs
+    // to a scratch vector.
     ushort* costRow = down ? a.costRows.ptr<ushort>(y % a.costRows.rows) : nullptr;
+    ushort* downRow = down ? a.downRows.ptr<ushort>(y % a.downRows.rows) : nullptr;
     const int cur = y & 1, prev = 1 - cur;
     ushort *curL[3] = {}, *prevL[3] = {}, *curMin[3] = {}, *prevMin[3] = {};
     for (int k = 0; k < a.ndirs; k++)
@@ -207,6 +212,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     {
         const size_t at = (size_t)a.rightAt[strip] + (size_t)y * a.rightWidth[strip];
         rv = { a.rightCost.data() + at, a.rightIndex.data() + at, a.rightLo[strip] };
+        std::fill(rv.index, rv.index + a.rightWidth[strip], (ushort)RightView::NONE);
     }
     ushort* finalSum = a.finalSum.empty() ? nullptr : a.finalSum.ptr<ushort>(y);
     short* d16 = down ? nullptr : a.disp16.ptr<short>(y);
@@ -227,14 +233,13 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
                                            : (ushort)a.p.w.p2);
             out[k] = o;
         }
-        ushort* s = S + (size_t)x * D;
         if (down)
         {
-            sumInto(s, out[0], out[1], out[2], nullptr, D);
+            sumInto(downRow + (size_t)x * D, out[0], out[1], out[2], nullptr, D);
             return;
         }
         ushort* f = fBuf.data();
-        sumInto(f, s, out[0], out[1], out[2], D);
+        sumInto(f, S + (size_t)x * D, out[0], out[1], out[2], D);
         if (finalSum)
             memcpy(finalSum + (size_t)x * D, f, D * sizeof(ushort));
         selectPixel(f, x, W, a.p, d16[x], dInt[x], rv);

@@ -34,7 +34,7 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     }
 
     const Mat prior = p.semidense ? semidense16_ : p.ddc ? sparse16_ : Mat();
-    aggregateCosts(censusL_, censusR_, prior, left, p, disp16_, dispInt_, dispRight_, noArray(), &sum_);
+    aggregateCosts(censusL_, censusR_, prior, left, p, disp16_, dispInt_, dispRight_, noArray(), &aggregation_);
     if (p.medianSize == 3)
     {
         medianFilter(disp16_, med16_);

@@ -36,11 +36,12 @@ disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness
 dispInt: the integer left disparity (NO_DISP where not unique);
 dispRight: the integer right-view disparity (lowest aggregated cost along the diagonal x + d);
 finalSum (tests; only when asked for): the aggregated costs, rows = image rows, cols = width * numDisparities.
-workVolume: where the one 16-bit volume of partial sums lives between calls (the caller's member), so repeated calls
-at one size neither allocate nor fault in 2 W H D bytes; nullptr: a temporary. */
+work: the call's buffers (the 16-bit volume of partial sums, rows of costs and path costs, the right view), kept
+between calls by the caller, so that repeated calls at one size neither allocate nor fault in 2 W H D bytes and more;
+nullptr: temporaries. */
 CV_EXPORTS void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
                                const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight,
-                               OutputArray finalSum = noArray(), Mat* workVolume = nullptr);
+                               OutputArray finalSum = noArray(), Ptr<AggregationState>* work = nullptr);
 
 /** The matching cost volume that aggregateCosts computes as it goes (for the tests): rows = image rows,
 cols = width * numDisparities, CV_16UC1, d fastest. The right pixel x - minD - d is clamped to the image. */

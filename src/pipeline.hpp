@@ -267,6 +267,8 @@ static LIDARSGM_HD float projectDisparity(double focalBaseline, double z)
 // ---- The backends --------------------------------------------------------------------------------------------------
 #ifndef __CUDACC__
 
+struct AggregationState;   // the CPU aggregation's buffers (src/aggregation.simd.hpp)
+
 /** The CPU pipeline (src/cpu_pipeline.cpp): its work buffers and the order of the stage calls. Inputs are checked by
 the front class. semidenseOnly stops after semidensification and writes the semidense map. */
 class CpuPipeline
@@ -275,7 +277,8 @@ public:
     void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
              OutputArray out);
 private:
-    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, sum_, disp16_, dispInt_, dispRight_;
+    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, disp16_, dispInt_, dispRight_;
+    Ptr<AggregationState> aggregation_;
     Mat med16_, medInt_, medRight_;
 };
 
