@@ -82,8 +82,8 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         a.finalSum = finalSum.getMat();
     }
 
-    // Several strips per thread, so that the threads share a row evenly. With 4 paths a column depends only on
-    // itself; the diagonals of 8 paths need the neighbouring strips' last row (Wavefront).
+    // With 4 paths a column depends only on itself; the diagonals of 8 paths need the neighbouring strips' last row
+    // (Wavefront).
     a.ndirs = p.numPaths == 8 ? 3 : 1;
     a.dx[0] = 0; a.dx[1] = 1; a.dx[2] = -1;
     for (int k = 0; k < a.ndirs; k++)
@@ -92,8 +92,11 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
             a.L[k][i].assign((size_t)W * a.stride, PATH_SENTINEL);
             a.minL[k][i].assign(W, 0);
         }
+    // Strips of at least 32 pixels, up to four per thread and the same number for every thread where the width
+    // allows (each thread keeps to its own strips: Wavefront).
     const int threads = std::max(1, getNumThreads());
-    const int strips = threads == 1 ? 1 : std::max(1, std::min(4 * threads, W / 32));
+    const int strips = threads == 1 ? 1 : W / 32 < threads ? std::max(1, W / 32)
+                                                            : threads * std::min(4, W / 32 / threads);
     // The rings of cost rows and of top-down sums: the rows whose horizontal paths wait or run, and the rows the
     // strips write meanwhile (two per thread: a strip that waits for a slot holds up the rows after it).
     const int ring = std::min(H, 2 * threads + 4);
@@ -155,7 +158,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
                 dr[xr] = (short)(k == RightView::NONE ? NO_DISP : k + p.minDisparity);
             }
         }
-    }, std::max(1, H / 16));
+    }, rowStripes(H));
 }
 
 void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,
@@ -166,7 +169,7 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
     cost.create(a.H, a.W * a.D, CV_16UC1);
     parallel_for_(Range(0, a.H), [&](const Range& r) {
         runCostRows(a, r.start, r.end, cost);
-    }, std::max(1, a.H / 16));
+    }, rowStripes(a.H));
 }
 
 void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight)
@@ -182,7 +185,7 @@ void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& dis
     dispRight.create(a.H, a.W, CV_16SC1);
     parallel_for_(Range(0, a.H), [&](const Range& r) {
         runSelectRows(a, sum, r.start, r.end, disp16, dispInt, dispRight);
-    }, std::max(1, a.H / 16));
+    }, rowStripes(a.H));
 }
 
 }}} // namespace cv::lidarsgm::detail

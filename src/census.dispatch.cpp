@@ -20,7 +20,7 @@ void censusTransform(const Mat& image, Mat& census)
     CV_Assert(image.type() == CV_8UC1 || image.type() == CV_16UC1);
     census.create(image.size(), CV_32SC1);
     parallel_for_(Range(0, image.rows), [&](const Range& r) { runCensusRows(image, census, r); },
-                  std::max(1, image.rows / 16));
+                  rowStripes(image.rows));
 }
 
 }}} // namespace cv::lidarsgm::detail

@@ -83,7 +83,7 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
             }
             encodeRow(res, W, p, out, y);
         }
-    }, std::max(1, H / 16));
+    }, rowStripes(H));
 }
 
 void encodeOutput(const Mat& disp16, const PipelineParams& p, OutputArray _out)

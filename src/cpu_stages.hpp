@@ -8,8 +8,15 @@
 #define OPENCV_LIDARSGM_CPU_STAGES_HPP
 
 #include "pipeline.hpp"
+#include "opencv2/core/utility.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
+
+//! The stripes of a parallel_for_ over the rows of an image: four per thread, so that the threads finish together.
+inline double rowStripes(int rows)
+{
+    return std::max(1, std::min(rows, 4 * getNumThreads()));
+}
 
 /** Sparse input (CV_16UC1 x256 or CV_32FC1 pixels) to the internal CV_16SC1 1/16-pixel map with NO_DISP for "none"
 (sparseFromKitti16, sparseFromFloat). */

@@ -85,7 +85,7 @@ void medianFilter(const Mat& src, Mat& dst)
     CV_Assert(src.type() == CV_16SC1 && src.data != dst.data);
     dst.create(src.size(), CV_16SC1);
     parallel_for_(Range(0, src.rows), [&](const Range& r) { medianRows(src, dst, r); },
-                  std::max(1, src.rows / 16));
+                  rowStripes(src.rows));
 }
 
 }}} // namespace cv::lidarsgm::detail

@@ -26,7 +26,7 @@ void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, co
 
     parallel_for_(Range(0, H), [&](const Range& r) {
         runSemidensifyRows(censusL, censusR, sparse16, cols, p, semidense16, r);
-    }, std::max(1, H / 16));
+    }, rowStripes(H));
 }
 
 }}} // namespace cv::lidarsgm::detail

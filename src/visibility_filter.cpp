@@ -43,7 +43,7 @@ void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visib
                     out[x] = NO_DISP;
             }
         }
-    }, std::max(1, H / 16));
+    }, rowStripes(H));
 }
 
 }}} // namespace cv::lidarsgm::detail

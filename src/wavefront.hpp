@@ -40,18 +40,20 @@ public:
             rowCount_[i].store(0);
             rowDone_[i].store(0);
         }
-        left_.store(strips * rows + (ringRows > 0 ? rows : 0));
+        rowsFinished_.store(0);
         nextRow_.store(0);
         failed_.store(false);
     }
 
-    /** Runs the items on up to `threads` threads: stripRow(s, i) for strip s and row i, horizontal(i) for row i. */
+    /** Runs the items on up to `threads` threads: stripRow(s, i) for strip s and row i, horizontal(i) for row i.
+    Thread t keeps to its own strips [t * strips / threads, (t + 1) * strips / threads) while one of them is ready
+    (their path rows stay in its core's cache) and takes any other ready item otherwise. */
     template <typename StripRow, typename Horizontal>
     void run(int threads, const StripRow& stripRow, const Horizontal& horizontal)
     {
         parallel_for_(Range(0, threads), [&](const Range& r) {
             for (int t = r.start; t < r.end; t++)
-                work(t * strips_ / threads, stripRow, horizontal);
+                work(t * strips_ / threads, (t + 1) * strips_ / threads, stripRow, horizontal);
         }, threads);
     }
 
@@ -64,14 +66,16 @@ private:
     };
 
     template <typename StripRow, typename Horizontal>
-    void work(int last, const StripRow& stripRow, const Horizontal& horizontal)
+    void work(int home0, int home1, const StripRow& stripRow, const Horizontal& horizontal)
     {
         try
         {
-            for (int idle = 0; left_.load(std::memory_order_acquire) > 0 && !failed_.load(std::memory_order_relaxed);)
+            for (int idle = 0; !failed_.load(std::memory_order_relaxed);)
             {
-                if (takeHorizontal(horizontal) || takeStrip(last, stripRow))
+                if (takeHorizontal(horizontal) || takeStrip(home0, home1, stripRow))
                     idle = 0;
+                else if (finished())
+                    break;
                 else if (++idle > 64)
                     std::this_thread::yield();   // nothing ready: the items in progress belong to other threads
             }
@@ -81,6 +85,16 @@ private:
             failed_.store(true);   // the others stop instead of waiting for this thread's items
             throw;
         }
+    }
+
+    bool finished() const
+    {
+        if (ring_ > 0)
+            return rowsFinished_.load(std::memory_order_acquire) == rows_;   // a row's horizontal item comes last
+        for (const Strip& st : state_)
+            if (st.done.load(std::memory_order_acquire) < rows_)
+                return false;
+        return true;
     }
 
     template <typename Horizontal>
@@ -94,7 +108,7 @@ private:
             return false;
         horizontal(i);
         rowDone_[i].store(1, std::memory_order_release);
-        left_.fetch_sub(1, std::memory_order_acq_rel);
+        rowsFinished_.fetch_add(1, std::memory_order_acq_rel);
         return true;
     }
 
@@ -108,13 +122,13 @@ private:
         return ring_ == 0 || i < ring_ || rowDone_[i - ring_].load(std::memory_order_acquire) != 0;
     }
 
-    //! The first ready strip from `last` on (the strip this thread ran before: its path rows are in this core's cache).
+    //! Runs the next row of the first ready strip among the thread's own, else among the others.
     template <typename StripRow>
-    bool takeStrip(int& last, const StripRow& stripRow)
+    bool takeStrip(int home0, int home1, const StripRow& stripRow)
     {
         for (int k = 0; k < strips_; k++)
         {
-            const int s = (last + k) % strips_;
+            const int s = home0 + k < home1 ? home0 + k : (home1 + (k - (home1 - home0))) % strips_;
             Strip& st = state_[s];
             if (st.busy.load(std::memory_order_relaxed) || !ready(s, st.done.load(std::memory_order_relaxed)))
                 continue;
@@ -131,8 +145,6 @@ private:
             st.busy.store(0, std::memory_order_release);
             if (ring_ > 0)
                 rowCount_[i].fetch_add(1, std::memory_order_acq_rel);
-            left_.fetch_sub(1, std::memory_order_acq_rel);
-            last = s;
             return true;
         }
         return false;
@@ -144,7 +156,7 @@ private:
     std::vector<Strip> state_;
     std::vector<std::atomic<int>> rowCount_;   // strips done per row (rows with horizontal items)
     std::vector<std::atomic<int>> rowDone_;    // the row's horizontal item done
-    std::atomic<int> left_;                    // items not finished
+    std::atomic<int> rowsFinished_;            // horizontal items done
     std::atomic<int> nextRow_;                 // the next horizontal item to take
     std::atomic<bool> failed_;
 };

@@ -124,10 +124,19 @@ if [ "${THROUGHPUT:-0}" = 1 ]; then
   $B/lidarsgm_lidarsgm_fuse --kitti $TP --quiet 1 --threads 16 | grep -E "SDSGM|frames:" || true
 fi
 if [ "${CPU_SCALING:-0}" = 1 ]; then
-  # The CPU path on the host's cores: cv::setNumThreads 1..16, every cv::StereoSGBM mode alongside.
-  for t in 1 2 4 8 16; do
-    $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --timing ${CPU_REPS:-5} --threads $t \
-      ${CPU_ARGS:-} | grep -E "timing|lidarsgm|SGBM" || true
+  # The CPU path on the host's cores: cv::setNumThreads 1..16, every cv::StereoSGBM mode alongside. With
+  # .device/prebuilt_base.tar.xz (tools/pack_device_build.sh with PACK_NAME=prebuilt_base, from an earlier commit)
+  # the same runs of that build follow, for a before/after on the same host.
+  builds=$B
+  if [ -f .device/prebuilt_base.tar.xz ]; then
+    mkdir -p /tmp/base && tar -xJf .device/prebuilt_base.tar.xz -C /tmp/base && builds="$B /tmp/base/prebuilt/bin"
+  fi
+  for b in $builds; do
+    echo "== $b: $(head -c 12 $b/../COMMIT 2>/dev/null || echo built here)"
+    for t in ${CPU_THREADS:-1 2 4 8 16}; do
+      LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} $b/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
+        --id 000002 --timing ${CPU_REPS:-5} --threads $t ${CPU_ARGS:-} | grep -E "timing|lidarsgm SDSGM|SGBM_3WAY" || true
+    done
   done
 fi
 if [ "${PROFILE_PATHS:-0}" = 1 ] && command -v ncu >/dev/null; then

@@ -5,6 +5,7 @@
 # building there (a build there takes about 4 of its minutes). The CUDA runtime is linked statically; the GPU machine
 # brings the driver. Python is not packed (the device's Python differs): PY=ON runs build from source there.
 #   tools/pack_device_build.sh [cache dir, default ~/.cache/lidarsgm] [arch key, default cuda90]
+# PACK_NAME=prebuilt_base packs into .device/prebuilt_base.tar.xz instead: the "before" build of CPU_SCALING.
 set -eo pipefail
 cd "$(dirname "$0")/.."
 CACHE=${1:-${LIDARSGM_CACHE_DIR:-$HOME/.cache/lidarsgm}}
@@ -20,6 +21,6 @@ for l in libjpeg.so.62 libpng16.so.16; do
 done
 git rev-parse HEAD > "$tmp/prebuilt/COMMIT"
 git diff --quiet HEAD -- src src_cuda include test perf samples || echo "+ uncommitted changes" >> "$tmp/prebuilt/COMMIT"
-tar -C "$tmp" -cJf .device/prebuilt.tar.xz prebuilt
+tar -C "$tmp" -cJf .device/${PACK_NAME:-prebuilt}.tar.xz prebuilt
 rm -rf "$tmp"
-ls -l .device/prebuilt.tar.xz
+ls -l .device/${PACK_NAME:-prebuilt}.tar.xz
