@@ -26,17 +26,16 @@ using namespace aggregation;
 /* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 64-bit (or 32-bit)
  reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for
  that), so no carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
- The horizontal lines (1 row each, the longest walks: they are the critical path) stage their row of right census
- strings in shared memory when it fits (rowSmem); the left census and prior are warp-uniform loads. The loads for
- the next pixel are issued before the current step's recurrence, to hide their latency. The left image is read
- (warp-uniform) only for the edge rule of the jump penalty (jumpPenalty).
+ The left census and prior are warp-uniform loads; the right census strings are read through L1 (a horizontal
+ line's row stays there). The loads for the next pixel are issued before the current step's recurrence, to hide
+ their latency. The left image is read (warp-uniform) only for the edge rule of the jump penalty (jumpPenalty).
  WRITE: SUM_ATOMIC (all directions, blockIdx.y = direction), SUM_STORE or SUM_ADD (direction oneDir alone; the
  sum of the next pixel is loaded one step ahead with the census strings). */
 enum SumWrite { SUM_ATOMIC, SUM_STORE, SUM_ADD };
 
 template <int WRITE, int PPT, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, bool rowSmem, int oneDir)
+                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, int oneDir)
 {
     const int DPT = 2 * PPT;
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
@@ -44,92 +43,110 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     const int dir = WRITE == SUM_ATOMIC ? (int)blockIdx.y : oneDir;
     const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
     const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
-    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
-    const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
+    const int lane = threadIdx.x & 31;
+    const int line = blockIdx.x * WARPS_PER_BLOCK + (threadIdx.x >> 5);
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int x, y;
     if (!lineStart(line, dx, dy, W, H, x, y))
         return;
     const CostWeights w = p.w;
     const int d0 = lane * DPT;
-    // A lane holds disparities d0 .. d0 + DPT - 1 where d0 < D. D is a multiple of 16, so with DPT 2, 4 or 8 a lane's
-    // run ends at or before D; with DPT 6 (PPT 3) the last active lane's run may pass it (ragged: per disparity).
+    // Lanes with d0 < D hold disparities. D is a multiple of 16, so with DPT 2, 4 or 8 a lane's run ends at or before
+    // D; with DPT 6 (PPT 3) the last active lane's run may pass it (ragged: per pair).
     const bool active = d0 < D, ragged = PPT == 3;
     const int pairs = active ? ::min(PPT, (D - d0) / 2) : 0;   // D is even: pairs never straddle it
 
-    extern __shared__ int rowBuf[];
-    const bool staged = rowSmem && dy == 0;
+    // Pointers to the current pixel, moved by one step's byte offsets: no row address is computed per step.
+    const ptrdiff_t stepL = dy * (ptrdiff_t)censusL.step + dx * (ptrdiff_t)sizeof(int);
+    const ptrdiff_t stepR = dy * (ptrdiff_t)censusR.step;
+    const ptrdiff_t stepP = dy * (ptrdiff_t)prior16.step + dx * (ptrdiff_t)sizeof(short);
+    const ptrdiff_t stepI = dy * (ptrdiff_t)image.step + dx * (ptrdiff_t)sizeof(T);
+    const ptrdiff_t stepS = dy * (ptrdiff_t)sum.step + dx * (ptrdiff_t)D * (ptrdiff_t)sizeof(ushort);
+    const int* pL = censusL.ptr(y) + x;
     const int* rowR = censusR.ptr(y);
-    if (staged)
-    {
-        int* sR = rowBuf + warp * W;
-        for (int i = lane; i < W; i += 32)
-            sR[i] = rowR[i];
-        __syncwarp();
-        rowR = sR;
-    }
+    const bool hasPrior = prior16.data != nullptr, edges = p.edgeThreshold > 0;
+    const short* pP = hasPrior ? prior16.ptr(y) + x : nullptr;
+    const T* pI = edges ? image.ptr(y) + x : nullptr;
+    unsigned* S = sumPairs(sum, x, y, D, active ? d0 : 0);
+    // The line's length: steps until it leaves the image.
+    int left = dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX;
+    left = ::min(left, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
 
-    // Values of the current pixel, loaded one step ahead. A horizontal line stays on row y; the others move.
-    const bool edges = p.edgeThreshold > 0;
-    unsigned l = (unsigned)censusL(y, x);
-    int pr = prior16.data ? prior16(y, x) : NO_DISP;
-    int intensity = edges ? (int)image(y, x) : 0, prevIntensity = intensity;
+    // Values of the current pixel, loaded one step ahead. base: x - minD - d0, the right pixel of disparity d0.
+    unsigned l = (unsigned)*pL;
+    int pr = hasPrior ? *pP : NO_DISP;
+    int intensity = edges ? (int)*pI : 0, prevIntensity = intensity;
+    int base = x - minD - (active ? d0 : 0);   // lanes past D read disparity 0's strings (within the padding)
     unsigned r[DPT];
-    loadRight<DPT>(staged ? rowR : censusR.ptr(y), x - minD - d0, W, r);
+    loadRight<DPT>(rowR, base, r);
 
     // SUM_ADD: the sums of the current pixel, loaded one step ahead.
     unsigned acc[PPT];
     if (WRITE == SUM_ADD && active)
-        loadPairs<PPT>(sumPairs(sum, x, y, D, d0), pairs, acc);
+        loadPairs<PPT>(S, pairs, acc);
 
     // The path costs of the lane's disparities, two per register (d0 + 2i low, d0 + 2i + 1 high): every value stays
     // below BIG16 and BIG16 + P1 below 2^16, so plain 32-bit adds and subtractions never carry between the halves
     // (C + best - minPrev >= 0 since best >= minPrev), and min.u16x2 takes both minima at once.
     unsigned P[PPT];
     int minPrev = 0;
+    const unsigned q2Pair = (unsigned)w.q2 * 0x10001u;
+    const unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
     for (bool start = true; ; start = false)
     {
-        const int k = pr != NO_DISP ? roundDisp16(pr) - minD : -1;
+        // k: the prior's disparity index; without a prior far below every lane's run, so that no lane is near it.
+        const bool hasK = pr != NO_DISP;
+        const int k = hasK ? roundDisp16(pr) - minD : -1024;
         // matchingCost (pipeline.hpp) in pairs: the census term, plus the DDC term, which is one value (0 without a
         // prior, Q2 with one) except within one disparity of the prior, in at most two lanes that add it exactly.
-        unsigned ct[DPT], Cp[PPT];
+        const unsigned ddcFar = hasK ? q2Pair : 0u;
+        unsigned h[DPT], Cp[PPT];
 #pragma unroll
         for (int j = 0; j < DPT; j++)
-            ct[j] = (unsigned)censusTerm(w.census256, popcount32(l ^ r[j]));
-        const unsigned ddcFar = (unsigned)ddcTerm(k < 0 ? 0 : k + 2 * D, k, w) * 0x10001u;
+            h[j] = (unsigned)popcount32(l ^ r[j]);
 #pragma unroll
         for (int i = 0; i < PPT; i++)
-            Cp[i] = (ct[2 * i] | (ct[2 * i + 1] << 16)) + ddcFar;
-        if (k >= 0 && k >= d0 - 1 && k <= d0 + DPT)
+            Cp[i] = censusTermPair(h[2 * i] | (h[2 * i + 1] << 16), c256lo, c256hi) + ddcFar;
+        if ((unsigned)(k - d0 + 1) <= (unsigned)(DPT + 1))   // k in [d0 - 1, d0 + DPT]
         {
 #pragma unroll
             for (int i = 0; i < PPT; i++)
-                Cp[i] = (ct[2 * i] + (unsigned)ddcTerm(d0 + 2 * i, k, w)) |
-                        ((ct[2 * i + 1] + (unsigned)ddcTerm(d0 + 2 * i + 1, k, w)) << 16);
+                Cp[i] = (unsigned)matchingCost((int)h[2 * i], d0 + 2 * i, k, w) |
+                        ((unsigned)matchingCost((int)h[2 * i + 1], d0 + 2 * i + 1, k, w) << 16);
         }
-        const int cx = x, cy = y, curIntensity = intensity;
-        x += dx; y += dy;
-        const bool more = x >= 0 && x < W && y >= 0 && y < H;
+        const int curIntensity = intensity;
+        unsigned* const Scur = S;
+        const bool more = --left > 0;
+        unsigned accNext[PPT];
         if (more)
         {
-            l = (unsigned)censusL(y, x);
-            pr = prior16.data ? prior16(y, x) : NO_DISP;
-            if (edges)
-                intensity = image(y, x);
-            loadRight<DPT>(staged ? rowR : censusR.ptr(y), x - minD - d0, W, r);
-        }
-        unsigned accNext[PPT];
-        if (WRITE == SUM_ADD && active && more)
-        {
-            loadPairs<PPT>(sumPairs(sum, x, y, D, d0), pairs, accNext);
-            // The load above waits on memory every step; PREFETCH steps ahead the sums and (on lines that do not
-            // stage their row) the right census strings are asked into L2, so the loads find them there.
-            const int px = x + PREFETCH * dx, py = y + PREFETCH * dy;
-            if (px >= 0 && px < W && py >= 0 && py < H)
+            pL = (const int*)((const char*)pL + stepL);
+            rowR = (const int*)((const char*)rowR + stepR);
+            base += dx;
+            S = (unsigned*)((char*)S + stepS);
+            l = (unsigned)*pL;
+            if (hasPrior)
             {
-                prefetchL2(sumPairs(sum, px, py, D, d0));
-                if (!staged)
-                    prefetchL2(censusR.ptr(py) + ::min(::max(px - minD - d0 - (DPT - 1), 0), W - 1));
+                pP = (const short*)((const char*)pP + stepP);
+                pr = *pP;
+            }
+            if (edges)
+            {
+                pI = (const T*)((const char*)pI + stepI);
+                intensity = *pI;
+            }
+            loadRight<DPT>(rowR, base, r);
+            if (WRITE == SUM_ADD && active)
+            {
+                loadPairs<PPT>(S, pairs, accNext);
+                // The load above waits on memory every step; PREFETCH steps ahead the sums and the right census
+                // strings are asked into L2, so the loads find them there.
+                if (left > PREFETCH)
+                {
+                    prefetchL2((const char*)S + PREFETCH * stepS);
+                    prefetchL2((const char*)rowR + PREFETCH * stepR +
+                               (base + PREFETCH * dx - (DPT - 1)) * (ptrdiff_t)sizeof(int));
+                }
             }
         }
         if (start)
@@ -143,7 +160,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles.
             const unsigned up = __shfl_up_sync(0xFFFFFFFFu, P[PPT - 1], 1);
             const unsigned down = __shfl_down_sync(0xFFFFFFFFu, P[0], 1);
-            const unsigned left = lane > 0 ? up : BIG16X2, rightPair = lane < 31 ? down : BIG16X2;
+            const unsigned leftPair = lane > 0 ? up : BIG16X2, rightPair = lane < 31 ? down : BIG16X2;
             const unsigned jump =
                 (unsigned)(minPrev + jumpPenalty(curIntensity, prevIntensity, p.edgeThreshold, w)) * 0x10001u;
             const unsigned p1 = (unsigned)w.p1 * 0x10001u, mp = (unsigned)minPrev * 0x10001u;
@@ -151,7 +168,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 #pragma unroll
             for (int i = 0; i < PPT; i++)
             {
-                const unsigned lm = __byte_perm(i > 0 ? P[i - 1] : left, P[i], 0x5432);
+                const unsigned lm = __byte_perm(i > 0 ? P[i - 1] : leftPair, P[i], 0x5432);
                 const unsigned lp = __byte_perm(P[i], i < PPT - 1 ? P[i + 1] : rightPair, 0x5432);
                 const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + p1);
                 Pn[i] = Cp[i] + best - mp;
@@ -172,7 +189,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         minPrev = (int)__reduce_min_sync(0xFFFFFFFFu, ::min(mPair & 0xFFFFu, mPair >> 16));
         if (active)
         {
-            unsigned* S = sumPairs(sum, cx, cy, D, d0);
             unsigned v[PPT];
 #pragma unroll
             for (int i = 0; i < PPT; i++)
@@ -183,7 +199,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                 // atomic operations of 32-bit ones, the same exactness (no carry leaves a 16-bit field).
 #pragma unroll
                 for (int i = 0; i < PPT / 2; i++)
-                    atomicAdd((unsigned long long*)S + i,
+                    atomicAdd((unsigned long long*)Scur + i,
                               (unsigned long long)v[2 * i] | ((unsigned long long)v[(2 * i + 1) % PPT] << 32));
             }
             else if (WRITE == SUM_ATOMIC)
@@ -191,7 +207,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 #pragma unroll
                 for (int i = 0; i < PPT; i++)
                     if (!ragged || i < pairs)
-                        atomicAdd(S + i, v[i]);
+                        atomicAdd(Scur + i, v[i]);
             }
             else
             {
@@ -204,7 +220,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                         acc[i] = accNext[i];
                     }
                 }
-                storePairs<PPT>(S, pairs, v);
+                storePairs<PPT>(Scur, pairs, v);
             }
         }
         prevIntensity = curIntensity;
@@ -218,34 +234,24 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> p
               const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    // Every block gets the shared memory of 4 rows; up to 24 KB (rows up to 1536 pixels) it costs no occupancy
-    // worth having, beyond that the rows are read through the caches.
-    const size_t smem = (size_t)WARPS_PER_BLOCK * W * sizeof(int);
-    const bool rowSmem = smem <= 24 * 1024;
-    const size_t smemBytes = rowSmem ? smem : 0;
     const dim3 block(32 * WARPS_PER_BLOCK);
     if (!perDirection)
     {
         cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
         const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-        const dim3 grid((maxLines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK, p.numPaths);
-        pathKernel<SUM_ATOMIC, PPT, T><<<grid, block, smemBytes, stream>>>(censusL, censusR, prior16, image, p, sum,
-                                                                          rowSmem, 0);
+        const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
+        pathKernel<SUM_ATOMIC, PPT, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum, 0);
         cudaSafeCall(cudaGetLastError());
         return;
     }
     for (int dir = 0; dir < p.numPaths; dir++)
     {
         const int lines = dir < 2 ? H : dir < 4 ? W : W + H - 1;   // rows, columns, diagonals
-        const dim3 grid((lines + WARPS_PER_BLOCK - 1) / WARPS_PER_BLOCK);
-        // Only the horizontal lines stage their row: the other directions' launches take no shared memory.
-        const bool rows = dir < 2 && rowSmem;
+        const dim3 grid(cv::cuda::device::divUp(lines, WARPS_PER_BLOCK));
         if (dir == 0)
-            pathKernel<SUM_STORE, PPT, T><<<grid, block, rows ? smemBytes : 0, stream>>>(censusL, censusR, prior16,
-                                                                                        image, p, sum, rows, dir);
+            pathKernel<SUM_STORE, PPT, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
         else
-            pathKernel<SUM_ADD, PPT, T><<<grid, block, rows ? smemBytes : 0, stream>>>(censusL, censusR, prior16,
-                                                                                      image, p, sum, rows, dir);
+            pathKernel<SUM_ADD, PPT, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
         cudaSafeCall(cudaGetLastError());
     }
 }

@@ -22,6 +22,15 @@ __device__ __forceinline__ unsigned vmin2(unsigned a, unsigned b)
     return __vminu2(a, b);
 }
 
+/* censusTerm (pipeline.hpp) of two Hamming distances at once, h packed as h0 | h1 << 16: with census256 = 256 hi + lo,
+ the term is hi h + (lo h + 128) / 256 (256 hi h is a multiple of 256). lo h + 128 < 2^16 (h <= 32), so one multiply
+ gives both halves' lo products, whose bytes 1 and 3 are the quotients; hi h + quotient is the term itself, below 2^16
+ since every cost is. No carry crosses between the halves. */
+__device__ __forceinline__ unsigned censusTermPair(unsigned h, unsigned lo, unsigned hi)
+{
+    return h * hi + __byte_perm(h * lo + 0x00800080u, 0, 0x4341);
+}
+
 /* Line `line` of direction (dx, dy): its first pixel. Horizontal lines are rows, vertical lines columns; diagonal
  lines start on the row the direction enters from (W lines), then on the column it enters from (H - 1 lines). */
 __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H, int& x, int& y)
@@ -45,23 +54,15 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
     return true;
 }
 
-/* The right census strings of disparities d0 .. d0 + DPT - 1 at a pixel: row[base - j], base = x - minD - d0, clamped
- to the row. Away from the row's ends (nearly always) no clamp is needed and the loads take constant offsets. */
-template <int DPT> __device__ __forceinline__ void loadRight(const int* row, int base, int W, unsigned (&r)[DPT])
+/* The right census strings of disparities d0 .. d0 + DPT - 1 at a pixel: row[base - j], base = x - minD - d0. The
+ row has rightCensusPadBefore / After(p) readable columns before / after it holding its end pixels' strings
+ (censusTransform), so no index is clamped here: the loads take constant offsets. */
+template <int DPT> __device__ __forceinline__ void loadRight(const int* row, int base, unsigned (&r)[DPT])
 {
-    if (base - (DPT - 1) >= 0 && base < W)
-    {
-        const int* q = row + base;
+    const int* q = row + base;
 #pragma unroll
-        for (int j = 0; j < DPT; j++)
-            r[j] = (unsigned)q[-j];
-    }
-    else
-    {
-#pragma unroll
-        for (int j = 0; j < DPT; j++)
-            r[j] = (unsigned)row[::min(::max(base - j, 0), W - 1)];
-    }
+    for (int j = 0; j < DPT; j++)
+        r[j] = (unsigned)q[-j];
 }
 
 //! Asks the line holding p into L2 without waiting for it.
@@ -76,16 +77,20 @@ __device__ __forceinline__ unsigned* sumPairs(PtrStepSz<ushort> sum, int x, int 
     return (unsigned*)(sum.ptr(y) + (size_t)x * D + d0);
 }
 
-/* The first n of PPT consecutive pairs. PPT 2 and 4: one vector access, n = PPT (d0 = lane * 2 * PPT and the row
- offset x * D are multiples of 2 * PPT 16-bit values since D is a multiple of 16, so the address is aligned to the
- access size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last active
- lane's run may pass D: n < PPT). */
+/* The first n of PPT consecutive pairs. PPT 2, 4 and 8: 8- or 16-byte accesses, n = PPT (d0 = lane * 2 * PPT and the
+ row offset x * D are multiples of 2 * PPT 16-bit values up to 8 since D is a multiple of 16, so each access is
+ aligned to its size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last
+ active lane's run may pass D: n < PPT). */
 template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, int n, unsigned (&v)[PPT])
 {
-    if (PPT == 4)
+    if (PPT % 4 == 0)
     {
-        const uint4 a = *(const uint4*)S;
-        v[0] = a.x; v[1 % PPT] = a.y; v[2 % PPT] = a.z; v[3 % PPT] = a.w;
+#pragma unroll
+        for (int q = 0; q < PPT / 4; q++)
+        {
+            const uint4 a = ((const uint4*)S)[q];
+            v[4 * q] = a.x; v[(4 * q + 1) % PPT] = a.y; v[(4 * q + 2) % PPT] = a.z; v[(4 * q + 3) % PPT] = a.w;
+        }
     }
     else if (PPT == 2) { const uint2 a = *(const uint2*)S; v[0] = a.x; v[1 % PPT] = a.y; }
     else
@@ -99,7 +104,12 @@ template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, 
 
 template <int PPT> __device__ __forceinline__ void storePairs(unsigned* S, int n, const unsigned (&v)[PPT])
 {
-    if (PPT == 4) *(uint4*)S = make_uint4(v[0], v[1 % PPT], v[2 % PPT], v[3 % PPT]);
+    if (PPT % 4 == 0)
+    {
+#pragma unroll
+        for (int q = 0; q < PPT / 4; q++)
+            ((uint4*)S)[q] = make_uint4(v[4 * q], v[(4 * q + 1) % PPT], v[(4 * q + 2) % PPT], v[(4 * q + 3) % PPT]);
+    }
     else if (PPT == 2) *(uint2*)S = make_uint2(v[0], v[1 % PPT]);
     else
     {

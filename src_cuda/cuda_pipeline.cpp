@@ -39,6 +39,7 @@ bool aggregatePerDirection(Size sz)
 struct CudaPipeline::Buffers
 {
     cuda::GpuMat censusL, censusR, sparse16, visible16, semidense16, sum, disp16, dispInt, rightKey, dispRight;
+    cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
     cuda::GpuMat med16, medInt, medRight;
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
@@ -92,11 +93,15 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const bool capturing = b.orderAfterLastCall(st);
     const Size sz = L.size();
     b.censusL.create(sz, CV_32SC1);
-    b.censusR.create(sz, CV_32SC1);
+    const int padBefore = ci::rightCensusPadBefore(p), padAfter = ci::rightCensusPadAfter(p);
+    b.censusRPadded.create(sz.height, padBefore + sz.width + padAfter, CV_32SC1);
+    b.censusR = b.censusRPadded.colRange(padBefore, padBefore + sz.width);
     if (L.depth() == CV_8U)
-        ci::censusTransform(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), b.censusL, b.censusR, st);
+        ci::censusTransform(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), b.censusL, b.censusR, padBefore,
+                            padAfter, st);
     else
-        ci::censusTransform(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), b.censusL, b.censusR, st);
+        ci::censusTransform(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), b.censusL, b.censusR, padBefore,
+                            padAfter, st);
     if (!Sp.empty())
     {
         b.sparse16.create(sz, CV_16SC1);

@@ -11,6 +11,7 @@
 
 #include "opencv2/core/cuda_types.hpp"
 #include <cuda_runtime.h>
+#include <algorithm>
 #include "pipeline.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -25,11 +26,24 @@ void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities
 void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16,
                         cudaStream_t stream);
 
-//! Both images in one launch.
+/** The columns the path kernel reads before and after a row of right census strings: the right pixel of disparity
+index d at x is x - minDisparity - d, for x in [0, W) and d in [0, numDisparities). */
+inline int rightCensusPadBefore(const PipelineParams& p)
+{
+    return std::max(0, p.numDisparities - 1 + p.minDisparity);
+}
+inline int rightCensusPadAfter(const PipelineParams& p)
+{
+    return std::max(0, -p.minDisparity);
+}
+
+/** Both images in one launch. censusR is a view with padBefore readable columns before each row and padAfter after
+it (an ROI of a wider buffer): they get the census strings of the row's end pixels (the clamped border), so that the
+path kernel loads the strings of any disparity without a bounds check. */
 void censusTransform(PtrStepSz<uchar> left, PtrStepSz<uchar> right, PtrStepSz<int> censusL, PtrStepSz<int> censusR,
-                     cudaStream_t stream);
+                     int padBefore, int padAfter, cudaStream_t stream);
 void censusTransform(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<int> censusL,
-                     PtrStepSz<int> censusR, cudaStream_t stream);
+                     PtrStepSz<int> censusR, int padBefore, int padAfter, cudaStream_t stream);
 
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
