@@ -15,9 +15,11 @@ namespace {
 const int WARPS = 8, PIXELS_PER_WARP = 4, SEG = WARPS * PIXELS_PER_WARP;  // a block: 32 pixels of one row
 const int MAX_D = 256;
 
-/* One warp per pixel, a block per 32 consecutive pixels of a row. The right-view candidates of those pixels fall on
- right pixels [x0 - minD - (D - 1), x0 + 31 - minD]: they are reduced in shared memory first, then merged into the
- global right-view keys with one atomicMin per right pixel and block. */
+/* One warp per pixel, a block per 32 consecutive pixels of a row; lane t holds disparities t, t + 32, ... below D,
+ ND = D / 32 rounded up of them (a template argument: no loop over disparities that do not exist). The right-view
+ candidates of those pixels fall on right pixels [x0 - minD - (D - 1), x0 + 31 - minD]: they are reduced in shared
+ memory first, then merged into the global right-view keys with one atomicMin per right pixel and block. */
+template <int ND>
 __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrStepSz<short> disp16,
                           PtrStepSz<short> dispInt, PtrStepSz<int> rightKey)
 {
@@ -31,14 +33,14 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
     __syncthreads();
 
     // Load the costs of all of this warp's pixels first: four independent loads in flight instead of one.
-    unsigned v[PIXELS_PER_WARP][MAX_D / 32];
+    unsigned v[PIXELS_PER_WARP][ND];
 #pragma unroll
     for (int i = 0; i < PIXELS_PER_WARP; i++)
     {
         const int x = x0 + warp + WARPS * i;
         const ushort* s = sum.ptr(y) + (size_t)::min(x, W - 1) * D;
 #pragma unroll
-        for (int j = 0; j < MAX_D / 32; j++)
+        for (int j = 0; j < ND; j++)
         {
             const int d = lane + 32 * j;
             v[i][j] = d < D && x < W ? (unsigned)s[d] : 0xFFFFu;
@@ -50,10 +52,9 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         const int x = x0 + warp + WARPS * i;
         if (x >= W)
             break;
-        const ushort* s = sum.ptr(y) + (size_t)x * D;
         unsigned best = 0xFFFFFFFFu;
 #pragma unroll
-        for (int j = 0; j < MAX_D / 32; j++)
+        for (int j = 0; j < ND; j++)
         {
             const int d = lane + 32 * j;
             if (d < D)
@@ -72,7 +73,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         {
             unsigned second = 0xFFFFFFFFu;
 #pragma unroll
-            for (int j = 0; j < MAX_D / 32; j++)
+            for (int j = 0; j < ND; j++)
             {
                 const int d = lane + 32 * j;
                 if (d < D && (d < bd - 1 || d > bd + 1))
@@ -81,21 +82,24 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
             second = __reduce_min_sync(0xFFFFFFFFu, second);
             valid = second == 0xFFFFFFFFu || minv * 1024 <= p.uniqueness1024 * (int)second;
         }
+        // The parabola's three costs from the lanes that hold them (warp-uniform: bd and valid are).
+        int d16 = (bd + minD) * 16;
+        if (valid && p.subpixel && bd > 0 && bd < D - 1)
+        {
+            const auto cost = [&](int d) {
+                unsigned t = v[i][0];
+#pragma unroll
+                for (int j = 1; j < ND; j++)
+                    if (d >> 5 == j)
+                        t = v[i][j];
+                return (int)__shfl_sync(0xFFFFFFFFu, t, d & 31);
+            };
+            d16 += subpixelOffset16(cost(bd - 1), cost(bd), cost(bd + 1));
+        }
         if (lane == 0)
         {
-            if (!valid)
-            {
-                disp16(y, x) = NO_DISP;
-                dispInt(y, x) = NO_DISP;
-            }
-            else
-            {
-                int d16 = (bd + minD) * 16;
-                if (p.subpixel && bd > 0 && bd < D - 1)
-                    d16 += subpixelOffset16(s[bd - 1], s[bd], s[bd + 1]);
-                disp16(y, x) = (short)d16;
-                dispInt(y, x) = (short)(bd + minD);
-            }
+            disp16(y, x) = valid ? (short)d16 : NO_DISP;
+            dispInt(y, x) = valid ? (short)(bd + minD) : NO_DISP;
         }
     }
     __syncthreads();
@@ -124,7 +128,17 @@ void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, P
     cudaSafeCall(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
                                    stream));
     const dim3 grid((width + SEG - 1) / SEG, sum.rows);
-    wtaKernel<<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey);
+    switch ((p.numDisparities + 31) / 32)
+    {
+    case 1: wtaKernel<1><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    case 2: wtaKernel<2><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    case 3: wtaKernel<3><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    case 4: wtaKernel<4><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    case 5: wtaKernel<5><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    case 6: wtaKernel<6><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    case 7: wtaKernel<7><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    default: wtaKernel<8><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    }
     cudaSafeCall(cudaGetLastError());
     const dim3 block(32, 8);
     const dim3 grid2(cv::cuda::device::divUp(width, block.x), cv::cuda::device::divUp(sum.rows, block.y));
