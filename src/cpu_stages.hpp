@@ -12,10 +12,11 @@
 
 namespace cv { namespace lidarsgm { namespace detail {
 
-//! The stripes of a parallel_for_ over the rows of an image: four per thread, so that the threads finish together.
+/** The stripes of a parallel_for_ over the rows of an image: at least four per thread, so that the threads finish
+together, and at least one per 16 rows, so that a thread held up (a busy core) leaves little for the others to wait on. */
 inline double rowStripes(int rows)
 {
-    return std::max(1, std::min(rows, 4 * getNumThreads()));
+    return std::max(1, std::min(rows, std::max(rows / 16, 4 * getNumThreads())));
 }
 
 /** Sparse input (CV_16UC1 x256 or CV_32FC1 pixels) to the internal CV_16SC1 1/16-pixel map with NO_DISP for "none"
