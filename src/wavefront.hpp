@@ -122,32 +122,51 @@ private:
         return ring_ == 0 || i < ring_ || rowDone_[i - ring_].load(std::memory_order_acquire) != 0;
     }
 
-    //! Runs the next row of the first ready strip among the thread's own, else among the others.
+    /** Runs the next row of a ready strip: among the thread's own the one furthest behind (so that rows complete in
+    order and the horizontal items and ring slots follow), else the first ready one of the others. */
     template <typename StripRow>
     bool takeStrip(int home0, int home1, const StripRow& stripRow)
     {
-        for (int k = 0; k < strips_; k++)
+        int best = -1, bestRow = rows_;
+        for (int s = home0; s < home1; s++)
         {
-            const int s = home0 + k < home1 ? home0 + k : (home1 + (k - (home1 - home0))) % strips_;
-            Strip& st = state_[s];
-            if (st.busy.load(std::memory_order_relaxed) || !ready(s, st.done.load(std::memory_order_relaxed)))
-                continue;
-            if (st.busy.exchange(1, std::memory_order_acquire))
-                continue;
-            const int i = st.done.load(std::memory_order_relaxed);   // only the holder of busy moves it
-            if (!ready(s, i))
+            const Strip& st = state_[s];
+            const int i = st.done.load(std::memory_order_relaxed);
+            if (i < bestRow && !st.busy.load(std::memory_order_relaxed) && ready(s, i))
             {
-                st.busy.store(0, std::memory_order_release);
-                continue;
+                best = s;
+                bestRow = i;
             }
-            stripRow(s, i);
-            st.done.store(i + 1, std::memory_order_release);
-            st.busy.store(0, std::memory_order_release);
-            if (ring_ > 0)
-                rowCount_[i].fetch_add(1, std::memory_order_acq_rel);
-            return true;
         }
+        if (best >= 0 && runStrip(best, stripRow))
+            return true;
+        for (int k = 0; k < strips_ - (home1 - home0); k++)
+            if (runStrip((home1 + k) % strips_, stripRow))
+                return true;
         return false;
+    }
+
+    //! Runs strip s's next row if it is ready and no other thread holds the strip.
+    template <typename StripRow>
+    bool runStrip(int s, const StripRow& stripRow)
+    {
+        Strip& st = state_[s];
+        if (st.busy.load(std::memory_order_relaxed) || !ready(s, st.done.load(std::memory_order_relaxed)))
+            return false;
+        if (st.busy.exchange(1, std::memory_order_acquire))
+            return false;
+        const int i = st.done.load(std::memory_order_relaxed);   // only the holder of busy moves it
+        if (!ready(s, i))
+        {
+            st.busy.store(0, std::memory_order_release);
+            return false;
+        }
+        stripRow(s, i);
+        st.done.store(i + 1, std::memory_order_release);
+        st.busy.store(0, std::memory_order_release);
+        if (ring_ > 0)
+            rowCount_[i].fetch_add(1, std::memory_order_acq_rel);
+        return true;
     }
 
     const int strips_, rows_;
