@@ -38,9 +38,9 @@ void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, cons
 }
 
 // CV_CPU_DISPATCH returns from the function it stands in: one small function per kernel.
-void runHorizontalRow(AggregationState& a, int y)
+void runHorizontalRow(AggregationState& a, int y, ushort* lr)
 {
-    CV_CPU_DISPATCH(horizontalRow, (a, y), CV_CPU_DISPATCH_MODES_ALL);
+    CV_CPU_DISPATCH(horizontalRow, (a, y, lr), CV_CPU_DISPATCH_MODES_ALL);
 }
 void runVerticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down)
 {
@@ -102,6 +102,8 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     const int ring = std::min(H, 2 * threads + 4);
     a.costRows.create(ring, W * D, CV_16UC1);
     a.downRows.create(ring, W * D, CV_16UC1);
+    // A row of left-right path costs per task, each pixel's between sentinels (horizontalRow).
+    a.leftRight.create(threads, W * a.stride, CV_16UC1);
     // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
     // [W - x1 + minD, W - x0 + minD + D - 1): room for every row. Each strip marks its row empty before the row
     // (verticalStrip), so that nothing here runs alone over the whole.
@@ -126,10 +128,11 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     // 1. Down: the strips compute the costs and the top-down paths, then the row's horizontal paths complete the
     // partial sums. The row's strips run in order of the rows (neighbours), so that the rows finish in order.
     Wavefront(strips, H, true, ring).run(threads,
-        [&](int s, int i) { strip(s, i, true); }, [&](int i) { runHorizontalRow(a, i); });
+        [&](int s, int i) { strip(s, i, true); },
+        [&](int i, int t) { runHorizontalRow(a, i, a.leftRight.ptr<ushort>(t) + 1); });
     // 2. Up: the bottom-up paths complete the sums; the winner is taken at once.
     Wavefront(strips, H, a.ndirs > 1, 0).run(threads,
-        [&](int s, int i) { strip(s, H - 1 - i, false); }, [](int) {});
+        [&](int s, int i) { strip(s, H - 1 - i, false); }, [](int, int) {});
 
     // The right view: strip by strip from the left, a strip's candidate replaces the one so far only at a lower cost
     // (its disparities are larger: RightView).

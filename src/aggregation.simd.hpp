@@ -47,6 +47,7 @@ struct AggregationState
     Mat sum;                                    // H x (W * D) 16-bit: top-down + horizontal paths
     Mat costRows, downRows;                     // rings (down sweep) of rows of costs and of top-down path sums:
                                                 // row y in row y % rows
+    Mat leftRight;                              // per task a row of left-right path costs (horizontalRow)
     Mat finalSum;                               // optional (tests): the complete sums
     Mat disp16, dispInt;                        // outputs of the winner-takes-all
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
@@ -63,7 +64,7 @@ struct AggregationState
 namespace cv { namespace lidarsgm { namespace detail {
 CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 
-void horizontalRow(AggregationState& a, int y);
+void horizontalRow(AggregationState& a, int y, ushort* lr);
 void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down);
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
 void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight);
@@ -149,14 +150,14 @@ inline ushort jump(const AggregationState& a, const ushort* I, int x, int xq)
 
 } // namespace
 
-void horizontalRow(AggregationState& a, int y)
+void horizontalRow(AggregationState& a, int y, ushort* lr)
 {
     const int W = a.W, D = a.D, st = a.stride;
     const ushort P1 = (ushort)a.p.w.p1;
-    // The left-right path costs of the whole row, each pixel's between sentinels, so that the right-left pass writes
-    // the sum of the row's paths at once: the volume row is written once, the ring rows are still in the cache.
-    AutoBuffer<ushort> rowBuf((size_t)W * st), pathBuf(2 * (size_t)st);
-    ushort* lr = rowBuf.data() + 1;
+    // lr: room for the left-right path costs of the whole row (W * stride from lr - 1), each pixel's between
+    // sentinels, so that the right-left pass writes the sum of the row's paths at once: the volume row is written
+    // once, the ring rows are still in the cache.
+    AutoBuffer<ushort> pathBuf(2 * (size_t)st);
     ushort* u = pathBuf.data() + 1;
     ushort* v = u + st;
     u[-1] = u[D] = v[-1] = v[D] = SENTINEL;

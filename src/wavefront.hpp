@@ -45,7 +45,8 @@ public:
         failed_.store(false);
     }
 
-    /** Runs the items on up to `threads` threads: stripRow(s, i) for strip s and row i, horizontal(i) for row i.
+    /** Runs the items on up to `threads` threads: stripRow(s, i) for strip s and row i, horizontal(i, t) for row i on
+    task t < threads (no two tasks share a t: scratch buffers can be per task).
     Thread t keeps to its own strips [t * strips / threads, (t + 1) * strips / threads) while one of them is ready
     (their path rows stay in its core's cache) and takes any other ready item otherwise. */
     template <typename StripRow, typename Horizontal>
@@ -53,7 +54,7 @@ public:
     {
         parallel_for_(Range(0, threads), [&](const Range& r) {
             for (int t = r.start; t < r.end; t++)
-                work(t * strips_ / threads, (t + 1) * strips_ / threads, stripRow, horizontal);
+                work(t, t * strips_ / threads, (t + 1) * strips_ / threads, stripRow, horizontal);
         }, threads);
     }
 
@@ -66,13 +67,13 @@ private:
     };
 
     template <typename StripRow, typename Horizontal>
-    void work(int home0, int home1, const StripRow& stripRow, const Horizontal& horizontal)
+    void work(int task, int home0, int home1, const StripRow& stripRow, const Horizontal& horizontal)
     {
         try
         {
             for (int idle = 0; !failed_.load(std::memory_order_relaxed);)
             {
-                if (takeHorizontal(horizontal) || takeStrip(home0, home1, stripRow))
+                if (takeHorizontal(task, horizontal) || takeStrip(home0, home1, stripRow))
                     idle = 0;
                 else if (finished())
                     break;
@@ -98,7 +99,7 @@ private:
     }
 
     template <typename Horizontal>
-    bool takeHorizontal(const Horizontal& horizontal)
+    bool takeHorizontal(int task, const Horizontal& horizontal)
     {
         if (ring_ == 0)
             return false;
@@ -106,7 +107,7 @@ private:
         if (i >= rows_ || rowCount_[i].load(std::memory_order_acquire) < strips_ ||
             !nextRow_.compare_exchange_strong(i, i + 1))
             return false;
-        horizontal(i);
+        horizontal(i, task);
         rowDone_[i].store(1, std::memory_order_release);
         rowsFinished_.fetch_add(1, std::memory_order_acq_rel);
         return true;
