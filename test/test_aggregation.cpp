@@ -128,4 +128,46 @@ INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationRandom,
                      testing::Values(Size(1, 1), Size(7, 1), Size(1, 9), Size(13, 11), Size(70, 33), Size(300, 17)),
                      testing::Values(0, 60)));
 
+/* The sweeps' scheduling (wavefront.hpp) over 1 to 16 threads, with fewer strips than threads (narrow images) and
+ more: every thread count gives the reference sums and the same disparities, whatever order the items ran in. */
+typedef testing::TestWithParam<tuple<int, int, Size> > Lidarsgm_AggregationThreads;
+TEST_P(Lidarsgm_AggregationThreads, same_as_reference)
+{
+    const int numPaths = get<0>(GetParam()), threads = get<1>(GetParam()), D = 32;
+    const Size sz = get<2>(GetParam());
+    RNG rng(numPaths * 100 + threads + sz.width);
+    Mat cl(sz, CV_32SC1), cr(sz, CV_32SC1), prior(sz, CV_16SC1, Scalar::all(NO_DISP));
+    rng.fill(cl, RNG::UNIFORM, 0, 1 << 30);
+    rng.fill(cr, RNG::UNIFORM, 0, 1 << 30);
+    for (int k = 0; k < sz.area() / 5; k++)
+        prior.at<short>(rng.uniform(0, sz.height), rng.uniform(0, sz.width)) = (short)rng.uniform(0, D * 16 - 8);
+    PipelineParams p = PipelineParams();
+    p.numDisparities = D;
+    p.numPaths = numPaths;
+    p.subpixel = true;
+    p.uniqueness1024 = 970;
+    p.w = computeCostWeights(10, 120, 5, 160, 0.7, numPaths, true);
+    Mat cost, ref, e16, ei, er;
+    computeMatchingCost(cl, cr, prior, p, cost);
+    referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref);
+    winnerTakesAll(ref, sz.width, p, e16, ei, er);
+    const int saved = getNumThreads();
+    setNumThreads(threads);
+    Mat sum, d16, di, dr;
+    // Twice: the second call reuses the buffers the first one left.
+    Ptr<AggregationState> kept;
+    for (int call = 0; call < 2; call++)
+    {
+        aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, sum, &kept);
+        EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF)) << "call " << call;
+        EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF)) << "call " << call;
+        EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF)) << "call " << call;
+        EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF)) << "call " << call;
+    }
+    setNumThreads(saved);
+}
+INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationThreads,
+    testing::Combine(testing::Values(4, 8), testing::Values(1, 2, 3, 7, 16),
+                     testing::Values(Size(100, 13), Size(1030, 21))));
+
 }} // namespace
