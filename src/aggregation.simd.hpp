@@ -10,10 +10,11 @@
 //     already work on the next rows;
 //  2. up, row by row: verticalStrip computes the costs again and the bottom-up paths, completes each pixel's sum,
 //     and selectPixel takes the winner.
-// A row depends only on the row before, so the strips of a row run in parallel. Path costs stay below the matching
-// cost plus P2, and the weights are scaled so that the sum of all paths fits in 16 bits: the saturating adds never
-// saturate on real values, only on the 0xFFFF sentinels that stand for "d - 1 / d + 1 out of range". Compiled once per
-// instruction set (CPU dispatch, aggregation.dispatch.cpp).
+// A row depends only on the row before, so the strips of a row run in parallel, and a strip may start its next row
+// before the other strips finish this one (wavefront.hpp). Path costs stay below the matching cost plus P2, and the
+// weights are scaled so that the sum of all paths fits in 16 bits: the saturating adds never saturate on real values,
+// only on the 0xFFFF sentinels that stand for "d - 1 / d + 1 out of range" (so the order of the adds does not
+// matter). Compiled once per instruction set (CPU dispatch, aggregation.dispatch.cpp).
 
 #include "cpu_stages.hpp"
 #include "opencv2/core/hal/intrin.hpp"

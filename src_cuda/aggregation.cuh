@@ -77,20 +77,16 @@ __device__ __forceinline__ unsigned* sumPairs(PtrStepSz<ushort> sum, int x, int 
     return (unsigned*)(sum.ptr(y) + (size_t)x * D + d0);
 }
 
-/* The first n of PPT consecutive pairs. PPT 2, 4 and 8: 8- or 16-byte accesses, n = PPT (d0 = lane * 2 * PPT and the
- row offset x * D are multiples of 2 * PPT 16-bit values up to 8 since D is a multiple of 16, so each access is
- aligned to its size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last
- active lane's run may pass D: n < PPT). */
+/* The first n of PPT consecutive pairs. PPT 2 and 4: one vector access, n = PPT (d0 = lane * 2 * PPT and the row
+ offset x * D are multiples of 2 * PPT 16-bit values since D is a multiple of 16, so the address is aligned to the
+ access size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last active
+ lane's run may pass D: n < PPT). */
 template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, int n, unsigned (&v)[PPT])
 {
-    if (PPT % 4 == 0)
+    if (PPT == 4)
     {
-#pragma unroll
-        for (int q = 0; q < PPT / 4; q++)
-        {
-            const uint4 a = ((const uint4*)S)[q];
-            v[4 * q] = a.x; v[(4 * q + 1) % PPT] = a.y; v[(4 * q + 2) % PPT] = a.z; v[(4 * q + 3) % PPT] = a.w;
-        }
+        const uint4 a = *(const uint4*)S;
+        v[0] = a.x; v[1 % PPT] = a.y; v[2 % PPT] = a.z; v[3 % PPT] = a.w;
     }
     else if (PPT == 2) { const uint2 a = *(const uint2*)S; v[0] = a.x; v[1 % PPT] = a.y; }
     else
@@ -104,12 +100,7 @@ template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, 
 
 template <int PPT> __device__ __forceinline__ void storePairs(unsigned* S, int n, const unsigned (&v)[PPT])
 {
-    if (PPT % 4 == 0)
-    {
-#pragma unroll
-        for (int q = 0; q < PPT / 4; q++)
-            ((uint4*)S)[q] = make_uint4(v[4 * q], v[(4 * q + 1) % PPT], v[(4 * q + 2) % PPT], v[(4 * q + 3) % PPT]);
-    }
+    if (PPT == 4) *(uint4*)S = make_uint4(v[0], v[1 % PPT], v[2 % PPT], v[3 % PPT]);
     else if (PPT == 2) *(uint2*)S = make_uint2(v[0], v[1 % PPT]);
     else
     {
