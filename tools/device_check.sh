@@ -152,3 +152,26 @@ if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
       $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
+if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
+  # Per-kernel durations of the second SDSGM call at each WxH:disparities:paths of PROFILE_SIZES (the first call
+  # includes module loading), e.g. PROFILE_SIZES="1242x375:128:8 1920x1080:256:8". With STALLS=1 also the warp
+  # states, scheduler and memory statistics of one path kernel (skipping STALL_SKIP path kernels, default 9).
+  for spec in $PROFILE_SIZES; do
+    IFS=: read -r sz nd np <<< "$spec"
+    args="--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 --resize $sz --num-disparities $nd --paths $np"
+    echo "== $spec: kernels of one SDSGM call (the second), summed by name:"
+    ncu --clock-control none --print-units base --metrics gpu__time_duration.sum --launch-count 60 \
+      $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - \
+      | sed -E 's/^ +(void )?//; s/\(anonymous namespace\):: *//; s/[<(].*gpu__time_duration.sum/ /' | awk '{sub(/^.*::/, "", $1); print $1, $2, $3}' \
+      > "$OUT/kernels_$sz.txt"
+    # One call = the kernels up to the second census kernel.
+    awk '$1 ~ /censusKernel/ {c++} c == 2' "$OUT/kernels_$sz.txt" \
+      | awk '{t[$1]+=$3; u=$2; n[$1]++} END {for (k in t) {printf "  %-36s %3d launches %10.1f %s\n", k, n[k], t[k], u; s+=t[k]} printf "  %-36s %23.1f %s\n", "sum", s, u}' | sort -k4 -n -r
+    if [ "${STALLS:-0}" = 1 ]; then
+      ncu --clock-control none -k regex:pathKernel --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
+        --section SpeedOfLight --section Occupancy --section SchedulerStats --section WarpStateStats \
+        --section MemoryWorkloadAnalysis $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -vE "^==PROF==|^ +-+$|^$" \
+        | grep -E "pathKernel|Duration|Throughput|Occupancy|Warp Cycles|Stall|Issue|Eligible|Active Warps|Registers|L2 Hit|L1/TEX Hit|Mem Busy|Max Bandwidth|No Eligible|Issued Warp" | head -45
+    fi
+  done
+fi
