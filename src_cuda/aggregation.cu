@@ -2,8 +2,8 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Semi-global aggregation, CUDA twin of src/aggregation.cpp, with the matching cost (src/matching_cost.cpp on the
-// CPU) computed as the paths walk. One warp walks one path line; lane t holds the path
-// costs of a run of disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction adds
+// CPU) computed as the paths walk. One warp (or two) walks one path line; lane t holds the path costs of a run of
+// disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction adds
 // into the one 16-bit sum volume, the only large buffer. Integer sums: the order does not matter.
 // Two launch plans, same sums: all directions in one launch adding with atomics (small images: one direction alone
 // has too few lines to fill the GPU), or one launch per direction, each adding with plain loads and stores since no
@@ -23,17 +23,63 @@ const int WARPS_PER_BLOCK = 4;
 const int PREFETCH = 8;           // steps ahead (one launch per direction)
 using namespace aggregation;
 
-/* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 64-bit (or 32-bit)
- reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for
- that), so no carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
- The left census and prior are warp-uniform loads; the right census strings are read through L1 (a horizontal
- line's row stays there). The loads for the next pixel are issued before the current step's recurrence, to hide
- their latency. The left image is read (warp-uniform) only for the edge rule of the jump penalty (jumpPenalty).
- WRITE: SUM_ATOMIC (all directions, blockIdx.y = direction), SUM_STORE or SUM_ADD (direction oneDir alone; the
- sum of the next pixel is loaded one step ahead with the census strings). */
 enum SumWrite { SUM_ATOMIC, SUM_STORE, SUM_ADD };
 
-template <int WRITE, int PPT, typename T>
+/* WPL warps per line (1 or 2): with 2, warp `part` of a line holds disparities [part * 32 * DPT, ...), and the two
+ warps trade their minimum and their boundary pairs through shared memory once a step (double-buffered, one 64-thread
+ barrier): twice the warps in flight where one direction alone has too few lines to hide the memory latency. */
+template <int WPL> struct LineExchange;
+template <> struct LineExchange<1>
+{
+    __device__ __forceinline__ LineExchange(int) {}
+    template <int PPT> __device__ __forceinline__ int trade(int warpMin, unsigned&, unsigned&, const unsigned (&)[PPT]) { return warpMin; }
+};
+template <> struct LineExchange<2>
+{
+    unsigned* slot;   // this line's [buffer][min of warp 0, min of warp 1, top pair of warp 0, bottom pair of warp 1]
+    int part, lane, buf;
+    __device__ __forceinline__ LineExchange(int warp)
+    {
+        __shared__ unsigned xch[WARPS_PER_BLOCK / 2][2][4];
+        slot = &xch[warp >> 1][0][0];
+        part = warp & 1;
+        lane = threadIdx.x & 31;
+        buf = 0;
+    }
+    /* The line's minimum of this step; leftEdge / rightEdge receive the other warp's boundary pair for the next step
+     (used by lane 0 of warp 1 / lane 31 of warp 0). */
+    template <int PPT>
+    __device__ __forceinline__ int trade(int warpMin, unsigned& leftEdge, unsigned& rightEdge, const unsigned (&P)[PPT])
+    {
+        unsigned* b = slot + 4 * buf;
+        if (lane == 0)
+            b[part] = (unsigned)warpMin;
+        if (part == 0 && lane == 31)
+            b[2] = P[PPT - 1];
+        if (part == 1 && lane == 0)
+            b[3] = P[0];
+        // The two warps of a line are warps 2j, 2j + 1 of the block: barrier 1 + j, 64 threads.
+        asm volatile("bar.sync %0, 64;" :: "r"(1 + ((threadIdx.x >> 5) >> 1)) : "memory");
+        const int other = (int)b[1 - part];
+        if (part == 0)
+            rightEdge = b[3];
+        else
+            leftEdge = b[2];
+        buf ^= 1;
+        return ::min(warpMin, other);
+    }
+};
+
+/* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 64-bit (or 32-bit)
+ reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for
+ that), so no carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT
+ (offset by 32 * DPT in the second warp of a line, WPL 2). The left census and prior are warp-uniform loads; the
+ right census strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are
+ issued before the current step's recurrence, to hide their latency. The left image is read (warp-uniform) only for
+ the edge rule of the jump penalty (jumpPenalty).
+ WRITE: SUM_ATOMIC (all directions, blockIdx.y = direction), SUM_STORE or SUM_ADD (direction oneDir alone; the
+ sum of the next pixel is loaded one step ahead with the census strings). */
+template <int WRITE, int PPT, int WPL, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
                            PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, int oneDir)
 {
@@ -43,42 +89,50 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     const int dir = WRITE == SUM_ATOMIC ? (int)blockIdx.y : oneDir;
     const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
     const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
-    const int lane = threadIdx.x & 31;
-    const int line = blockIdx.x * WARPS_PER_BLOCK + (threadIdx.x >> 5);
+    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
+    const int line = (blockIdx.x * WARPS_PER_BLOCK + warp) / WPL;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int x, y;
     if (!lineStart(line, dx, dy, W, H, x, y))
         return;
+    LineExchange<WPL> xch(warp);
     const CostWeights w = p.w;
-    const int d0 = lane * DPT;
+    const int part = WPL == 1 ? 0 : warp & 1;
+    const int d0 = part * 32 * DPT + lane * DPT;
     // Lanes with d0 < D hold disparities. D is a multiple of 16, so with DPT 2, 4 or 8 a lane's run ends at or before
     // D; with DPT 6 (PPT 3) the last active lane's run may pass it (ragged: per pair).
     const bool active = d0 < D, ragged = PPT == 3;
     const int pairs = active ? ::min(PPT, (D - d0) / 2) : 0;   // D is even: pairs never straddle it
+    // The last lane of this warp that holds disparities: its upper neighbour pair is BIG16X2 (or, in warp 0 of two,
+    // the other warp's first pair).
+    const int lastLane = ::min(31, (D - part * 32 * DPT + DPT - 1) / DPT - 1);
 
-    // Pointers to the current pixel, moved by one step's byte offsets: no row address is computed per step.
+    // Pointers to the current pixel, moved by one step's byte offsets: no row address is computed per step. pR points
+    // at the right pixel of disparity d0 (x - minD - d0); the strings of d0 + j lie j columns before it.
+    const int base = x - minD - (active ? d0 : 0);   // lanes past D read disparity 0's strings (within the padding)
     const ptrdiff_t stepL = dy * (ptrdiff_t)censusL.step + dx * (ptrdiff_t)sizeof(int);
-    const ptrdiff_t stepR = dy * (ptrdiff_t)censusR.step;
+    const ptrdiff_t stepR = dy * (ptrdiff_t)censusR.step + dx * (ptrdiff_t)sizeof(int);
     const ptrdiff_t stepP = dy * (ptrdiff_t)prior16.step + dx * (ptrdiff_t)sizeof(short);
     const ptrdiff_t stepI = dy * (ptrdiff_t)image.step + dx * (ptrdiff_t)sizeof(T);
     const ptrdiff_t stepS = dy * (ptrdiff_t)sum.step + dx * (ptrdiff_t)D * (ptrdiff_t)sizeof(ushort);
     const int* pL = censusL.ptr(y) + x;
-    const int* rowR = censusR.ptr(y);
+    const int* pR = censusR.ptr(y) + base;
     const bool hasPrior = prior16.data != nullptr, edges = p.edgeThreshold > 0;
     const short* pP = hasPrior ? prior16.ptr(y) + x : nullptr;
     const T* pI = edges ? image.ptr(y) + x : nullptr;
+    // jumpPenalty's threshold made "never" (not 0) when the edge rule is off: the same penalty, one select a step.
+    const int edgeThreshold = edges ? p.edgeThreshold : INT_MAX;
     unsigned* S = sumPairs(sum, x, y, D, active ? d0 : 0);
     // The line's length: steps until it leaves the image.
     int left = dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX;
     left = ::min(left, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
 
-    // Values of the current pixel, loaded one step ahead. base: x - minD - d0, the right pixel of disparity d0.
+    // Values of the current pixel, loaded one step ahead.
     unsigned l = (unsigned)*pL;
     int pr = hasPrior ? *pP : NO_DISP;
     int intensity = edges ? (int)*pI : 0, prevIntensity = intensity;
-    int base = x - minD - (active ? d0 : 0);   // lanes past D read disparity 0's strings (within the padding)
     unsigned r[DPT];
-    loadRight<DPT>(rowR, base, r);
+    loadRight<DPT>(pR, r);
 
     // SUM_ADD: the sums of the current pixel, loaded one step ahead.
     unsigned acc[PPT];
@@ -87,9 +141,11 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 
     // The path costs of the lane's disparities, two per register (d0 + 2i low, d0 + 2i + 1 high): every value stays
     // below BIG16 and BIG16 + P1 below 2^16, so plain 32-bit adds and subtractions never carry between the halves
-    // (C + best - minPrev >= 0 since best >= minPrev), and min.u16x2 takes both minima at once.
+    // (C + best - minPrev >= 0 since best >= minPrev), and min.u16x2 takes both minima at once. Lanes past D compute
+    // values that no other lane reads and that are neither stored nor in the minimum.
     unsigned P[PPT];
     int minPrev = 0;
+    unsigned leftEdge = BIG16X2, rightEdge = BIG16X2;   // the neighbour pairs beyond this warp's first / last lane
     const unsigned q2Pair = (unsigned)w.q2 * 0x10001u;
     const unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
     for (bool start = true; ; start = false)
@@ -106,7 +162,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             h[j] = (unsigned)popcount32(l ^ r[j]);
 #pragma unroll
         for (int i = 0; i < PPT; i++)
-            Cp[i] = censusTermPair(h[2 * i] | (h[2 * i + 1] << 16), c256lo, c256hi) + ddcFar;
+            Cp[i] = censusTermPair(__byte_perm(h[2 * i], h[2 * i + 1], 0x5410), c256lo, c256hi) + ddcFar;
         if ((unsigned)(k - d0 + 1) <= (unsigned)(DPT + 1))   // k in [d0 - 1, d0 + DPT]
         {
 #pragma unroll
@@ -115,15 +171,12 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                         ((unsigned)matchingCost((int)h[2 * i + 1], d0 + 2 * i + 1, k, w) << 16);
         }
         const int curIntensity = intensity;
-        unsigned* const Scur = S;
         const bool more = --left > 0;
         unsigned accNext[PPT];
         if (more)
         {
             pL = (const int*)((const char*)pL + stepL);
-            rowR = (const int*)((const char*)rowR + stepR);
-            base += dx;
-            S = (unsigned*)((char*)S + stepS);
+            pR = (const int*)((const char*)pR + stepR);
             l = (unsigned)*pL;
             if (hasPrior)
             {
@@ -135,17 +188,17 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                 pI = (const T*)((const char*)pI + stepI);
                 intensity = *pI;
             }
-            loadRight<DPT>(rowR, base, r);
+            loadRight<DPT>(pR, r);
             if (WRITE == SUM_ADD && active)
             {
-                loadPairs<PPT>(S, pairs, accNext);
+                const unsigned* Snext = (const unsigned*)((const char*)S + stepS);
+                loadPairs<PPT>(Snext, pairs, accNext);
                 // The load above waits on memory every step; PREFETCH steps ahead the sums and the right census
                 // strings are asked into L2, so the loads find them there.
                 if (left > PREFETCH)
                 {
-                    prefetchL2((const char*)S + PREFETCH * stepS);
-                    prefetchL2((const char*)rowR + PREFETCH * stepR +
-                               (base + PREFETCH * dx - (DPT - 1)) * (ptrdiff_t)sizeof(int));
+                    prefetchL2((const char*)Snext + PREFETCH * stepS);
+                    prefetchL2((const char*)pR + PREFETCH * stepR - (DPT - 1) * (ptrdiff_t)sizeof(int));
                 }
             }
         }
@@ -160,9 +213,9 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles.
             const unsigned up = __shfl_up_sync(0xFFFFFFFFu, P[PPT - 1], 1);
             const unsigned down = __shfl_down_sync(0xFFFFFFFFu, P[0], 1);
-            const unsigned leftPair = lane > 0 ? up : BIG16X2, rightPair = lane < 31 ? down : BIG16X2;
+            const unsigned leftPair = lane > 0 ? up : leftEdge, rightPair = lane < lastLane ? down : rightEdge;
             const unsigned jump =
-                (unsigned)(minPrev + jumpPenalty(curIntensity, prevIntensity, p.edgeThreshold, w)) * 0x10001u;
+                (unsigned)(minPrev + jumpPenalty(curIntensity, prevIntensity, edgeThreshold, w)) * 0x10001u;
             const unsigned p1 = (unsigned)w.p1 * 0x10001u, mp = (unsigned)minPrev * 0x10001u;
             unsigned Pn[PPT];
 #pragma unroll
@@ -177,16 +230,20 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             for (int i = 0; i < PPT; i++)
                 P[i] = Pn[i];
         }
-        // Disparities past D (inactive lanes; with PPT 3 the last active lane's tail) hold BIG16: never a minimum.
+        // With PPT 3 the last active lane's pairs past D hold BIG16: never a minimum, and its own neighbours.
+        if (ragged)
+        {
 #pragma unroll
-        for (int i = 0; i < PPT; i++)
-            if (!(ragged ? i < pairs : active))
-                P[i] = BIG16X2;
+            for (int i = 0; i < PPT; i++)
+                if (i >= pairs)
+                    P[i] = BIG16X2;
+        }
         unsigned mPair = P[0];
 #pragma unroll
         for (int i = 1; i < PPT; i++)
             mPair = vmin2(mPair, P[i]);
-        minPrev = (int)__reduce_min_sync(0xFFFFFFFFu, ::min(mPair & 0xFFFFu, mPair >> 16));
+        const unsigned laneMin = active ? ::min(mPair & 0xFFFFu, mPair >> 16) : BIG16;
+        minPrev = xch.template trade<PPT>((int)__reduce_min_sync(0xFFFFFFFFu, laneMin), leftEdge, rightEdge, P);
         if (active)
         {
             unsigned v[PPT];
@@ -199,7 +256,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                 // atomic operations of 32-bit ones, the same exactness (no carry leaves a 16-bit field).
 #pragma unroll
                 for (int i = 0; i < PPT / 2; i++)
-                    atomicAdd((unsigned long long*)Scur + i,
+                    atomicAdd((unsigned long long*)S + i,
                               (unsigned long long)v[2 * i] | ((unsigned long long)v[(2 * i + 1) % PPT] << 32));
             }
             else if (WRITE == SUM_ATOMIC)
@@ -207,7 +264,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 #pragma unroll
                 for (int i = 0; i < PPT; i++)
                     if (!ragged || i < pairs)
-                        atomicAdd(Scur + i, v[i]);
+                        atomicAdd(S + i, v[i]);
             }
             else
             {
@@ -220,67 +277,90 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                         acc[i] = accNext[i];
                     }
                 }
-                storePairs<PPT>(Scur, pairs, v);
+                storePairs<PPT>(S, pairs, v);
             }
         }
         prevIntensity = curIntensity;
         if (!more)
             break;
+        S = (unsigned*)((char*)S + stepS);
     }
 }
+
+const dim3 BLOCK(32 * WARPS_PER_BLOCK);
 
 template <int PPT, typename T>
-void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-              const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
+void runOneLaunch(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+                  const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    const dim3 block(32 * WARPS_PER_BLOCK);
-    if (!perDirection)
-    {
-        cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
-        const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-        const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
-        pathKernel<SUM_ATOMIC, PPT, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum, 0);
-        cudaSafeCall(cudaGetLastError());
-        return;
-    }
-    for (int dir = 0; dir < p.numPaths; dir++)
-    {
-        const int lines = dir < 2 ? H : dir < 4 ? W : W + H - 1;   // rows, columns, diagonals
-        const dim3 grid(cv::cuda::device::divUp(lines, WARPS_PER_BLOCK));
-        if (dir == 0)
-            pathKernel<SUM_STORE, PPT, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
-        else
-            pathKernel<SUM_ADD, PPT, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
-        cudaSafeCall(cudaGetLastError());
-    }
+    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
+    const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
+    pathKernel<SUM_ATOMIC, PPT, 1, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, 0);
+    cudaSafeCall(cudaGetLastError());
 }
 
+template <int PPT, int WPL, typename T>
+void runDirection(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+                  const PipelineParams& p, PtrStepSz<ushort> sum, int dir, cudaStream_t stream)
+{
+    const int W = censusL.cols, H = censusL.rows;
+    const int lines = dir < 2 ? H : dir < 4 ? W : W + H - 1;   // rows, columns, diagonals
+    const dim3 grid(cv::cuda::device::divUp(lines * WPL, WARPS_PER_BLOCK));
+    if (dir == 0)
+        pathKernel<SUM_STORE, PPT, WPL, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+    else
+        pathKernel<SUM_ADD, PPT, WPL, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+    cudaSafeCall(cudaGetLastError());
+}
+
+/* One launch: a warp per line, PPT = D / 64 rounded up pairs per lane. One launch per direction: likewise up to 128
+ disparities; above, the directions in plan.twoWarpLines (a bit each) take two warps per line with two pairs per lane
+ each (a direction alone has few lines). */
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-               const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
+               const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
 {
-    switch ((p.numDisparities + 63) / 64)
+    const int pairsPerLane = (p.numDisparities + 63) / 64;
+    if (plan.perDirection)
     {
-    case 1: runPaths<1>(censusL, censusR, prior16, image, p, sum, perDirection, stream); break;
-    case 2: runPaths<2>(censusL, censusR, prior16, image, p, sum, perDirection, stream); break;
-    case 3: runPaths<3>(censusL, censusR, prior16, image, p, sum, perDirection, stream); break;
-    default: runPaths<4>(censusL, censusR, prior16, image, p, sum, perDirection, stream); break;
+        for (int dir = 0; dir < p.numPaths; dir++)
+        {
+            if (pairsPerLane == 1)
+                runDirection<1, 1>(censusL, censusR, prior16, image, p, sum, dir, stream);
+            else if (pairsPerLane == 2)
+                runDirection<2, 1>(censusL, censusR, prior16, image, p, sum, dir, stream);
+            else if ((plan.twoWarpLines >> dir) & 1)
+                runDirection<2, 2>(censusL, censusR, prior16, image, p, sum, dir, stream);
+            else if (pairsPerLane == 3)
+                runDirection<3, 1>(censusL, censusR, prior16, image, p, sum, dir, stream);
+            else
+                runDirection<4, 1>(censusL, censusR, prior16, image, p, sum, dir, stream);
+        }
+        return;
+    }
+    switch (pairsPerLane)
+    {
+    case 1: runOneLaunch<1>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 2: runOneLaunch<2>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 3: runOneLaunch<3>(censusL, censusR, prior16, image, p, sum, stream); break;
+    default: runOneLaunch<4>(censusL, censusR, prior16, image, p, sum, stream); break;
     }
 }
 
 } // namespace
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, perDirection, stream);
+    aggregate(censusL, censusR, prior16, left, p, sum, plan, stream);
 }
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, perDirection, stream);
+    aggregate(censusL, censusR, prior16, left, p, sum, plan, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

@@ -54,12 +54,11 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
     return true;
 }
 
-/* The right census strings of disparities d0 .. d0 + DPT - 1 at a pixel: row[base - j], base = x - minD - d0. The
- row has rightCensusPadBefore / After(p) readable columns before / after it holding its end pixels' strings
- (censusTransform), so no index is clamped here: the loads take constant offsets. */
-template <int DPT> __device__ __forceinline__ void loadRight(const int* row, int base, unsigned (&r)[DPT])
+/* The right census strings of disparities d0 .. d0 + DPT - 1 at a pixel: q[-j], q pointing at the right pixel of d0
+ (x - minD - d0). The row has rightCensusPadBefore / After(p) readable columns before / after it holding its end
+ pixels' strings (censusTransform), so no index is clamped here: the loads take constant offsets. */
+template <int DPT> __device__ __forceinline__ void loadRight(const int* q, unsigned (&r)[DPT])
 {
-    const int* q = row + base;
 #pragma unroll
     for (int j = 0; j < DPT; j++)
         r[j] = (unsigned)q[-j];

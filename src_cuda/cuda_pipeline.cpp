@@ -26,12 +26,16 @@ void cudaCheck(cudaError_t err)
 /* From this many pixels on, the aggregation runs one launch per direction without atomics; below, all directions in
 one launch with atomics (one direction alone has too few lines to fill the GPU). Both give the same sums; the
 crossover was measured (doc/perf.md). OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS overrides it (0: always per
-direction), for measuring and for the tests of both plans. */
-bool aggregatePerDirection(Size sz)
+direction), for measuring and for the tests of both plans; OPENCV_LIDARSGM_CUDA_TWO_WARP_LINES overrides which
+directions walk a line with two warps there (a bit each, pathKernel's order). */
+ci::AggregationPlan aggregationPlan(Size sz)
 {
     static const size_t minPixels =
         utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS", 2000000);
-    return (size_t)sz.area() >= minPixels;
+    static const size_t twoWarpLines =
+        utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_TWO_WARP_LINES", 0xFF);
+    const ci::AggregationPlan plan = { (size_t)sz.area() >= minPixels, (unsigned)twoWarpLines };
+    return plan;
 }
 
 } // namespace
@@ -136,12 +140,12 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
 
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
-    const bool perDirection = aggregatePerDirection(sz);
+    const ci::AggregationPlan plan = aggregationPlan(sz);
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
     if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, perDirection, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, plan, st);
     else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, perDirection, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, plan, st);
     b.disp16.create(sz, CV_16SC1);
     b.dispInt.create(sz, CV_16SC1);
     b.rightKey.create(sz, CV_32SC1);

@@ -48,14 +48,22 @@ void censusTransform(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
+/** How the aggregation is launched (the sums are the same): all directions in one launch adding with atomics, or one
+launch per direction (perDirection); there, with more than 128 disparities, the directions whose bit is set in
+twoWarpLines (bit i: direction i of pathKernel's order) walk each line with two warps instead of one. */
+struct AggregationPlan
+{
+    bool perDirection;
+    unsigned twoWarpLines;
+};
+
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
-The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). perDirection: one
-launch per direction without atomics (large images) instead of one launch with atomics; the same sums. */
+The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, bool perDirection, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
 right-view disparity as on the CPU. */

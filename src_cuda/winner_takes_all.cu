@@ -15,6 +15,20 @@ namespace {
 const int WARPS = 8, PIXELS_PER_WARP = 4, SEG = WARPS * PIXELS_PER_WARP;  // a block: 32 pixels of one row
 const int MAX_D = 256;
 
+/* The cost of disparity d (warp-uniform) from the lane that holds it. The register is picked by masks: as a chain of
+ conditional assignments the compiler turned the pick into an indexed load from local memory. */
+template <int ND> __device__ __forceinline__ int costAt(const unsigned (&v)[ND], int d)
+{
+    unsigned t = v[0];
+#pragma unroll
+    for (int j = 1; j < ND; j++)
+    {
+        const unsigned m = 0u - (unsigned)(d >> 5 == j);   // a mask, not a branch: no indexed (local) array
+        t = (t & ~m) | (v[j] & m);
+    }
+    return (int)__shfl_sync(0xFFFFFFFFu, t, d & 31);
+}
+
 /* One warp per pixel, a block per 32 consecutive pixels of a row; lane t holds disparities t, t + 32, ... below D,
  ND = D / 32 rounded up of them (a template argument: no loop over disparities that do not exist). The right-view
  candidates of those pixels fall on right pixels [x0 - minD - (D - 1), x0 + 31 - minD]: they are reduced in shared
@@ -85,17 +99,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         // The parabola's three costs from the lanes that hold them (warp-uniform: bd and valid are).
         int d16 = (bd + minD) * 16;
         if (valid && p.subpixel && bd > 0 && bd < D - 1)
-        {
-            const auto cost = [&](int d) {
-                unsigned t = v[i][0];
-#pragma unroll
-                for (int j = 1; j < ND; j++)
-                    if (d >> 5 == j)
-                        t = v[i][j];
-                return (int)__shfl_sync(0xFFFFFFFFu, t, d & 31);
-            };
-            d16 += subpixelOffset16(cost(bd - 1), cost(bd), cost(bd + 1));
-        }
+            d16 += subpixelOffset16(costAt<ND>(v[i], bd - 1), costAt<ND>(v[i], bd), costAt<ND>(v[i], bd + 1));
         if (lane == 0)
         {
             disp16(y, x) = valid ? (short)d16 : NO_DISP;

@@ -80,6 +80,12 @@ if [ "${PLANS:-0}" = 1 ]; then
     --gtest_filter="${1:-*CUDA*}" > "$OUT/tests_per_direction.log" 2>&1 || true
   echo "CUDA tests, one launch per direction at every size:"
   grep -E "^\[  FAILED|^\[  PASSED|Failure" "$OUT/tests_per_direction.log" | sort | uniq -c | head -20
+  # Above 128 disparities the per-direction plan walks a line with one or two warps by direction (a bit each):
+  # the default sets every bit; 90 (0x5A) mixes both kinds within one call, the first direction (stores) with one warp.
+  OPENCV_LIDARSGM_CUDA_TWO_WARP_LINES=90 OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS=0 OPENCV_TEST_DATA_PATH=testdata \
+    $B/opencv_test_lidarsgm --gtest_filter="${1:-*CUDA*}" > "$OUT/tests_two_warp_5a.log" 2>&1 || true
+  echo "CUDA tests, one launch per direction, two warps per line for directions 1, 3, 4 and 6 only (90):"
+  grep -E "^\[  FAILED|^\[  PASSED|Failure" "$OUT/tests_two_warp_5a.log" | sort | uniq -c | head -20
   for plan in 0 1000000000; do
     for sz in 1242x375 1920x1080 3840x2160; do
       nd=256; [ $sz = 1242x375 ] && nd=128
@@ -162,11 +168,11 @@ if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
     echo "== $spec: kernels of one SDSGM call (the second), summed by name:"
     ncu --clock-control none --print-units base --metrics gpu__time_duration.sum --launch-count 60 \
       $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - \
-      | sed -E 's/^ +(void )?//; s/\(anonymous namespace\):: *//; s/[<(].*gpu__time_duration.sum/ /' | awk '{sub(/^.*::/, "", $1); print $1, $2, $3}' \
+      | sed -E 's/^ +(void )?//; s/\(anonymous namespace\):: *//; s/[<(].*gpu__time_duration.sum/ /' | awk '{sub(/^.*::/, "", $1); gsub(/,/, "", $3); print $1, $3 / 1000}' \
       > "$OUT/kernels_$sz.txt"
     # One call = the kernels up to the second census kernel.
     awk '$1 ~ /censusKernel/ {c++} c == 2' "$OUT/kernels_$sz.txt" \
-      | awk '{t[$1]+=$3; u=$2; n[$1]++} END {for (k in t) {printf "  %-36s %3d launches %10.1f %s\n", k, n[k], t[k], u; s+=t[k]} printf "  %-36s %23.1f %s\n", "sum", s, u}' | sort -k4 -n -r
+      | awk '{t[$1]+=$2; n[$1]++} END {for (k in t) {printf "  %-36s %3d launches %10.1f us\n", k, n[k], t[k]; s+=t[k]} printf "  %-36s %23.1f us\n", "sum", s}' | sort -k4 -n -r
     if [ "${STALLS:-0}" = 1 ]; then
       ncu --clock-control none -k regex:pathKernel --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
         --section SpeedOfLight --section Occupancy --section SchedulerStats --section WarpStateStats \
