@@ -25,87 +25,39 @@ using namespace aggregation;
 
 enum SumWrite { SUM_ATOMIC, SUM_STORE, SUM_ADD };
 
-/* WPL warps per line (1 or 2): with 2, warp `part` of a line holds disparities [part * 32 * DPT, ...), and the two
- warps trade their minimum and their boundary pairs through shared memory once a step (double-buffered, one 64-thread
- barrier): twice the warps in flight where one direction alone has too few lines to hide the memory latency. */
-template <int WPL> struct LineExchange;
-template <> struct LineExchange<1>
-{
-    __device__ __forceinline__ LineExchange(int) {}
-    template <int PPT> __device__ __forceinline__ int trade(int warpMin, unsigned&, unsigned&, const unsigned (&)[PPT]) { return warpMin; }
-};
-template <> struct LineExchange<2>
-{
-    unsigned* slot;   // this line's [buffer][min of warp 0, min of warp 1, top pair of warp 0, bottom pair of warp 1]
-    int part, lane, buf;
-    __device__ __forceinline__ LineExchange(int warp)
-    {
-        __shared__ unsigned xch[WARPS_PER_BLOCK / 2][2][4];
-        slot = &xch[warp >> 1][0][0];
-        part = warp & 1;
-        lane = threadIdx.x & 31;
-        buf = 0;
-    }
-    /* The line's minimum of this step; leftEdge / rightEdge receive the other warp's boundary pair for the next step
-     (used by lane 0 of warp 1 / lane 31 of warp 0). */
-    template <int PPT>
-    __device__ __forceinline__ int trade(int warpMin, unsigned& leftEdge, unsigned& rightEdge, const unsigned (&P)[PPT])
-    {
-        unsigned* b = slot + 4 * buf;
-        if (lane == 0)
-            b[part] = (unsigned)warpMin;
-        if (part == 0 && lane == 31)
-            b[2] = P[PPT - 1];
-        if (part == 1 && lane == 0)
-            b[3] = P[0];
-        // The two warps of a line are warps 2j, 2j + 1 of the block: barrier 1 + j, 64 threads.
-        asm volatile("bar.sync %0, 64;" :: "r"(1 + ((threadIdx.x >> 5) >> 1)) : "memory");
-        const int other = (int)b[1 - part];
-        if (part == 0)
-            rightEdge = b[3];
-        else
-            leftEdge = b[2];
-        buf ^= 1;
-        return ::min(warpMin, other);
-    }
-};
-
 /* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 64-bit (or 32-bit)
  reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for
- that), so no carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT
- (offset by 32 * DPT in the second warp of a line, WPL 2). The left census and prior are warp-uniform loads; the
+ that), so no carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
+ The left census and prior are warp-uniform loads; the
  right census strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are
  issued before the current step's recurrence, to hide their latency. The left image is read (warp-uniform) only for
  the edge rule of the jump penalty (jumpPenalty).
  WRITE: SUM_ATOMIC (all directions, blockIdx.y = direction), SUM_STORE or SUM_ADD (direction oneDir alone; the
  sum of the next pixel is loaded one step ahead with the census strings). */
-template <int WRITE, int PPT, int WPL, typename T>
+template <int WRITE, int PPT, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, int oneDir)
+                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, int firstDir)
 {
     const int DPT = 2 * PPT;
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
     // indexed by blockIdx would live in local memory).
-    const int dir = WRITE == SUM_ATOMIC ? (int)blockIdx.y : oneDir;
+    const int dir = firstDir + (int)blockIdx.y;
     const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
     const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
     const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
-    const int line = (blockIdx.x * WARPS_PER_BLOCK + warp) / WPL;
+    const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int x, y;
     if (!lineStart(line, dx, dy, W, H, x, y))
         return;
-    LineExchange<WPL> xch(warp);
     const CostWeights w = p.w;
-    const int part = WPL == 1 ? 0 : warp & 1;
-    const int d0 = part * 32 * DPT + lane * DPT;
+    const int d0 = lane * DPT;
     // Lanes with d0 < D hold disparities. D is a multiple of 16, so with DPT 2, 4 or 8 a lane's run ends at or before
     // D; with DPT 6 (PPT 3) the last active lane's run may pass it (ragged: per pair).
     const bool active = d0 < D, ragged = PPT == 3;
     const int pairs = active ? ::min(PPT, (D - d0) / 2) : 0;   // D is even: pairs never straddle it
-    // The last lane of this warp that holds disparities: its upper neighbour pair is BIG16X2 (or, in warp 0 of two,
-    // the other warp's first pair).
-    const int lastLane = ::min(31, (D - part * 32 * DPT + DPT - 1) / DPT - 1);
+    // The last lane that holds disparities: its upper neighbour pair is BIG16X2.
+    const int lastLane = ::min(31, (D + DPT - 1) / DPT - 1);
 
     // Pointers to the current pixel, moved by one step's byte offsets: no row address is computed per step. pR points
     // at the right pixel of disparity d0 (x - minD - d0); the strings of d0 + j lie j columns before it.
@@ -145,7 +97,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     // values that no other lane reads and that are neither stored nor in the minimum.
     unsigned P[PPT];
     int minPrev = 0;
-    unsigned leftEdge = BIG16X2, rightEdge = BIG16X2;   // the neighbour pairs beyond this warp's first / last lane
     const unsigned q2Pair = (unsigned)w.q2 * 0x10001u;
     const unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
     for (bool start = true; ; start = false)
@@ -213,7 +164,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles.
             const unsigned up = __shfl_up_sync(0xFFFFFFFFu, P[PPT - 1], 1);
             const unsigned down = __shfl_down_sync(0xFFFFFFFFu, P[0], 1);
-            const unsigned leftPair = lane > 0 ? up : leftEdge, rightPair = lane < lastLane ? down : rightEdge;
+            const unsigned leftPair = lane > 0 ? up : BIG16X2, rightPair = lane < lastLane ? down : BIG16X2;
             const unsigned jump =
                 (unsigned)(minPrev + jumpPenalty(curIntensity, prevIntensity, edgeThreshold, w)) * 0x10001u;
             const unsigned p1 = (unsigned)w.p1 * 0x10001u, mp = (unsigned)minPrev * 0x10001u;
@@ -243,7 +194,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         for (int i = 1; i < PPT; i++)
             mPair = vmin2(mPair, P[i]);
         const unsigned laneMin = active ? ::min(mPair & 0xFFFFu, mPair >> 16) : BIG16;
-        minPrev = xch.template trade<PPT>((int)__reduce_min_sync(0xFFFFFFFFu, laneMin), leftEdge, rightEdge, P);
+        minPrev = (int)__reduce_min_sync(0xFFFFFFFFu, laneMin);
         if (active)
         {
             unsigned v[PPT];
@@ -289,63 +240,67 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 
 const dim3 BLOCK(32 * WARPS_PER_BLOCK);
 
+//! Lines of direction dir (lineStart): rows, columns, diagonals.
+int lineCount(int dir, int W, int H)
+{
+    return dir < 2 ? H : dir < 4 ? W : W + H - 1;
+}
+
+//! Directions firstDir .. firstDir + count - 1 in one launch, adding with 64-bit reductions into the zeroed volume.
 template <int PPT, typename T>
-void runOneLaunch(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-                  const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+void runAtomic(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+               const PipelineParams& p, PtrStepSz<ushort> sum, int firstDir, int count, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
-    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-    const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
-    pathKernel<SUM_ATOMIC, PPT, 1, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, 0);
+    int maxLines = 0;
+    for (int dir = firstDir; dir < firstDir + count; dir++)
+        maxLines = std::max(maxLines, lineCount(dir, W, H));
+    const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), count);
+    pathKernel<SUM_ATOMIC, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, firstDir);
     cudaSafeCall(cudaGetLastError());
 }
 
-template <int PPT, int WPL, typename T>
+//! Direction dir alone, adding with plain loads and stores (storing without a load for direction 0).
+template <int PPT, typename T>
 void runDirection(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
                   const PipelineParams& p, PtrStepSz<ushort> sum, int dir, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    const int lines = dir < 2 ? H : dir < 4 ? W : W + H - 1;   // rows, columns, diagonals
-    const dim3 grid(cv::cuda::device::divUp(lines * WPL, WARPS_PER_BLOCK));
+    const dim3 grid(cv::cuda::device::divUp(lineCount(dir, W, H), WARPS_PER_BLOCK));
     if (dir == 0)
-        pathKernel<SUM_STORE, PPT, WPL, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+        pathKernel<SUM_STORE, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
     else
-        pathKernel<SUM_ADD, PPT, WPL, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+        pathKernel<SUM_ADD, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
     cudaSafeCall(cudaGetLastError());
 }
 
-/* One launch: a warp per line, PPT = D / 64 rounded up pairs per lane. One launch per direction: likewise up to 128
- disparities; above, the directions in plan.twoWarpLines (a bit each) take two warps per line with two pairs per lane
- each (a direction alone has few lines). */
+template <int PPT, typename T>
+void runPlan(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+             const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
+{
+    if (plan.atomicGroup <= 0)
+    {
+        for (int dir = 0; dir < p.numPaths; dir++)
+            runDirection<PPT>(censusL, censusR, prior16, image, p, sum, dir, stream);
+        return;
+    }
+    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+    for (int dir = 0; dir < p.numPaths; dir += plan.atomicGroup)
+        runAtomic<PPT>(censusL, censusR, prior16, image, p, sum, dir, std::min(plan.atomicGroup, p.numPaths - dir),
+                       stream);
+}
+
+//! A warp per line, PPT = D / 64 rounded up pairs per lane.
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
                const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
 {
-    const int pairsPerLane = (p.numDisparities + 63) / 64;
-    if (plan.perDirection)
+    switch ((p.numDisparities + 63) / 64)
     {
-        for (int dir = 0; dir < p.numPaths; dir++)
-        {
-            if (pairsPerLane == 1)
-                runDirection<1, 1>(censusL, censusR, prior16, image, p, sum, dir, stream);
-            else if (pairsPerLane == 2)
-                runDirection<2, 1>(censusL, censusR, prior16, image, p, sum, dir, stream);
-            else if ((plan.twoWarpLines >> dir) & 1)
-                runDirection<2, 2>(censusL, censusR, prior16, image, p, sum, dir, stream);
-            else if (pairsPerLane == 3)
-                runDirection<3, 1>(censusL, censusR, prior16, image, p, sum, dir, stream);
-            else
-                runDirection<4, 1>(censusL, censusR, prior16, image, p, sum, dir, stream);
-        }
-        return;
-    }
-    switch (pairsPerLane)
-    {
-    case 1: runOneLaunch<1>(censusL, censusR, prior16, image, p, sum, stream); break;
-    case 2: runOneLaunch<2>(censusL, censusR, prior16, image, p, sum, stream); break;
-    case 3: runOneLaunch<3>(censusL, censusR, prior16, image, p, sum, stream); break;
-    default: runOneLaunch<4>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 1: runPlan<1>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
+    case 2: runPlan<2>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
+    case 3: runPlan<3>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
+    default: runPlan<4>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
     }
 }
 

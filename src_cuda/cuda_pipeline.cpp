@@ -26,15 +26,14 @@ void cudaCheck(cudaError_t err)
 /* From this many pixels on, the aggregation runs one launch per direction without atomics; below, all directions in
 one launch with atomics (one direction alone has too few lines to fill the GPU). Both give the same sums; the
 crossover was measured (doc/perf.md). OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS overrides it (0: always per
-direction), for measuring and for the tests of both plans; OPENCV_LIDARSGM_CUDA_TWO_WARP_LINES overrides which
-directions walk a line with two warps there (a bit each, pathKernel's order). */
-ci::AggregationPlan aggregationPlan(Size sz)
+direction), and OPENCV_LIDARSGM_CUDA_ATOMIC_GROUP the directions per launch of the atomic plan, for measuring and for
+the tests of every plan. */
+ci::AggregationPlan aggregationPlan(Size sz, int numPaths)
 {
     static const size_t minPixels =
         utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS", 2000000);
-    static const size_t twoWarpLines =
-        utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_TWO_WARP_LINES", 0xFF);
-    const ci::AggregationPlan plan = { (size_t)sz.area() >= minPixels, (unsigned)twoWarpLines };
+    static const size_t group = utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_ATOMIC_GROUP", 8);
+    const ci::AggregationPlan plan = { (size_t)sz.area() >= minPixels ? 0 : std::max(1, std::min(numPaths, (int)group)) };
     return plan;
 }
 
@@ -140,7 +139,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
 
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
-    const ci::AggregationPlan plan = aggregationPlan(sz);
+    const ci::AggregationPlan plan = aggregationPlan(sz, p.numPaths);
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
     if (L.depth() == CV_8U)
         ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, plan, st);

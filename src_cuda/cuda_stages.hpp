@@ -48,13 +48,12 @@ void censusTransform(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
-/** How the aggregation is launched (the sums are the same): all directions in one launch adding with atomics, or one
-launch per direction (perDirection); there, with more than 128 disparities, the directions whose bit is set in
-twoWarpLines (bit i: direction i of pathKernel's order) walk each line with two warps instead of one. */
+/** How the aggregation is launched (the sums are the same): atomicGroup > 0: the volume is zeroed, then launches of
+atomicGroup directions each add with atomics (numPaths: all in one launch); 0: one launch per direction adding with
+plain loads and stores, since no other launch touches the volume meanwhile. */
 struct AggregationPlan
 {
-    bool perDirection;
-    unsigned twoWarpLines;
+    int atomicGroup;
 };
 
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings

@@ -178,6 +178,11 @@ if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
         --section SpeedOfLight --section Occupancy --section SchedulerStats --section WarpStateStats \
         --section MemoryWorkloadAnalysis $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -vE "^==PROF==|^ +-+$|^$" \
         | grep -E "pathKernel|Duration|Throughput|Occupancy|Warp Cycles|Stall|Issue|Eligible|Active Warps|Registers|L2 Hit|L1/TEX Hit|Mem Busy|Max Bandwidth|No Eligible|Issued Warp" | head -45
+      echo "  stall reasons (warps stalled per issued instruction), largest first:"
+      ncu --clock-control none -k regex:pathKernel --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
+        --metrics "regex:smsp__average_warps_issue_stalled_.*_per_issue_active\.ratio" $B/lidarsgm_lidarsgm_fuse $args 2>&1 \
+        | grep "stalled" | awk '{gsub(/,/, "", $NF); sub(/smsp__average_warps_issue_stalled_/, "", $1); print $NF, $1}' \
+        | sort -g -r | head -8 | sed 's/^/    /'
     fi
   done
 fi
