@@ -12,34 +12,67 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 template <typename T>
 struct ClampedWindow
 {
-    const PtrStepSz<T>& img;
+    PtrStepSz<T> img;
     int x, y;
-    __host__ __device__ __forceinline__ T operator()(int dx, int dy) const
+    __device__ __forceinline__ T operator()(int dx, int dy) const
     {
         return img(::min(::max(y + dy, 0), img.rows - 1), ::min(::max(x + dx, 0), img.cols - 1));
     }
 };
 
+const int BX = 32, BY = 8;                                   // a block's pixels
+const int RX = CENSUS_WIDTH / 2, RY = CENSUS_HEIGHT / 2;
+const int TW = BX + 2 * RX, TH = BY + 2 * RY;                // its tile of the image, window margins included
+
+//! The window of tile pixel (x, y): the tile holds the image's clamped border, so no index is clamped here.
+template <typename T>
+struct TileWindow
+{
+    const T* tile;
+    int x, y;
+    __device__ __forceinline__ T operator()(int dx, int dy) const { return tile[(y + dy) * TW + x + dx]; }
+};
+
 /* Both images in one launch: blockIdx.z picks the image. Column c of the grid is pixel c - padBefore; the right
- image's padding columns get the string of the nearest pixel of the row. */
+ image's padding columns get the string of the nearest pixel of the row. The block's tile (with the clamped border,
+ as ClampedWindow reads it) goes to shared memory once; each pixel reads its 62 window values from there. Padding
+ pixels, whose window is their row end's, read the image directly. */
 template <typename T>
 __global__ void censusKernel(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<int> censusL, PtrStepSz<int> censusR,
                              int padBefore, int padAfter)
 {
-    const int x = blockIdx.x * blockDim.x + threadIdx.x - padBefore, y = blockIdx.y * blockDim.y + threadIdx.y;
+    __shared__ T tile[TH * TW];
     const bool isLeft = blockIdx.z == 0;
-    if (y >= left.rows || x >= left.cols + (isLeft ? 0 : padAfter) || (isLeft && x < 0))
+    const PtrStepSz<T> img = isLeft ? left : right;
+    const int ox = (int)blockIdx.x * BX - padBefore - RX, oy = (int)blockIdx.y * BY - RY;
+    for (int i = threadIdx.y * BX + threadIdx.x; i < TH * TW; i += BX * BY)
+    {
+        const int ty = i / TW, tx = i - ty * TW;
+        tile[i] = img(::min(::max(oy + ty, 0), img.rows - 1), ::min(::max(ox + tx, 0), img.cols - 1));
+    }
+    __syncthreads();
+    const int x = blockIdx.x * BX + threadIdx.x - padBefore, y = blockIdx.y * BY + threadIdx.y;
+    if (y >= img.rows || x >= img.cols + (isLeft ? 0 : padAfter) || (isLeft && x < 0))
         return;
-    const PtrStepSz<T>& img = isLeft ? left : right;
-    const ClampedWindow<T> at = { img, ::min(::max(x, 0), img.cols - 1), y };
-    (isLeft ? censusL : censusR).ptr(y)[x] = (int)censusString(at);
+    unsigned c;
+    if (x >= 0 && x < img.cols)
+    {
+        const TileWindow<T> at = { tile, (int)threadIdx.x + RX, (int)threadIdx.y + RY };
+        c = censusString(at);
+    }
+    else
+    {
+        const ClampedWindow<T> at = { img, ::min(::max(x, 0), img.cols - 1), y };
+        c = censusString(at);
+    }
+    (isLeft ? censusL : censusR).ptr(y)[x] = (int)c;
 }
 
 template <typename T>
 void runCensus(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<int> censusL, PtrStepSz<int> censusR, int padBefore,
                int padAfter, cudaStream_t stream)
 {
-    const dim3 block(32, 8);
+    const dim3 block(BX, BY);
     const dim3 grid(cv::cuda::device::divUp(censusL.cols + padBefore + padAfter, block.x),
                     cv::cuda::device::divUp(censusL.rows, block.y), 2);
     censusKernel<T><<<grid, block, 0, stream>>>(left, right, censusL, censusR, padBefore, padAfter);

@@ -37,13 +37,26 @@ ci::AggregationPlan aggregationPlan(Size sz, int numPaths)
     return plan;
 }
 
+/* A CV_16S map of size sz inside the memory of m (any type, wide enough), from 16-bit column c0 of each of its rows:
+for buffers that share memory (CudaPipeline::Buffers). */
+cuda::GpuMat shortMap(const cuda::GpuMat& m, Size sz, int c0)
+{
+    CV_DbgAssert(m.rows >= sz.height && (int)(m.cols * m.elemSize() / 2) >= c0 + sz.width);
+    return cuda::GpuMat(sz.height, (int)(m.cols * m.elemSize() / 2), CV_16SC1, m.data, m.step)
+        .colRange(c0, c0 + sz.width);
+}
+
 } // namespace
 
 struct CudaPipeline::Buffers
 {
-    cuda::GpuMat censusL, censusR, sparse16, visible16, semidense16, sum, disp16, dispInt, rightKey, dispRight;
+    /* The only allocations. Maps whose lifetimes do not overlap share memory (the stages run in stream order): the
+    converted sparse map before the visibility filter lives in censusL's memory (the census transform runs after the
+    filter); after the aggregation the census strings are dead, so the winner-takes-all's right-view keys take
+    censusL's memory and its disparity maps censusRPadded's; after the winner-takes-all the sum volume is dead, so
+    the right-view disparities and the median's outputs take its memory. */
+    cuda::GpuMat censusL, censusR, sparse16, semidense16, sum;
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
-    cuda::GpuMat med16, medInt, medRight;
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
 
@@ -99,26 +112,24 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const int padBefore = ci::rightCensusPadBefore(p), padAfter = ci::rightCensusPadAfter(p);
     b.censusRPadded.create(sz.height, padBefore + sz.width + padAfter, CV_32SC1);
     b.censusR = b.censusRPadded.colRange(padBefore, padBefore + sz.width);
+    if (!Sp.empty())
+    {
+        b.sparse16.create(sz, CV_16SC1);
+        const bool filter = p.visibilityRadiusX > 0 || p.visibilityRadiusY > 0;
+        const cuda::GpuMat converted = filter ? shortMap(b.censusL, sz, 0) : b.sparse16;
+        if (Sp.depth() == CV_16U)
+            ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, converted, st);
+        else
+            ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, converted, st);
+        if (filter)
+            ci::filterHiddenPoints(converted, p, b.sparse16, st);
+    }
     if (L.depth() == CV_8U)
         ci::censusTransform(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), b.censusL, b.censusR, padBefore,
                             padAfter, st);
     else
         ci::censusTransform(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), b.censusL, b.censusR, padBefore,
                             padAfter, st);
-    if (!Sp.empty())
-    {
-        b.sparse16.create(sz, CV_16SC1);
-        if (Sp.depth() == CV_16U)
-            ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, b.sparse16, st);
-        else
-            ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, b.sparse16, st);
-        if (p.visibilityRadiusX > 0 || p.visibilityRadiusY > 0)
-        {
-            b.visible16.create(sz, CV_16SC1);
-            ci::filterHiddenPoints(b.sparse16, p, b.visible16, st);
-            std::swap(b.sparse16, b.visible16);
-        }
-    }
     if (semidenseOnly || p.semidense)
     {
         b.semidense16.create(sz, CV_16SC1);
@@ -145,22 +156,19 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, plan, st);
     else
         ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, plan, st);
-    b.disp16.create(sz, CV_16SC1);
-    b.dispInt.create(sz, CV_16SC1);
-    b.rightKey.create(sz, CV_32SC1);
-    b.dispRight.create(sz, CV_16SC1);
-    ci::winnerTakesAll(b.sum, sz.width, p, b.disp16, b.dispInt, b.rightKey, b.dispRight, st);
-    cuda::GpuMat d16 = b.disp16, dInt = b.dispInt, dRight = b.dispRight;
+    const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
+                       dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
+    ci::winnerTakesAll(b.sum, sz.width, p, disp16, dispInt, rightKey, dispRight, st);
+    cuda::GpuMat d16 = disp16, dInt = dispInt, dRight = dispRight;
     if (p.medianSize == 3)
     {
-        b.med16.create(sz, CV_16SC1);
-        b.medInt.create(sz, CV_16SC1);
-        b.medRight.create(sz, CV_16SC1);
-        const ci::MedianMaps maps = { { b.disp16, b.dispInt, b.dispRight }, { b.med16, b.medInt, b.medRight } };
+        const cuda::GpuMat med16 = shortMap(b.sum, sz, sz.width), medInt = shortMap(b.sum, sz, 2 * sz.width),
+                           medRight = shortMap(b.sum, sz, 3 * sz.width);
+        const ci::MedianMaps maps = { { disp16, dispInt, dispRight }, { med16, medInt, medRight } };
         ci::medianFilter(maps, 3, st);
-        d16 = b.med16;
-        dInt = b.medInt;
-        dRight = b.medRight;
+        d16 = med16;
+        dInt = medInt;
+        dRight = medRight;
     }
     const cuda::PtrStepSz<short> sparse = b.sparse16.empty() || Sp.empty() ? cuda::PtrStepSz<short>()
                                                                            : cuda::PtrStepSz<short>(b.sparse16);

@@ -6,60 +6,72 @@
 // pixel, so its result does not depend on the order the threads run in.
 
 #include "cuda_stages.hpp"
+#include "aggregation.cuh"
 #include "opencv2/core/cuda/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
+using aggregation::loadPairs;
+
 const int WARPS = 8, PIXELS_PER_WARP = 4, SEG = WARPS * PIXELS_PER_WARP;  // a block: 32 pixels of one row
 const int MAX_D = 256;
 
-/* The cost of disparity d (warp-uniform) from the lane that holds it. The register is picked by masks: as a chain of
- conditional assignments the compiler turned the pick into an indexed load from local memory. */
-template <int ND> __device__ __forceinline__ int costAt(const unsigned (&v)[ND], int d)
+//! Index of right-pixel offset i in the block's key array: one pad word per 32 keeps the lanes' atomics (which
+//! step DPT words apart) on distinct banks.
+__device__ __forceinline__ int keySlot(int i) { return i + (i >> 5); }
+
+//! 16-bit half h (0 low, 1 high) of pair j of v, j and h lane-varying: picked by masks, not by an indexed array
+//! (which the compiler puts in local memory).
+template <int PPT> __device__ __forceinline__ unsigned costOf(const unsigned (&v)[PPT], int j, int h)
 {
     unsigned t = v[0];
 #pragma unroll
-    for (int j = 1; j < ND; j++)
+    for (int i = 1; i < PPT; i++)
     {
-        const unsigned m = 0u - (unsigned)(d >> 5 == j);   // a mask, not a branch: no indexed (local) array
-        t = (t & ~m) | (v[j] & m);
+        const unsigned m = 0u - (unsigned)(j == i);
+        t = (t & ~m) | (v[i] & m);
     }
-    return (int)__shfl_sync(0xFFFFFFFFu, t, d & 31);
+    return (t >> (16 * h)) & 0xFFFFu;
 }
 
-/* One warp per pixel, a block per 32 consecutive pixels of a row; lane t holds disparities t, t + 32, ... below D,
- ND = D / 32 rounded up of them (a template argument: no loop over disparities that do not exist). The right-view
- candidates of those pixels fall on right pixels [x0 - minD - (D - 1), x0 + 31 - minD]: they are reduced in shared
- memory first, then merged into the global right-view keys with one atomicMin per right pixel and block. */
-template <int ND>
+/* One warp per pixel, a block per 32 consecutive pixels of a row. Lane t holds disparities [t * DPT, t * DPT + DPT),
+ DPT = 2 * PPT, two 16-bit costs per register (one vector load per pixel; with PPT 3 the last active lane's run may
+ pass D: per pair). The right-view candidates of those pixels fall on right pixels [x0 - minD - (D - 1),
+ x0 + 31 - minD]: they are reduced in shared memory first, then merged into the global right-view keys with one
+ atomicMin per right pixel and block. Keys are cost << 16 | d: the lowest is the lowest cost, and the lowest
+ disparity among equal costs (winnerTakesAll on the CPU). */
+template <int PPT>
 __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrStepSz<short> disp16,
                           PtrStepSz<short> dispInt, PtrStepSz<int> rightKey)
 {
-    __shared__ unsigned rkey[SEG + MAX_D];
+    const int DPT = 2 * PPT;
+    __shared__ unsigned rkey[SEG + MAX_D + (SEG + MAX_D) / 32];
     const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
     const int y = blockIdx.y, x0 = blockIdx.x * SEG;
     const int D = p.numDisparities, minD = p.minDisparity;
-    const int base = x0 - minD - (D - 1);   // right pixel of rkey[0]
-    for (int i = threadIdx.x; i < SEG + D; i += blockDim.x)
-        rkey[i] = 0xFFFFFFFFu;
+    const int base = x0 - minD - (D - 1);   // right pixel of key offset 0
+    const int keys = SEG + D - 1;
+    for (int i = threadIdx.x; i < keys; i += blockDim.x)
+        rkey[keySlot(i)] = 0xFFFFFFFFu;
     __syncthreads();
 
+    const int d0 = lane * DPT;
+    const int pairs = d0 < D ? ::min(PPT, (D - d0) / 2) : 0;   // D is even: pairs never straddle it
     // Load the costs of all of this warp's pixels first: four independent loads in flight instead of one.
-    unsigned v[PIXELS_PER_WARP][ND];
+    unsigned v[PIXELS_PER_WARP][PPT];
 #pragma unroll
     for (int i = 0; i < PIXELS_PER_WARP; i++)
     {
-        const int x = x0 + warp + WARPS * i;
-        const ushort* s = sum.ptr(y) + (size_t)::min(x, W - 1) * D;
+        const int x = ::min(x0 + warp + WARPS * i, W - 1);
 #pragma unroll
-        for (int j = 0; j < ND; j++)
-        {
-            const int d = lane + 32 * j;
-            v[i][j] = d < D && x < W ? (unsigned)s[d] : 0xFFFFu;
-        }
+        for (int j = 0; j < PPT; j++)
+            v[i][j] = 0xFFFFFFFFu;
+        if (pairs > 0)
+            loadPairs<PPT>((const unsigned*)(sum.ptr(y) + (size_t)x * D + d0), pairs, v[i]);
     }
+    struct { int x; bool valid, parabola; int bd, c0, cm, cp; } mine = { -1, false, false, 0, 0, 0, 0 };
 #pragma unroll
     for (int i = 0; i < PIXELS_PER_WARP; i++)
     {
@@ -67,53 +79,69 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         if (x >= W)
             break;
         unsigned best = 0xFFFFFFFFu;
+        const int k0 = (x - x0) + (D - 1) - d0;   // key offset of disparity d0's right pixel; d0 + k is k before
 #pragma unroll
-        for (int j = 0; j < ND; j++)
-        {
-            const int d = lane + 32 * j;
-            if (d < D)
+        for (int j = 0; j < PPT; j++)
+            if (j < pairs)
             {
-                const unsigned key = (v[i][j] << 16) | (unsigned)d;
-                best = ::min(best, key);
-                const int xr = x - minD - d;
-                if (xr >= 0 && xr < W)
-                    atomicMin(&rkey[xr - base], key);
+                const unsigned lo = (v[i][j] << 16) | (unsigned)(d0 + 2 * j);
+                const unsigned hi = (v[i][j] & 0xFFFF0000u) | (unsigned)(d0 + 2 * j + 1);
+                best = ::min(best, ::min(lo, hi));
+                atomicMin(&rkey[keySlot(k0 - 2 * j)], lo);
+                atomicMin(&rkey[keySlot(k0 - 2 * j - 1)], hi);
             }
-        }
         best = __reduce_min_sync(0xFFFFFFFFu, best);
         const int bd = (int)(best & 0xFFFFu), minv = (int)(best >> 16);
         bool valid = true;
         if (p.uniqueness1024 < 1024)
         {
+            // The lowest cost more than one disparity away from bd.
             unsigned second = 0xFFFFFFFFu;
 #pragma unroll
-            for (int j = 0; j < ND; j++)
-            {
-                const int d = lane + 32 * j;
-                if (d < D && (d < bd - 1 || d > bd + 1))
-                    second = ::min(second, v[i][j]);
-            }
+            for (int j = 0; j < PPT; j++)
+                if (j < pairs)
+                {
+                    const int d = d0 + 2 * j;
+                    if ((unsigned)(d - bd + 1) > 2u)
+                        second = ::min(second, v[i][j] & 0xFFFFu);
+                    if ((unsigned)(d - bd + 2) > 2u)   // d + 1 outside [bd - 1, bd + 1]
+                        second = ::min(second, v[i][j] >> 16);
+                }
             second = __reduce_min_sync(0xFFFFFFFFu, second);
             valid = second == 0xFFFFFFFFu || minv * 1024 <= p.uniqueness1024 * (int)second;
         }
-        // The parabola's three costs from the lanes that hold them (warp-uniform: bd and valid are).
-        int d16 = (bd + minD) * 16;
-        if (valid && p.subpixel && bd > 0 && bd < D - 1)
-            d16 += subpixelOffset16(costAt<ND>(v[i], bd - 1), costAt<ND>(v[i], bd), costAt<ND>(v[i], bd + 1));
-        if (lane == 0)
+        // The parabola's neighbour costs from the lanes that hold them (warp-uniform: bd and valid are).
+        int cm = 0, cp = 0;
+        const bool parabola = valid && p.subpixel && bd > 0 && bd < D - 1;
+        if (parabola)
         {
-            disp16(y, x) = valid ? (short)d16 : NO_DISP;
-            dispInt(y, x) = valid ? (short)(bd + minD) : NO_DISP;
+            const int dm = bd - 1, dp = bd + 1;
+            cm = (int)__shfl_sync(0xFFFFFFFFu, costOf<PPT>(v[i], (dm % DPT) >> 1, dm & 1), dm / DPT);
+            cp = (int)__shfl_sync(0xFFFFFFFFu, costOf<PPT>(v[i], (dp % DPT) >> 1, dp & 1), dp / DPT);
         }
+        // Lane i finishes pixel i: one division per lane instead of one per pixel for the whole warp.
+        if (lane == i)
+        {
+            mine = { x, valid, parabola, bd, minv, cm, cp };
+        }
+    }
+    if (lane < PIXELS_PER_WARP && mine.x >= 0)
+    {
+        const int d16 = (mine.bd + minD) * 16 + (mine.parabola ? subpixelOffset16(mine.cm, mine.c0, mine.cp) : 0);
+        disp16(y, mine.x) = mine.valid ? (short)d16 : NO_DISP;
+        dispInt(y, mine.x) = mine.valid ? (short)(mine.bd + minD) : NO_DISP;
     }
     __syncthreads();
     unsigned* rk = (unsigned*)rightKey.ptr(y);
-    for (int i = threadIdx.x; i < SEG + D; i += blockDim.x)
-        if (rkey[i] != 0xFFFFFFFFu)
-            atomicMin(rk + base + i, rkey[i]);
+    for (int i = threadIdx.x; i < keys; i += blockDim.x)
+    {
+        const int xr = base + i;
+        const unsigned key = rkey[keySlot(i)];
+        if (key != 0xFFFFFFFFu && xr >= 0 && xr < W)
+            atomicMin(rk + xr, key);
+    }
 }
 
-//! The right view's keys to disparities (the key's low half is the disparity index).
 __global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz<short> dispRight)
 {
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
@@ -132,16 +160,12 @@ void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, P
     cudaSafeCall(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
                                    stream));
     const dim3 grid((width + SEG - 1) / SEG, sum.rows);
-    switch ((p.numDisparities + 31) / 32)
+    switch ((p.numDisparities + 63) / 64)
     {
     case 1: wtaKernel<1><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
     case 2: wtaKernel<2><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
     case 3: wtaKernel<3><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
-    case 4: wtaKernel<4><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
-    case 5: wtaKernel<5><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
-    case 6: wtaKernel<6><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
-    case 7: wtaKernel<7><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
-    default: wtaKernel<8><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    default: wtaKernel<4><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
     }
     cudaSafeCall(cudaGetLastError());
     const dim3 block(32, 8);
