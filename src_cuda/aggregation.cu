@@ -20,20 +20,24 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 namespace {
 
 const int WARPS_PER_BLOCK = 4;
-const int PREFETCH = 8;           // steps ahead (one launch per direction)
+const int PREFETCH = 8;           // steps ahead (pairs of opposite directions)
 using namespace aggregation;
 
-enum SumWrite { SUM_ATOMIC, SUM_STORE, SUM_ADD };
+enum SumWrite { SUM_ATOMIC, SUM_PAIR_FIRST, SUM_PAIR_ADD };
 
-/* All directions in one launch (blockIdx.y = direction), adding into the zeroed sum volume with 64-bit (or 32-bit)
+/* One warp walks one line. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT. The left census and
+ prior are warp-uniform loads; the right census strings are read through L1 (a horizontal line's row stays there).
+ The loads for the next pixel are issued before the current step's recurrence, to hide their latency. The left image
+ is read (warp-uniform) only for the edge rule of the jump penalty (jumpPenalty).
+ WRITE SUM_ATOMIC: directions firstDir + blockIdx.y, adding into the zeroed sum volume with 64-bit (or 32-bit)
  reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for
- that), so no carry crosses into the other half. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT.
- The left census and prior are warp-uniform loads; the
- right census strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are
- issued before the current step's recurrence, to hide their latency. The left image is read (warp-uniform) only for
- the edge rule of the jump penalty (jumpPenalty).
- WRITE: SUM_ATOMIC (all directions, blockIdx.y = direction), SUM_STORE or SUM_ADD (direction oneDir alone; the
- sum of the next pixel is loaded one step ahead with the census strings). */
+ that), so no carry crosses into the other half.
+ WRITE SUM_PAIR_FIRST / SUM_PAIR_ADD: direction firstDir and its opposite, without atomics. Warps 2j and 2j + 1 of a
+ block walk the same line from its two ends; each first takes the half of the line nearer its start, then, after a
+ 64-thread barrier of the two, the other half, so the two never touch a pixel at the same time. They add to the sums
+ with plain loads and stores (the sums of the next pixel loaded one step ahead), except in the first half of the
+ first pair (SUM_PAIR_FIRST), which stores without a load. Twice the lines in flight of one direction alone, no
+ atomics, the same bytes. */
 template <int WRITE, int PPT, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
                            PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, int firstDir)
@@ -41,15 +45,29 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     const int DPT = 2 * PPT;
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
     // indexed by blockIdx would live in local memory).
-    const int dir = firstDir + (int)blockIdx.y;
-    const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
-    const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
+    const bool paired = WRITE != SUM_ATOMIC;
+    const int dir = firstDir + (paired ? 0 : (int)blockIdx.y);
+    int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
+    int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
     const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
-    const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
+    const int line = paired ? blockIdx.x * (WARPS_PER_BLOCK / 2) + (warp >> 1) : blockIdx.x * WARPS_PER_BLOCK + warp;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int x, y;
     if (!lineStart(line, dx, dy, W, H, x, y))
-        return;
+        return;   // (paired: both warps of the line)
+    // The line's length: steps until it leaves the image.
+    const int n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
+    // Paired: the step at which this warp waits for the other (the end of its half).
+    int split = n / 2;
+    if (paired && (warp & 1))
+    {
+        // The opposite direction: the same line from its last pixel.
+        x += (n - 1) * dx;
+        y += (n - 1) * dy;
+        dx = -dx;
+        dy = -dy;
+        split = n - split;
+    }
     const CostWeights w = p.w;
     const int d0 = lane * DPT;
     // Lanes with d0 < D hold disparities. D is a multiple of 16, so with DPT 2, 4 or 8 a lane's run ends at or before
@@ -75,9 +93,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     // jumpPenalty's threshold made "never" (not 0) when the edge rule is off: the same penalty, one select a step.
     const int edgeThreshold = edges ? p.edgeThreshold : INT_MAX;
     unsigned* S = sumPairs(sum, x, y, D, active ? d0 : 0);
-    // The line's length: steps until it leaves the image.
-    int left = dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX;
-    left = ::min(left, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
+    int left = n;
 
     // Values of the current pixel, loaded one step ahead.
     unsigned l = (unsigned)*pL;
@@ -86,9 +102,13 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     unsigned r[DPT];
     loadRight<DPT>(pR, r);
 
-    // SUM_ADD: the sums of the current pixel, loaded one step ahead.
+    // Paired: the sums of the current pixel, loaded one step ahead; none at step `split` (loaded after the barrier)
+    // nor in the first half of the first pair (stored without a load).
     unsigned acc[PPT];
-    if (WRITE == SUM_ADD && active)
+#pragma unroll
+    for (int i = 0; i < PPT; i++)
+        acc[i] = 0;
+    if (paired && WRITE == SUM_PAIR_ADD && split != 0 && active)
         loadPairs<PPT>(S, pairs, acc);
 
     // The path costs of the lane's disparities, two per register (d0 + 2i low, d0 + 2i + 1 high): every value stays
@@ -99,8 +119,16 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     int minPrev = 0;
     const unsigned q2Pair = (unsigned)w.q2 * 0x10001u;
     const unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
-    for (bool start = true; ; start = false)
+    for (int step = 0; ; step++)
     {
+        const bool start = step == 0;
+        if (paired && step == split)
+        {
+            // The other warp has finished its half: this warp's second half is now its alone.
+            asm volatile("bar.sync %0, 64;" :: "r"(1 + (warp >> 1)) : "memory");
+            if (active)
+                loadPairs<PPT>(S, pairs, acc);
+        }
         // k: the prior's disparity index; without a prior far below every lane's run, so that no lane is near it.
         const bool hasK = pr != NO_DISP;
         const int k = hasK ? roundDisp16(pr) - minD : -1024;
@@ -124,6 +152,9 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         const int curIntensity = intensity;
         const bool more = --left > 0;
         unsigned accNext[PPT];
+#pragma unroll
+        for (int i = 0; i < PPT; i++)
+            accNext[i] = 0;
         if (more)
         {
             pL = (const int*)((const char*)pL + stepL);
@@ -140,7 +171,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                 intensity = *pI;
             }
             loadRight<DPT>(pR, r);
-            if (WRITE == SUM_ADD && active)
+            if (paired && (WRITE == SUM_PAIR_ADD || step + 1 > split) && step + 1 != split && active)
             {
                 const unsigned* Snext = (const unsigned*)((const char*)S + stepS);
                 loadPairs<PPT>(Snext, pairs, accNext);
@@ -219,14 +250,11 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             }
             else
             {
-                if (WRITE == SUM_ADD)
-                {
 #pragma unroll
-                    for (int i = 0; i < PPT; i++)
-                    {
-                        v[i] += acc[i];
-                        acc[i] = accNext[i];
-                    }
+                for (int i = 0; i < PPT; i++)
+                {
+                    v[i] += acc[i];   // 0 where this step stores without a load
+                    acc[i] = accNext[i];
                 }
                 storePairs<PPT>(S, pairs, v);
             }
@@ -236,6 +264,8 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             break;
         S = (unsigned*)((char*)S + stepS);
     }
+    if (paired && split == n)
+        asm volatile("bar.sync %0, 64;" :: "r"(1 + (warp >> 1)) : "memory");
 }
 
 const dim3 BLOCK(32 * WARPS_PER_BLOCK);
@@ -260,17 +290,17 @@ void runAtomic(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
     cudaSafeCall(cudaGetLastError());
 }
 
-//! Direction dir alone, adding with plain loads and stores (storing without a load for direction 0).
+//! Direction dir and its opposite (dir ^ 1 for rows and columns, 11 - dir for diagonals) in one launch.
 template <int PPT, typename T>
-void runDirection(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-                  const PipelineParams& p, PtrStepSz<ushort> sum, int dir, cudaStream_t stream)
+void runPair(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+             const PipelineParams& p, PtrStepSz<ushort> sum, int dir, bool first, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    const dim3 grid(cv::cuda::device::divUp(lineCount(dir, W, H), WARPS_PER_BLOCK));
-    if (dir == 0)
-        pathKernel<SUM_STORE, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+    const dim3 grid(cv::cuda::device::divUp(lineCount(dir, W, H), WARPS_PER_BLOCK / 2));
+    if (first)
+        pathKernel<SUM_PAIR_FIRST, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
     else
-        pathKernel<SUM_ADD, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+        pathKernel<SUM_PAIR_ADD, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
     cudaSafeCall(cudaGetLastError());
 }
 
@@ -280,8 +310,10 @@ void runPlan(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> pr
 {
     if (plan.atomicGroup <= 0)
     {
-        for (int dir = 0; dir < p.numPaths; dir++)
-            runDirection<PPT>(censusL, censusR, prior16, image, p, sum, dir, stream);
+        // Pairs of opposite directions: (0, 1) rows, (2, 3) columns, (4, 7) and (5, 6) diagonals.
+        const int pairs[4] = { 0, 2, 4, 5 };
+        for (int i = 0; i < p.numPaths / 2; i++)
+            runPair<PPT>(censusL, censusR, prior16, image, p, sum, pairs[i], i == 0, stream);
         return;
     }
     cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
