@@ -38,11 +38,10 @@ enum SumWrite { SUM_ATOMIC, SUM_PAIR_FIRST, SUM_PAIR_ADD };
  with plain loads and stores (the sums of the next pixel loaded one step ahead), except in the first half of the
  first pair (SUM_PAIR_FIRST), which stores without a load. Twice the lines in flight of one direction alone, no
  atomics, the same bytes. */
-template <int WRITE, int PPT, typename T>
+template <int WRITE, int PPT, int G, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
                            PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, int firstDir)
 {
-    const int DPT = 2 * PPT;
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
     // indexed by blockIdx would live in local memory).
     const bool paired = WRITE != SUM_ATOMIC;
@@ -69,38 +68,56 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         split = n - split;
     }
     const CostWeights w = p.w;
-    const int d0 = lane * DPT;
-    // Lanes with d0 < D hold disparities. D is a multiple of 16, so with DPT 2, 4 or 8 a lane's run ends at or before
-    // D; with DPT 6 (PPT 3) the last active lane's run may pass it (ragged: per pair).
-    const bool active = d0 < D, ragged = PPT == 3;
-    const int pairs = active ? ::min(PPT, (D - d0) / 2) : 0;   // D is even: pairs never straddle it
-    // The last lane that holds disparities: its upper neighbour pair is BIG16X2.
-    const int lastLane = ::min(31, (D + DPT - 1) / DPT - 1);
+    // Lane t holds PPT pairs in NG = PPT / G groups of G adjacent pairs: pair i = gG + j covers disparities
+    // e_i = 2 (32 G g + G t + j) and e_i + 1. G = PPT is one run of 2 PPT disparities per lane; G = 1 spreads the
+    // lanes' pairs 2 apart, so that the census strings of one pair index lie 8 bytes apart across the warp (one or two
+    // cache lines per load) instead of 8 PPT bytes.
+    const int NG = PPT / G;
+    int e[PPT];
+#pragma unroll
+    for (int i = 0; i < PPT; i++)
+        e[i] = 2 * (32 * G * (i / G) + G * lane + i % G);
+    // Pairs with e_i < D hold disparities (D is even: a pair never straddles it); all groups but the last are whole.
+    // lastActive: the lanes whose last group holds disparities.
+    const int lastActive = ::min(32, (D - 64 * G * (NG - 1) + 2 * G - 1) / (2 * G));
+    const bool lastIn = lane < lastActive;
+    const int pairsLast = lastIn ? G : 0;   // pairs of the last group: all or none (D is a multiple of 16)
+    const bool active = lastIn || NG > 1;   // the lane holds at least one pair
 
     // Pointers to the current pixel, moved by one step's byte offsets: no row address is computed per step. pR points
-    // at the right pixel of disparity d0 (x - minD - d0); the strings of d0 + j lie j columns before it.
-    const int base = x - minD - (active ? d0 : 0);   // lanes past D read disparity 0's strings (within the padding)
+    // at the right pixel of disparity 2 G t (x - minD - 2 G t); the strings of pair i lie e_i - 2 G t and one more
+    // columns before it. Lanes past D in the last group read group 0's strings (within the padding).
     const ptrdiff_t stepL = dy * (ptrdiff_t)censusL.step + dx * (ptrdiff_t)sizeof(int);
     const ptrdiff_t stepR = dy * (ptrdiff_t)censusR.step + dx * (ptrdiff_t)sizeof(int);
     const ptrdiff_t stepP = dy * (ptrdiff_t)prior16.step + dx * (ptrdiff_t)sizeof(short);
     const ptrdiff_t stepI = dy * (ptrdiff_t)image.step + dx * (ptrdiff_t)sizeof(T);
     const ptrdiff_t stepS = dy * (ptrdiff_t)sum.step + dx * (ptrdiff_t)D * (ptrdiff_t)sizeof(ushort);
+    int roff[PPT];   // the strings of pair i: pR[-roff[i]] and pR[-roff[i] - 1]
+#pragma unroll
+    for (int i = 0; i < PPT; i++)
+        roff[i] = (i / G < NG - 1 || lastIn ? 64 * G * (i / G) : 0) + 2 * (i % G);
     const int* pL = censusL.ptr(y) + x;
-    const int* pR = censusR.ptr(y) + base;
+    const int* pR = censusR.ptr(y) + x - minD - 2 * G * lane;
     const bool hasPrior = prior16.data != nullptr, edges = p.edgeThreshold > 0;
     const short* pP = hasPrior ? prior16.ptr(y) + x : nullptr;
     const T* pI = edges ? image.ptr(y) + x : nullptr;
     // jumpPenalty's threshold made "never" (not 0) when the edge rule is off: the same penalty, one select a step.
     const int edgeThreshold = edges ? p.edgeThreshold : INT_MAX;
-    unsigned* S = sumPairs(sum, x, y, D, active ? d0 : 0);
+    // The sums of pair i: S[32 G (i / G) + i % G], S at this lane's first pair.
+    unsigned* S = (unsigned*)(sum.ptr(y) + (size_t)x * D) + G * lane;
     int left = n;
 
     // Values of the current pixel, loaded one step ahead.
     unsigned l = (unsigned)*pL;
     int pr = hasPrior ? *pP : NO_DISP;
     int intensity = edges ? (int)*pI : 0, prevIntensity = intensity;
-    unsigned r[DPT];
-    loadRight<DPT>(pR, r);
+    unsigned r[2 * PPT];
+#pragma unroll
+    for (int i = 0; i < PPT; i++)
+    {
+        r[2 * i] = (unsigned)pR[-roff[i]];
+        r[2 * i + 1] = (unsigned)pR[-roff[i] - 1];
+    }
 
     // Paired: the sums of the current pixel, loaded one step ahead; none at step `split` (loaded after the barrier)
     // nor in the first half of the first pair (stored without a load).
@@ -108,13 +125,13 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 #pragma unroll
     for (int i = 0; i < PPT; i++)
         acc[i] = 0;
-    if (paired && WRITE == SUM_PAIR_ADD && split != 0 && active)
-        loadPairs<PPT>(S, pairs, acc);
+    if (paired && WRITE == SUM_PAIR_ADD && split != 0)
+        loadSums<PPT, G>(S, pairsLast, acc);
 
-    // The path costs of the lane's disparities, two per register (d0 + 2i low, d0 + 2i + 1 high): every value stays
-    // below BIG16 and BIG16 + P1 below 2^16, so plain 32-bit adds and subtractions never carry between the halves
-    // (C + best - minPrev >= 0 since best >= minPrev), and min.u16x2 takes both minima at once. Lanes past D compute
-    // values that no other lane reads and that are neither stored nor in the minimum.
+    // The path costs of the lane's disparities, two per register (e_i low, e_i + 1 high): every value stays below
+    // BIG16 and BIG16 + P1 below 2^16, so plain 32-bit adds and subtractions never carry between the halves
+    // (C + best - minPrev >= 0 since best >= minPrev), and min.u16x2 takes both minima at once. Pairs past D compute
+    // values that no other pair reads and that are neither stored nor in the minimum.
     unsigned P[PPT];
     int minPrev = 0;
     const unsigned q2Pair = (unsigned)w.q2 * 0x10001u;
@@ -126,28 +143,31 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         {
             // The other warp has finished its half: this warp's second half is now its alone.
             asm volatile("bar.sync %0, 64;" :: "r"(1 + (warp >> 1)) : "memory");
-            if (active)
-                loadPairs<PPT>(S, pairs, acc);
+            loadSums<PPT, G>(S, pairsLast, acc);
         }
         // k: the prior's disparity index; without a prior far below every lane's run, so that no lane is near it.
         const bool hasK = pr != NO_DISP;
         const int k = hasK ? roundDisp16(pr) - minD : -1024;
         // matchingCost (pipeline.hpp) in pairs: the census term, plus the DDC term, which is one value (0 without a
-        // prior, Q2 with one) except within one disparity of the prior, in at most two lanes that add it exactly.
+        // prior, Q2 with one) except within one disparity of the prior, in at most two pairs that add it exactly.
         const unsigned ddcFar = hasK ? q2Pair : 0u;
-        unsigned h[DPT], Cp[PPT];
+        unsigned h[2 * PPT], Cp[PPT];
+        bool near = false;
 #pragma unroll
-        for (int j = 0; j < DPT; j++)
+        for (int j = 0; j < 2 * PPT; j++)
             h[j] = (unsigned)popcount32(l ^ r[j]);
 #pragma unroll
         for (int i = 0; i < PPT; i++)
             Cp[i] = censusTermPair(__byte_perm(h[2 * i], h[2 * i + 1], 0x5410), c256lo, c256hi) + ddcFar;
-        if ((unsigned)(k - d0 + 1) <= (unsigned)(DPT + 1))   // k in [d0 - 1, d0 + DPT]
+#pragma unroll
+        for (int g = 0; g < NG; g++)
+            near |= (unsigned)(k - e[G * g] + 1) <= (unsigned)(2 * G + 1);   // k in [e - 1, e + 2 G], e the group's first
+        if (near)
         {
 #pragma unroll
             for (int i = 0; i < PPT; i++)
-                Cp[i] = (unsigned)matchingCost((int)h[2 * i], d0 + 2 * i, k, w) |
-                        ((unsigned)matchingCost((int)h[2 * i + 1], d0 + 2 * i + 1, k, w) << 16);
+                Cp[i] = (unsigned)matchingCost((int)h[2 * i], e[i], k, w) |
+                        ((unsigned)matchingCost((int)h[2 * i + 1], e[i] + 1, k, w) << 16);
         }
         const int curIntensity = intensity;
         const bool more = --left > 0;
@@ -170,17 +190,22 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                 pI = (const T*)((const char*)pI + stepI);
                 intensity = *pI;
             }
-            loadRight<DPT>(pR, r);
-            if (paired && (WRITE == SUM_PAIR_ADD || step + 1 > split) && step + 1 != split && active)
+#pragma unroll
+            for (int i = 0; i < PPT; i++)
+            {
+                r[2 * i] = (unsigned)pR[-roff[i]];
+                r[2 * i + 1] = (unsigned)pR[-roff[i] - 1];
+            }
+            if (paired && (WRITE == SUM_PAIR_ADD || step + 1 > split) && step + 1 != split)
             {
                 const unsigned* Snext = (const unsigned*)((const char*)S + stepS);
-                loadPairs<PPT>(Snext, pairs, accNext);
+                loadSums<PPT, G>(Snext, pairsLast, accNext);
                 // The load above waits on memory every step; PREFETCH steps ahead the sums and the right census
                 // strings are asked into L2, so the loads find them there.
                 if (left > PREFETCH)
                 {
                     prefetchL2((const char*)Snext + PREFETCH * stepS);
-                    prefetchL2((const char*)pR + PREFETCH * stepR - (DPT - 1) * (ptrdiff_t)sizeof(int));
+                    prefetchL2((const char*)pR + PREFETCH * stepR - (roff[PPT - 1] + 1) * (ptrdiff_t)sizeof(int));
                 }
             }
         }
@@ -192,10 +217,16 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         }
         else
         {
-            // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles.
-            const unsigned up = __shfl_up_sync(0xFFFFFFFFu, P[PPT - 1], 1);
-            const unsigned down = __shfl_down_sync(0xFFFFFFFFu, P[0], 1);
-            const unsigned leftPair = lane > 0 ? up : BIG16X2, rightPair = lane < lastLane ? down : BIG16X2;
+            // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles
+            // that rotate the warp, so that lane 0 receives lane 31's pair (the previous group's top) and lane 31
+            // lane 0's (the next group's bottom).
+            unsigned up[NG], down[NG];
+#pragma unroll
+            for (int g = 0; g < NG; g++)
+            {
+                up[g] = __shfl_sync(0xFFFFFFFFu, P[g * G + G - 1], (lane + 31) & 31);
+                down[g] = __shfl_sync(0xFFFFFFFFu, P[g * G], (lane + 1) & 31);
+            }
             const unsigned jump =
                 (unsigned)(minPrev + jumpPenalty(curIntensity, prevIntensity, edgeThreshold, w)) * 0x10001u;
             const unsigned p1 = (unsigned)w.p1 * 0x10001u, mp = (unsigned)minPrev * 0x10001u;
@@ -203,8 +234,12 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 #pragma unroll
             for (int i = 0; i < PPT; i++)
             {
-                const unsigned lm = __byte_perm(i > 0 ? P[i - 1] : leftPair, P[i], 0x5432);
-                const unsigned lp = __byte_perm(P[i], i < PPT - 1 ? P[i + 1] : rightPair, 0x5432);
+                const int g = i / G, j = i % G;
+                const unsigned below = lane > 0 ? up[g] : g > 0 ? up[(g + NG - 1) % NG] : BIG16X2;
+                const unsigned above = g < NG - 1 ? (lane < 31 ? down[g] : down[(g + 1) % NG])
+                                                  : (lane + 1 < lastActive ? down[g] : BIG16X2);
+                const unsigned lm = __byte_perm(j > 0 ? P[i - 1] : below, P[i], 0x5432);
+                const unsigned lp = __byte_perm(P[i], j < G - 1 ? P[i + 1] : above, 0x5432);
                 const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + p1);
                 Pn[i] = Cp[i] + best - mp;
             }
@@ -212,51 +247,46 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             for (int i = 0; i < PPT; i++)
                 P[i] = Pn[i];
         }
-        // With PPT 3 the last active lane's pairs past D hold BIG16: never a minimum, and its own neighbours.
-        if (ragged)
-        {
+        // The minimum over the pairs that hold disparities: a lane's last group holds all its pairs or none (D is a
+        // multiple of 16; with G = 2 pairs of 4 disparities).
+        unsigned mLast = P[G * (NG - 1)];
 #pragma unroll
-            for (int i = 0; i < PPT; i++)
-                if (i >= pairs)
-                    P[i] = BIG16X2;
-        }
-        unsigned mPair = P[0];
+        for (int j = 1; j < G; j++)
+            mLast = vmin2(mLast, P[G * (NG - 1) + j]);
+        unsigned mPair = lastIn ? mLast : BIG16X2;
 #pragma unroll
-        for (int i = 1; i < PPT; i++)
+        for (int i = 0; i < G * (NG - 1); i++)
             mPair = vmin2(mPair, P[i]);
-        const unsigned laneMin = active ? ::min(mPair & 0xFFFFu, mPair >> 16) : BIG16;
-        minPrev = (int)__reduce_min_sync(0xFFFFFFFFu, laneMin);
+        minPrev = (int)__reduce_min_sync(0xFFFFFFFFu, ::min(mPair & 0xFFFFu, mPair >> 16));
         if (active)
         {
-            unsigned v[PPT];
-#pragma unroll
-            for (int i = 0; i < PPT; i++)
-                v[i] = P[i];
-            if (WRITE == SUM_ATOMIC && PPT % 2 == 0)
+            if (WRITE == SUM_ATOMIC)
             {
-                // Four 16-bit costs per 64-bit reduction (8-byte aligned: d0 is a multiple of 4 here): half the
-                // atomic operations of 32-bit ones, the same exactness (no carry leaves a 16-bit field).
+                // G = 2: four 16-bit costs per 64-bit reduction (8-byte aligned), half the atomic operations of
+                // 32-bit ones, the same exactness (no carry leaves a 16-bit field).
 #pragma unroll
-                for (int i = 0; i < PPT / 2; i++)
-                    atomicAdd((unsigned long long*)S + i,
-                              (unsigned long long)v[2 * i] | ((unsigned long long)v[(2 * i + 1) % PPT] << 32));
-            }
-            else if (WRITE == SUM_ATOMIC)
-            {
-#pragma unroll
-                for (int i = 0; i < PPT; i++)
-                    if (!ragged || i < pairs)
-                        atomicAdd(S + i, v[i]);
+                for (int g = 0; g < NG; g++)
+                    if (g < NG - 1 || pairsLast == G)
+                    {
+                        if (G == 2)
+                            atomicAdd((unsigned long long*)(S + 64 * g),
+                                      (unsigned long long)P[2 * g] | ((unsigned long long)P[(2 * g + 1) % PPT] << 32));
+                        else
+                            atomicAdd(S + 32 * g, P[g]);
+                    }
+                    else if (pairsLast > 0)
+                        atomicAdd(S + 32 * G * g, P[G * g]);
             }
             else
             {
+                unsigned v[PPT];
 #pragma unroll
                 for (int i = 0; i < PPT; i++)
                 {
-                    v[i] += acc[i];   // 0 where this step stores without a load
+                    v[i] = P[i] + acc[i];   // acc 0 where this step stores without a load
                     acc[i] = accNext[i];
                 }
-                storePairs<PPT>(S, pairs, v);
+                storeSums<PPT, G>(S, pairsLast, v);
             }
         }
         prevIntensity = curIntensity;
@@ -269,6 +299,10 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 }
 
 const dim3 BLOCK(32 * WARPS_PER_BLOCK);
+
+/* Adjacent pairs per lane (pathKernel's G): 2 with two pairs per lane (four costs per 64-bit reduction, the
+ one-launch plan's case at 128 disparities), else 1 (each load of census strings spans one or two cache lines). */
+constexpr int laneGroup(int ppt) { return ppt == 2 ? 2 : 1; }
 
 //! Lines of direction dir (lineStart): rows, columns, diagonals.
 int lineCount(int dir, int W, int H)
@@ -286,7 +320,7 @@ void runAtomic(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
     for (int dir = firstDir; dir < firstDir + count; dir++)
         maxLines = std::max(maxLines, lineCount(dir, W, H));
     const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), count);
-    pathKernel<SUM_ATOMIC, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, firstDir);
+    pathKernel<SUM_ATOMIC, PPT, laneGroup(PPT), T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, firstDir);
     cudaSafeCall(cudaGetLastError());
 }
 
@@ -298,9 +332,9 @@ void runPair(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> pr
     const int W = censusL.cols, H = censusL.rows;
     const dim3 grid(cv::cuda::device::divUp(lineCount(dir, W, H), WARPS_PER_BLOCK / 2));
     if (first)
-        pathKernel<SUM_PAIR_FIRST, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+        pathKernel<SUM_PAIR_FIRST, PPT, laneGroup(PPT), T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
     else
-        pathKernel<SUM_PAIR_ADD, PPT, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+        pathKernel<SUM_PAIR_ADD, PPT, laneGroup(PPT), T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
     cudaSafeCall(cudaGetLastError());
 }
 

@@ -110,6 +110,43 @@ template <int PPT> __device__ __forceinline__ void storePairs(unsigned* S, int n
     }
 }
 
+/* The path kernel's sums of a lane: NG = PPT / G groups of G adjacent pairs, group g at S[32 G g] (the lane's first
+ pair at S). Whole groups are one access (G = 2: 8 bytes, aligned since D is a multiple of 16); in the last group
+ only the first pairsLast pairs exist. */
+template <int PPT, int G> __device__ __forceinline__ void loadSums(const unsigned* S, int pairsLast, unsigned (&v)[PPT])
+{
+    const int NG = PPT / G;
+#pragma unroll
+    for (int g = 0; g < NG; g++)
+    {
+        const unsigned* q = S + 32 * G * g;
+        if (g < NG - 1 || pairsLast == G)
+        {
+            if (G == 2) { const uint2 a = *(const uint2*)q; v[2 * g] = a.x; v[(2 * g + 1) % PPT] = a.y; }
+            else v[g] = *q;
+        }
+        else if (pairsLast > 0)
+            v[G * g] = *q;
+    }
+}
+
+template <int PPT, int G> __device__ __forceinline__ void storeSums(unsigned* S, int pairsLast, const unsigned (&v)[PPT])
+{
+    const int NG = PPT / G;
+#pragma unroll
+    for (int g = 0; g < NG; g++)
+    {
+        unsigned* q = S + 32 * G * g;
+        if (g < NG - 1 || pairsLast == G)
+        {
+            if (G == 2) *(uint2*)q = make_uint2(v[2 * g], v[(2 * g + 1) % PPT]);
+            else *q = v[g];
+        }
+        else if (pairsLast > 0)
+            *q = v[G * g];
+    }
+}
+
 }}}}} // namespace cv::lidarsgm::detail::cuda_impl::aggregation
 
 #endif
