@@ -262,20 +262,23 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         {
             if (WRITE == SUM_ATOMIC)
             {
-                // G = 2: four 16-bit costs per 64-bit reduction (8-byte aligned), half the atomic operations of
+                // Even G: four 16-bit costs per 64-bit reduction (8-byte aligned), half the atomic operations of
                 // 32-bit ones, the same exactness (no carry leaves a 16-bit field).
 #pragma unroll
                 for (int g = 0; g < NG; g++)
-                    if (g < NG - 1 || pairsLast == G)
+                    if (g < NG - 1 || lastIn)
                     {
-                        if (G == 2)
-                            atomicAdd((unsigned long long*)(S + 64 * g),
-                                      (unsigned long long)P[2 * g] | ((unsigned long long)P[(2 * g + 1) % PPT] << 32));
-                        else
-                            atomicAdd(S + 32 * g, P[g]);
+#pragma unroll
+                        for (int j = 0; j < G; j += G % 2 == 0 ? 2 : 1)
+                        {
+                            unsigned* q = S + 32 * G * g + j;
+                            if (G % 2 == 0)
+                                atomicAdd((unsigned long long*)q, (unsigned long long)P[G * g + j] |
+                                                                      ((unsigned long long)P[(G * g + j + 1) % PPT] << 32));
+                            else
+                                atomicAdd(q, P[G * g + j]);
+                        }
                     }
-                    else if (pairsLast > 0)
-                        atomicAdd(S + 32 * G * g, P[G * g]);
             }
             else
             {
@@ -300,10 +303,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 
 const dim3 BLOCK(32 * WARPS_PER_BLOCK);
 
-/* Adjacent pairs per lane (pathKernel's G): 2 with two pairs per lane (four costs per 64-bit reduction, the
- one-launch plan's case at 128 disparities), else 1 (each load of census strings spans one or two cache lines). */
-constexpr int laneGroup(int ppt) { return ppt == 2 ? 2 : 1; }
-
 //! Lines of direction dir (lineStart): rows, columns, diagonals.
 int lineCount(int dir, int W, int H)
 {
@@ -311,7 +310,7 @@ int lineCount(int dir, int W, int H)
 }
 
 //! Directions firstDir .. firstDir + count - 1 in one launch, adding with 64-bit reductions into the zeroed volume.
-template <int PPT, typename T>
+template <int PPT, int G, typename T>
 void runAtomic(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
                const PipelineParams& p, PtrStepSz<ushort> sum, int firstDir, int count, cudaStream_t stream)
 {
@@ -320,25 +319,25 @@ void runAtomic(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
     for (int dir = firstDir; dir < firstDir + count; dir++)
         maxLines = std::max(maxLines, lineCount(dir, W, H));
     const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), count);
-    pathKernel<SUM_ATOMIC, PPT, laneGroup(PPT), T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, firstDir);
+    pathKernel<SUM_ATOMIC, PPT, G, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, firstDir);
     cudaSafeCall(cudaGetLastError());
 }
 
 //! Direction dir and its opposite (dir ^ 1 for rows and columns, 11 - dir for diagonals) in one launch.
-template <int PPT, typename T>
+template <int PPT, int G, typename T>
 void runPair(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
              const PipelineParams& p, PtrStepSz<ushort> sum, int dir, bool first, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
     const dim3 grid(cv::cuda::device::divUp(lineCount(dir, W, H), WARPS_PER_BLOCK / 2));
     if (first)
-        pathKernel<SUM_PAIR_FIRST, PPT, laneGroup(PPT), T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+        pathKernel<SUM_PAIR_FIRST, PPT, G, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
     else
-        pathKernel<SUM_PAIR_ADD, PPT, laneGroup(PPT), T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
+        pathKernel<SUM_PAIR_ADD, PPT, G, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
     cudaSafeCall(cudaGetLastError());
 }
 
-template <int PPT, typename T>
+template <int PPT, int G, typename T>
 void runPlan(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
              const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
 {
@@ -347,26 +346,45 @@ void runPlan(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> pr
         // Pairs of opposite directions: (0, 1) rows, (2, 3) columns, (4, 7) and (5, 6) diagonals.
         const int pairs[4] = { 0, 2, 4, 5 };
         for (int i = 0; i < p.numPaths / 2; i++)
-            runPair<PPT>(censusL, censusR, prior16, image, p, sum, pairs[i], i == 0, stream);
+            runPair<PPT, G>(censusL, censusR, prior16, image, p, sum, pairs[i], i == 0, stream);
         return;
     }
     cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     for (int dir = 0; dir < p.numPaths; dir += plan.atomicGroup)
-        runAtomic<PPT>(censusL, censusR, prior16, image, p, sum, dir, std::min(plan.atomicGroup, p.numPaths - dir),
+        runAtomic<PPT, G>(censusL, censusR, prior16, image, p, sum, dir, std::min(plan.atomicGroup, p.numPaths - dir),
                        stream);
 }
 
-//! A warp per line, PPT = D / 64 rounded up pairs per lane.
+/* A warp per line, PPT = D / 64 rounded up pairs per lane, in groups of G adjacent pairs (pathKernel). G: plan.laneGroup
+ where it divides PPT (a measuring override), else PPT for pairs of directions and (PPT == 2 ? 2 : 1) for the
+ atomic plan, whose many lines in flight load the census strings at a rate where a load spanning eight cache lines
+ (G = 4) kept L1 busy. */
+template <int PPT, typename T>
+void runPlanG(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+              const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
+{
+    int G = plan.laneGroup > 0 && PPT % plan.laneGroup == 0 ? plan.laneGroup
+          : plan.atomicGroup <= 0 ? PPT : PPT == 2 ? 2 : 1;
+    if (G == 4 && PPT % 4 == 0)
+        runPlan<PPT, PPT % 4 == 0 ? 4 : 1>(censusL, censusR, prior16, image, p, sum, plan, stream);
+    else if (G == 3 && PPT % 3 == 0)
+        runPlan<PPT, PPT % 3 == 0 ? 3 : 1>(censusL, censusR, prior16, image, p, sum, plan, stream);
+    else if (G == 2 && PPT % 2 == 0)
+        runPlan<PPT, PPT % 2 == 0 ? 2 : 1>(censusL, censusR, prior16, image, p, sum, plan, stream);
+    else
+        runPlan<PPT, 1>(censusL, censusR, prior16, image, p, sum, plan, stream);
+}
+
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
                const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
 {
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPlan<1>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
-    case 2: runPlan<2>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
-    case 3: runPlan<3>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
-    default: runPlan<4>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
+    case 1: runPlanG<1>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
+    case 2: runPlanG<2>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
+    case 3: runPlanG<3>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
+    default: runPlanG<4>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
     }
 }
 

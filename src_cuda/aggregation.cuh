@@ -111,40 +111,46 @@ template <int PPT> __device__ __forceinline__ void storePairs(unsigned* S, int n
 }
 
 /* The path kernel's sums of a lane: NG = PPT / G groups of G adjacent pairs, group g at S[32 G g] (the lane's first
- pair at S). Whole groups are one access (G = 2: 8 bytes, aligned since D is a multiple of 16); in the last group
- only the first pairsLast pairs exist. */
+ pair at S). A whole group is one access for G 1, 2 and 4 (aligned: D is a multiple of 16), three for G 3; in the
+ last group a lane holds all its pairs or none (pairsLast G or 0). */
+template <int G> __device__ __forceinline__ void loadGroup(const unsigned* q, unsigned* v)
+{
+    if (G == 4) { const uint4 a = *(const uint4*)q; v[0] = a.x; v[1] = a.y; v[2] = a.z; v[3] = a.w; }
+    else if (G == 2) { const uint2 a = *(const uint2*)q; v[0] = a.x; v[1] = a.y; }
+    else
+    {
+#pragma unroll
+        for (int j = 0; j < G; j++)
+            v[j] = q[j];
+    }
+}
+
+template <int G> __device__ __forceinline__ void storeGroup(unsigned* q, const unsigned* v)
+{
+    if (G == 4) *(uint4*)q = make_uint4(v[0], v[1], v[2], v[3]);
+    else if (G == 2) *(uint2*)q = make_uint2(v[0], v[1]);
+    else
+    {
+#pragma unroll
+        for (int j = 0; j < G; j++)
+            q[j] = v[j];
+    }
+}
+
 template <int PPT, int G> __device__ __forceinline__ void loadSums(const unsigned* S, int pairsLast, unsigned (&v)[PPT])
 {
-    const int NG = PPT / G;
 #pragma unroll
-    for (int g = 0; g < NG; g++)
-    {
-        const unsigned* q = S + 32 * G * g;
-        if (g < NG - 1 || pairsLast == G)
-        {
-            if (G == 2) { const uint2 a = *(const uint2*)q; v[2 * g] = a.x; v[(2 * g + 1) % PPT] = a.y; }
-            else v[g] = *q;
-        }
-        else if (pairsLast > 0)
-            v[G * g] = *q;
-    }
+    for (int g = 0; g < PPT / G; g++)
+        if (g < PPT / G - 1 || pairsLast == G)
+            loadGroup<G>(S + 32 * G * g, v + G * g);
 }
 
 template <int PPT, int G> __device__ __forceinline__ void storeSums(unsigned* S, int pairsLast, const unsigned (&v)[PPT])
 {
-    const int NG = PPT / G;
 #pragma unroll
-    for (int g = 0; g < NG; g++)
-    {
-        unsigned* q = S + 32 * G * g;
-        if (g < NG - 1 || pairsLast == G)
-        {
-            if (G == 2) *(uint2*)q = make_uint2(v[2 * g], v[(2 * g + 1) % PPT]);
-            else *q = v[g];
-        }
-        else if (pairsLast > 0)
-            *q = v[G * g];
-    }
+    for (int g = 0; g < PPT / G; g++)
+        if (g < PPT / G - 1 || pairsLast == G)
+            storeGroup<G>(S + 32 * G * g, v + G * g);
 }
 
 }}}}} // namespace cv::lidarsgm::detail::cuda_impl::aggregation

@@ -33,7 +33,9 @@ ci::AggregationPlan aggregationPlan(Size sz, int numPaths)
     static const size_t minPixels =
         utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS", 2000000);
     static const size_t group = utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_ATOMIC_GROUP", 8);
-    const ci::AggregationPlan plan = { (size_t)sz.area() >= minPixels ? 0 : std::max(1, std::min(numPaths, (int)group)) };
+    static const size_t laneGroup = utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_LANE_GROUP", 0);
+    const ci::AggregationPlan plan = { (size_t)sz.area() >= minPixels ? 0 : std::max(1, std::min(numPaths, (int)group)),
+                                       (int)laneGroup };
     return plan;
 }
 

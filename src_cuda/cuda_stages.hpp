@@ -54,6 +54,7 @@ plain loads and stores, since no other launch touches the volume meanwhile. */
 struct AggregationPlan
 {
     int atomicGroup;
+    int laneGroup;   //!< adjacent pairs of disparities per lane and group (pathKernel's G); 0: the default rule
 };
 
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
