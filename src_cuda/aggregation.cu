@@ -2,13 +2,12 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Semi-global aggregation, CUDA twin of src/aggregation.cpp, with the matching cost (src/matching_cost.cpp on the
-// CPU) computed as the paths walk. One warp (or two) walks one path line; lane t holds the path costs of a run of
-// disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction adds
-// into the one 16-bit sum volume, the only large buffer. Integer sums: the order does not matter.
-// Two launch plans, same sums: all directions in one launch adding with atomics (small images: one direction alone
-// has too few lines to fill the GPU), or one launch per direction, each adding with plain loads and stores since no
-// other launch touches the volume meanwhile, the first storing without a load (large images: the atomics' throughput,
-// not the bytes, sets the time there).
+// CPU) computed as the paths walk. All directions in one launch; one warp walks one path line, its lanes hold the path
+// costs of the line's disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction adds
+// into the one 16-bit sum volume (the only large buffer) with atomics; integer sums: the order does not matter.
+// Measured against one launch per direction, and pairs of opposite directions walking each line from both ends,
+// without atomics: this is the fastest at every size since the census strings' loads span few cache lines
+// (doc/perf.md, session 6).
 
 #include "cuda_stages.hpp"
 #include "aggregation.cuh"
@@ -20,58 +19,35 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 namespace {
 
 const int WARPS_PER_BLOCK = 4;
-const int PREFETCH = 8;           // steps ahead (pairs of opposite directions)
 using namespace aggregation;
 
-enum SumWrite { SUM_ATOMIC, SUM_PAIR_FIRST, SUM_PAIR_ADD };
-
-/* One warp walks one line. Lane t holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT. The left census and
- prior are warp-uniform loads; the right census strings are read through L1 (a horizontal line's row stays there).
- The loads for the next pixel are issued before the current step's recurrence, to hide their latency. The left image
- is read (warp-uniform) only for the edge rule of the jump penalty (jumpPenalty).
- WRITE SUM_ATOMIC: directions firstDir + blockIdx.y, adding into the zeroed sum volume with 64-bit (or 32-bit)
- reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for
- that), so no carry crosses into the other half.
- WRITE SUM_PAIR_FIRST / SUM_PAIR_ADD: direction firstDir and its opposite, without atomics. Warps 2j and 2j + 1 of a
- block walk the same line from its two ends; each first takes the half of the line nearer its start, then, after a
- 64-thread barrier of the two, the other half, so the two never touch a pixel at the same time. They add to the sums
- with plain loads and stores (the sums of the next pixel loaded one step ahead), except in the first half of the
- first pair (SUM_PAIR_FIRST), which stores without a load. Twice the lines in flight of one direction alone, no
- atomics, the same bytes. */
-template <int WRITE, int PPT, int G, typename T>
+/* One warp walks one line of direction blockIdx.y (lineStart), adding its path costs into the zeroed sum volume with
+ 64-bit (or 32-bit) reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights
+ are scaled for that), so no carry crosses into the other half. The left census and prior are warp-uniform loads; the
+ right census strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are
+ issued before the current step's recurrence, to hide their latency. The left image is read (warp-uniform) only for
+ the edge rule of the jump penalty (jumpPenalty). */
+template <int PPT, int G, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum, int firstDir)
+                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum)
 {
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
     // indexed by blockIdx would live in local memory).
-    const bool paired = WRITE != SUM_ATOMIC;
-    const int dir = firstDir + (paired ? 0 : (int)blockIdx.y);
-    int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
-    int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
+    const int dir = (int)blockIdx.y;
+    const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
+    const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
     const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
-    const int line = paired ? blockIdx.x * (WARPS_PER_BLOCK / 2) + (warp >> 1) : blockIdx.x * WARPS_PER_BLOCK + warp;
+    const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int x, y;
     if (!lineStart(line, dx, dy, W, H, x, y))
-        return;   // (paired: both warps of the line)
+        return;
     // The line's length: steps until it leaves the image.
     const int n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
-    // Paired: the step at which this warp waits for the other (the end of its half).
-    int split = n / 2;
-    if (paired && (warp & 1))
-    {
-        // The opposite direction: the same line from its last pixel.
-        x += (n - 1) * dx;
-        y += (n - 1) * dy;
-        dx = -dx;
-        dy = -dy;
-        split = n - split;
-    }
     const CostWeights w = p.w;
     // Lane t holds PPT pairs in NG = PPT / G groups of G adjacent pairs: pair i = gG + j covers disparities
-    // e_i = 2 (32 G g + G t + j) and e_i + 1. G = PPT is one run of 2 PPT disparities per lane; G = 1 spreads the
-    // lanes' pairs 2 apart, so that the census strings of one pair index lie 8 bytes apart across the warp (one or two
-    // cache lines per load) instead of 8 PPT bytes.
+    // e_i = 2 (32 G g + G t + j) and e_i + 1. Across the warp the census strings of one pair index then lie 8 G bytes
+    // apart: a load spans 2 G cache lines (with one run of 2 PPT disparities per lane it spanned 2 PPT).
     const int NG = PPT / G;
     int e[PPT];
 #pragma unroll
@@ -81,7 +57,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     // lastActive: the lanes whose last group holds disparities.
     const int lastActive = ::min(32, (D - 64 * G * (NG - 1) + 2 * G - 1) / (2 * G));
     const bool lastIn = lane < lastActive;
-    const int pairsLast = lastIn ? G : 0;   // pairs of the last group: all or none (D is a multiple of 16)
     const bool active = lastIn || NG > 1;   // the lane holds at least one pair
 
     // Pointers to the current pixel, moved by one step's byte offsets: no row address is computed per step. pR points
@@ -119,15 +94,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         r[2 * i + 1] = (unsigned)pR[-roff[i] - 1];
     }
 
-    // Paired: the sums of the current pixel, loaded one step ahead; none at step `split` (loaded after the barrier)
-    // nor in the first half of the first pair (stored without a load).
-    unsigned acc[PPT];
-#pragma unroll
-    for (int i = 0; i < PPT; i++)
-        acc[i] = 0;
-    if (paired && WRITE == SUM_PAIR_ADD && split != 0)
-        loadSums<PPT, G>(S, pairsLast, acc);
-
     // The path costs of the lane's disparities, two per register (e_i low, e_i + 1 high): every value stays below
     // BIG16 and BIG16 + P1 below 2^16, so plain 32-bit adds and subtractions never carry between the halves
     // (C + best - minPrev >= 0 since best >= minPrev), and min.u16x2 takes both minima at once. Pairs past D compute
@@ -139,12 +105,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     for (int step = 0; ; step++)
     {
         const bool start = step == 0;
-        if (paired && step == split)
-        {
-            // The other warp has finished its half: this warp's second half is now its alone.
-            asm volatile("bar.sync %0, 64;" :: "r"(1 + (warp >> 1)) : "memory");
-            loadSums<PPT, G>(S, pairsLast, acc);
-        }
         // k: the prior's disparity index; without a prior far below every lane's run, so that no lane is near it.
         const bool hasK = pr != NO_DISP;
         const int k = hasK ? roundDisp16(pr) - minD : -1024;
@@ -171,10 +131,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         }
         const int curIntensity = intensity;
         const bool more = --left > 0;
-        unsigned accNext[PPT];
-#pragma unroll
-        for (int i = 0; i < PPT; i++)
-            accNext[i] = 0;
         if (more)
         {
             pL = (const int*)((const char*)pL + stepL);
@@ -195,18 +151,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             {
                 r[2 * i] = (unsigned)pR[-roff[i]];
                 r[2 * i + 1] = (unsigned)pR[-roff[i] - 1];
-            }
-            if (paired && (WRITE == SUM_PAIR_ADD || step + 1 > split) && step + 1 != split)
-            {
-                const unsigned* Snext = (const unsigned*)((const char*)S + stepS);
-                loadSums<PPT, G>(Snext, pairsLast, accNext);
-                // The load above waits on memory every step; PREFETCH steps ahead the sums and the right census
-                // strings are asked into L2, so the loads find them there.
-                if (left > PREFETCH)
-                {
-                    prefetchL2((const char*)Snext + PREFETCH * stepS);
-                    prefetchL2((const char*)pR + PREFETCH * stepR - (roff[PPT - 1] + 1) * (ptrdiff_t)sizeof(int));
-                }
             }
         }
         if (start)
@@ -260,146 +204,72 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         minPrev = (int)__reduce_min_sync(0xFFFFFFFFu, ::min(mPair & 0xFFFFu, mPair >> 16));
         if (active)
         {
-            if (WRITE == SUM_ATOMIC)
-            {
-                // Even G: four 16-bit costs per 64-bit reduction (8-byte aligned), half the atomic operations of
-                // 32-bit ones, the same exactness (no carry leaves a 16-bit field).
+            // Even G: four 16-bit costs per 64-bit reduction (8-byte aligned), half the atomic operations of 32-bit
+            // ones, the same exactness (no carry leaves a 16-bit field).
 #pragma unroll
-                for (int g = 0; g < NG; g++)
-                    if (g < NG - 1 || lastIn)
-                    {
-#pragma unroll
-                        for (int j = 0; j < G; j += G % 2 == 0 ? 2 : 1)
-                        {
-                            unsigned* q = S + 32 * G * g + j;
-                            if (G % 2 == 0)
-                                atomicAdd((unsigned long long*)q, (unsigned long long)P[G * g + j] |
-                                                                      ((unsigned long long)P[(G * g + j + 1) % PPT] << 32));
-                            else
-                                atomicAdd(q, P[G * g + j]);
-                        }
-                    }
-            }
-            else
-            {
-                unsigned v[PPT];
-#pragma unroll
-                for (int i = 0; i < PPT; i++)
+            for (int g = 0; g < NG; g++)
+                if (g < NG - 1 || lastIn)
                 {
-                    v[i] = P[i] + acc[i];   // acc 0 where this step stores without a load
-                    acc[i] = accNext[i];
+#pragma unroll
+                    for (int j = 0; j < G; j += G % 2 == 0 ? 2 : 1)
+                    {
+                        unsigned* q = S + 32 * G * g + j;
+                        if (G % 2 == 0)
+                            atomicAdd((unsigned long long*)q, (unsigned long long)P[G * g + j] |
+                                                                  ((unsigned long long)P[(G * g + j + 1) % PPT] << 32));
+                        else
+                            atomicAdd(q, P[G * g + j]);
+                    }
                 }
-                storeSums<PPT, G>(S, pairsLast, v);
-            }
         }
         prevIntensity = curIntensity;
         if (!more)
             break;
         S = (unsigned*)((char*)S + stepS);
     }
-    if (paired && split == n)
-        asm volatile("bar.sync %0, 64;" :: "r"(1 + (warp >> 1)) : "memory");
 }
 
-const dim3 BLOCK(32 * WARPS_PER_BLOCK);
-
-//! Lines of direction dir (lineStart): rows, columns, diagonals.
-int lineCount(int dir, int W, int H)
-{
-    return dir < 2 ? H : dir < 4 ? W : W + H - 1;
-}
-
-//! Directions firstDir .. firstDir + count - 1 in one launch, adding with 64-bit reductions into the zeroed volume.
-template <int PPT, int G, typename T>
-void runAtomic(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-               const PipelineParams& p, PtrStepSz<ushort> sum, int firstDir, int count, cudaStream_t stream)
-{
-    const int W = censusL.cols, H = censusL.rows;
-    int maxLines = 0;
-    for (int dir = firstDir; dir < firstDir + count; dir++)
-        maxLines = std::max(maxLines, lineCount(dir, W, H));
-    const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), count);
-    pathKernel<SUM_ATOMIC, PPT, G, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, firstDir);
-    cudaSafeCall(cudaGetLastError());
-}
-
-//! Direction dir and its opposite (dir ^ 1 for rows and columns, 11 - dir for diagonals) in one launch.
-template <int PPT, int G, typename T>
-void runPair(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-             const PipelineParams& p, PtrStepSz<ushort> sum, int dir, bool first, cudaStream_t stream)
-{
-    const int W = censusL.cols, H = censusL.rows;
-    const dim3 grid(cv::cuda::device::divUp(lineCount(dir, W, H), WARPS_PER_BLOCK / 2));
-    if (first)
-        pathKernel<SUM_PAIR_FIRST, PPT, G, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
-    else
-        pathKernel<SUM_PAIR_ADD, PPT, G, T><<<grid, BLOCK, 0, stream>>>(censusL, censusR, prior16, image, p, sum, dir);
-    cudaSafeCall(cudaGetLastError());
-}
-
-template <int PPT, int G, typename T>
-void runPlan(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-             const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
-{
-    if (plan.atomicGroup <= 0)
-    {
-        // Pairs of opposite directions: (0, 1) rows, (2, 3) columns, (4, 7) and (5, 6) diagonals.
-        const int pairs[4] = { 0, 2, 4, 5 };
-        for (int i = 0; i < p.numPaths / 2; i++)
-            runPair<PPT, G>(censusL, censusR, prior16, image, p, sum, pairs[i], i == 0, stream);
-        return;
-    }
-    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
-    for (int dir = 0; dir < p.numPaths; dir += plan.atomicGroup)
-        runAtomic<PPT, G>(censusL, censusR, prior16, image, p, sum, dir, std::min(plan.atomicGroup, p.numPaths - dir),
-                       stream);
-}
-
-/* A warp per line, PPT = D / 64 rounded up pairs per lane, in groups of G adjacent pairs (pathKernel). G: plan.laneGroup
- where it divides PPT (a measuring override), else PPT for pairs of directions and (PPT == 2 ? 2 : 1) for the
- atomic plan, whose many lines in flight load the census strings at a rate where a load spanning eight cache lines
- (G = 4) kept L1 busy. */
+/* PPT = D / 64 rounded up pairs per lane, in groups of G = 2 adjacent pairs where PPT is even (four costs per 64-bit
+ reduction; a load of census strings spans four cache lines), else G = 1 (measured: G = 4 at 256 disparities, one
+ run of eight per lane, made each load span eight lines and kept L1 busy; doc/perf.md). */
 template <int PPT, typename T>
-void runPlanG(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-              const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
+void run(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
+         const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    int G = plan.laneGroup > 0 && PPT % plan.laneGroup == 0 ? plan.laneGroup
-          : plan.atomicGroup <= 0 ? PPT : PPT == 2 ? 2 : 1;
-    if (G == 4 && PPT % 4 == 0)
-        runPlan<PPT, PPT % 4 == 0 ? 4 : 1>(censusL, censusR, prior16, image, p, sum, plan, stream);
-    else if (G == 3 && PPT % 3 == 0)
-        runPlan<PPT, PPT % 3 == 0 ? 3 : 1>(censusL, censusR, prior16, image, p, sum, plan, stream);
-    else if (G == 2 && PPT % 2 == 0)
-        runPlan<PPT, PPT % 2 == 0 ? 2 : 1>(censusL, censusR, prior16, image, p, sum, plan, stream);
-    else
-        runPlan<PPT, 1>(censusL, censusR, prior16, image, p, sum, plan, stream);
+    const int W = censusL.cols, H = censusL.rows;
+    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
+    const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
+    pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, T><<<grid, dim3(32 * WARPS_PER_BLOCK), 0, stream>>>(censusL, censusR, prior16,
+                                                                                             image, p, sum);
+    cudaSafeCall(cudaGetLastError());
 }
 
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-               const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
+               const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPlanG<1>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
-    case 2: runPlanG<2>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
-    case 3: runPlanG<3>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
-    default: runPlanG<4>(censusL, censusR, prior16, image, p, sum, plan, stream); break;
+    case 1: run<1>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 2: run<2>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 3: run<3>(censusL, censusR, prior16, image, p, sum, stream); break;
+    default: run<4>(censusL, censusR, prior16, image, p, sum, stream); break;
     }
 }
 
 } // namespace
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, plan, stream);
+    aggregate(censusL, censusR, prior16, left, p, sum, stream);
 }
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, plan, stream);
+    aggregate(censusL, censusR, prior16, left, p, sum, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

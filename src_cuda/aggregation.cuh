@@ -1,8 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// The path kernel's device helpers (src_cuda/aggregation.cu): the line geometry, the loads of the right census strings
-// and of the sum volume's cost pairs, and the packed 16-bit minimum. Included by aggregation.cu only.
+// Device helpers of the path kernel (src_cuda/aggregation.cu): the line geometry, the packed 16-bit minimum and census
+// term; and the load of a pixel's cost pairs from the sum volume (the winner-takes-all's, src_cuda/winner_takes_all.cu).
 
 #ifndef OPENCV_LIDARSGM_AGGREGATION_CUH
 #define OPENCV_LIDARSGM_AGGREGATION_CUH
@@ -54,28 +54,6 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
     return true;
 }
 
-/* The right census strings of disparities d0 .. d0 + DPT - 1 at a pixel: q[-j], q pointing at the right pixel of d0
- (x - minD - d0). The row has rightCensusPadBefore / After(p) readable columns before / after it holding its end
- pixels' strings (censusTransform), so no index is clamped here: the loads take constant offsets. */
-template <int DPT> __device__ __forceinline__ void loadRight(const int* q, unsigned (&r)[DPT])
-{
-#pragma unroll
-    for (int j = 0; j < DPT; j++)
-        r[j] = (unsigned)q[-j];
-}
-
-//! Asks the line holding p into L2 without waiting for it.
-__device__ __forceinline__ void prefetchL2(const void* p)
-{
-    asm volatile("prefetch.global.L2 [%0];" :: "l"(p));
-}
-
-//! The sum volume's pairs of 16-bit costs of disparities d0, d0 + 1, ... at pixel (x, y).
-__device__ __forceinline__ unsigned* sumPairs(PtrStepSz<ushort> sum, int x, int y, int D, int d0)
-{
-    return (unsigned*)(sum.ptr(y) + (size_t)x * D + d0);
-}
-
 /* The first n of PPT consecutive pairs. PPT 2 and 4: one vector access, n = PPT (d0 = lane * 2 * PPT and the row
  offset x * D are multiples of 2 * PPT 16-bit values since D is a multiple of 16, so the address is aligned to the
  access size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last active
@@ -95,62 +73,6 @@ template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, 
             if (i < n)
                 v[i] = S[i];
     }
-}
-
-template <int PPT> __device__ __forceinline__ void storePairs(unsigned* S, int n, const unsigned (&v)[PPT])
-{
-    if (PPT == 4) *(uint4*)S = make_uint4(v[0], v[1 % PPT], v[2 % PPT], v[3 % PPT]);
-    else if (PPT == 2) *(uint2*)S = make_uint2(v[0], v[1 % PPT]);
-    else
-    {
-#pragma unroll
-        for (int i = 0; i < PPT; i++)
-            if (i < n)
-                S[i] = v[i];
-    }
-}
-
-/* The path kernel's sums of a lane: NG = PPT / G groups of G adjacent pairs, group g at S[32 G g] (the lane's first
- pair at S). A whole group is one access for G 1, 2 and 4 (aligned: D is a multiple of 16), three for G 3; in the
- last group a lane holds all its pairs or none (pairsLast G or 0). */
-template <int G> __device__ __forceinline__ void loadGroup(const unsigned* q, unsigned* v)
-{
-    if (G == 4) { const uint4 a = *(const uint4*)q; v[0] = a.x; v[1] = a.y; v[2] = a.z; v[3] = a.w; }
-    else if (G == 2) { const uint2 a = *(const uint2*)q; v[0] = a.x; v[1] = a.y; }
-    else
-    {
-#pragma unroll
-        for (int j = 0; j < G; j++)
-            v[j] = q[j];
-    }
-}
-
-template <int G> __device__ __forceinline__ void storeGroup(unsigned* q, const unsigned* v)
-{
-    if (G == 4) *(uint4*)q = make_uint4(v[0], v[1], v[2], v[3]);
-    else if (G == 2) *(uint2*)q = make_uint2(v[0], v[1]);
-    else
-    {
-#pragma unroll
-        for (int j = 0; j < G; j++)
-            q[j] = v[j];
-    }
-}
-
-template <int PPT, int G> __device__ __forceinline__ void loadSums(const unsigned* S, int pairsLast, unsigned (&v)[PPT])
-{
-#pragma unroll
-    for (int g = 0; g < PPT / G; g++)
-        if (g < PPT / G - 1 || pairsLast == G)
-            loadGroup<G>(S + 32 * G * g, v + G * g);
-}
-
-template <int PPT, int G> __device__ __forceinline__ void storeSums(unsigned* S, int pairsLast, const unsigned (&v)[PPT])
-{
-#pragma unroll
-    for (int g = 0; g < PPT / G; g++)
-        if (g < PPT / G - 1 || pairsLast == G)
-            storeGroup<G>(S + 32 * G * g, v + G * g);
 }
 
 }}}}} // namespace cv::lidarsgm::detail::cuda_impl::aggregation

@@ -8,7 +8,6 @@
 
 #include "precomp.hpp"
 #include "opencv2/core/cuda_stream_accessor.hpp"
-#include "opencv2/core/utils/configuration.private.hpp"
 #include "cuda_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
@@ -21,22 +20,6 @@ void cudaCheck(cudaError_t err)
 {
     if (err != cudaSuccess)
         CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
-}
-
-/* From this many pixels on, the aggregation runs one launch per direction without atomics; below, all directions in
-one launch with atomics (one direction alone has too few lines to fill the GPU). Both give the same sums; the
-crossover was measured (doc/perf.md). OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS overrides it (0: always per
-direction), and OPENCV_LIDARSGM_CUDA_ATOMIC_GROUP the directions per launch of the atomic plan, for measuring and for
-the tests of every plan. */
-ci::AggregationPlan aggregationPlan(Size sz, int numPaths)
-{
-    static const size_t minPixels =
-        utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS", 2000000);
-    static const size_t group = utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_ATOMIC_GROUP", 8);
-    static const size_t laneGroup = utils::getConfigurationParameterSizeT("OPENCV_LIDARSGM_CUDA_LANE_GROUP", 0);
-    const ci::AggregationPlan plan = { (size_t)sz.area() >= minPixels ? 0 : std::max(1, std::min(numPaths, (int)group)),
-                                       (int)laneGroup };
-    return plan;
 }
 
 /* A CV_16S map of size sz inside the memory of m (any type, wide enough), from 16-bit column c0 of each of its rows:
@@ -152,12 +135,11 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
 
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
-    const ci::AggregationPlan plan = aggregationPlan(sz, p.numPaths);
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
     if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, plan, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, st);
     else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, plan, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
     ci::winnerTakesAll(b.sum, sz.width, p, disp16, dispInt, rightKey, dispRight, st);

@@ -48,22 +48,13 @@ void censusTransform(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
-/** How the aggregation is launched (the sums are the same): atomicGroup > 0: the volume is zeroed, then launches of
-atomicGroup directions each add with atomics (numPaths: all in one launch); 0: one launch per direction adding with
-plain loads and stores, since no other launch touches the volume meanwhile. */
-struct AggregationPlan
-{
-    int atomicGroup;
-    int laneGroup;   //!< adjacent pairs of disparities per lane and group (pathKernel's G); 0: the default rule
-};
-
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
 The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, const AggregationPlan& plan, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
 right-view disparity as on the CPU. */

@@ -73,36 +73,10 @@ if [ "${PERF:-0}" = 1 ]; then
     > "$OUT/perf_cuda.log" 2>&1
   grep -E "^\[ RUN|PERFSTAT" "$OUT/perf_cuda.log" | paste - - | sed -E 's/.*Lidarsgm_KITTI_CUDA[_A-Za-z]*\.([a-zA-Z_0-9]+)\/[0-9]+, where GetParam\(\) = (.*) \[ PERFSTAT.*median=([0-9.]+).*/\1 \2 median \3 ms/' | head -20
 fi
-if [ "${PLANS:-0}" = 1 ]; then
-  # The CUDA tests again with the aggregation's other launch plan forced (one launch per direction at every size;
-  # the default picks it from 1 Mpixel on), then CUDA-event timings of both plans at each size.
-  OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS=0 OPENCV_TEST_DATA_PATH=testdata $B/opencv_test_lidarsgm \
-    --gtest_filter="${1:-*CUDA*}" > "$OUT/tests_per_direction.log" 2>&1 || true
-  echo "CUDA tests, one launch per direction at every size:"
-  grep -E "^\[  FAILED|^\[  PASSED|Failure" "$OUT/tests_per_direction.log" | sort | uniq -c | head -20
-  # Above 128 disparities the per-direction plan walks a line with one or two warps by direction (a bit each):
-  # the default sets every bit; 90 (0x5A) mixes both kinds within one call, the first direction (stores) with one warp.
-  OPENCV_LIDARSGM_CUDA_TWO_WARP_LINES=90 OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS=0 OPENCV_TEST_DATA_PATH=testdata \
-    $B/opencv_test_lidarsgm --gtest_filter="${1:-*CUDA*}" > "$OUT/tests_two_warp_5a.log" 2>&1 || true
-  echo "CUDA tests, one launch per direction, two warps per line for directions 1, 3, 4 and 6 only (90):"
-  grep -E "^\[  FAILED|^\[  PASSED|Failure" "$OUT/tests_two_warp_5a.log" | sort | uniq -c | head -20
-  for plan in 0 1000000000; do
-    for sz in 1242x375 1920x1080 3840x2160; do
-      nd=256; [ $sz = 1242x375 ] && nd=128
-      for paths in 8 4; do
-        [ $sz = 3840x2160 ] && [ $paths = 4 ] && continue
-        echo "plan $([ $plan = 0 ] && echo per-direction || echo one-launch) $sz $nd disparities $paths paths:"
-        OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS=$plan $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
-          --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities $nd --paths $paths | grep "lidarsgm\|cv::cuda"
-      done
-    done
-  done
-  if command -v compute-sanitizer >/dev/null; then
-    OPENCV_LIDARSGM_CUDA_PER_DIRECTION_PIXELS=0 timeout 240 compute-sanitizer --tool memcheck --error-exitcode 99 \
-      env OPENCV_TEST_DATA_PATH=testdata $B/opencv_test_lidarsgm --gtest_filter='*CUDA_Random*' \
-      > "$OUT/memcheck_per_direction.log" 2>&1
-    echo "memcheck, random-input tests, one launch per direction: exit $? ($(grep 'ERROR SUMMARY' "$OUT/memcheck_per_direction.log" | tail -1))"
-  fi
+if [ "${PATHS4:-0}" = 1 ]; then
+  # 4 paths at 1080p against cv::cuda::StereoSGM's 4 paths (MODE_HH4).
+  $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize 1920x1080 \
+    --num-disparities 256 --paths 4 | grep -E "device:|lidarsgm SDSGM|StereoSGM 4"
 fi
 if [ "${BEST:-0}" = 1 ]; then
   echo "doc/params/kitti_best.yml at KITTI size (against the defaults above):"
