@@ -19,6 +19,8 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 namespace {
 
 const int WARPS_PER_BLOCK = 4;
+const int PREFETCH = 4;                  // steps ahead
+const size_t PREFETCH_PIXELS = 1000000;  // from this image size on
 using namespace aggregation;
 
 /* One warp walks one line of direction blockIdx.y (lineStart), adding its path costs into the zeroed sum volume with
@@ -27,7 +29,7 @@ using namespace aggregation;
  right census strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are
  issued before the current step's recurrence, to hide their latency. The left image is read (warp-uniform) only for
  the edge rule of the jump penalty (jumpPenalty). */
-template <int PPT, int G, typename T>
+template <int PPT, int G, bool PF, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
                            PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum)
 {
@@ -61,7 +63,8 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
 
     // Pointers to the current pixel, moved by one step's byte offsets: no row address is computed per step. pR points
     // at the right pixel of disparity 2 G t (x - minD - 2 G t); the strings of pair i lie e_i - 2 G t and one more
-    // columns before it. Lanes past D in the last group read group 0's strings (within the padding).
+    // columns before it. Lanes past D in the last group read group 0's strings, and lanes without any pair lane 0's
+    // (within the padding).
     const ptrdiff_t stepL = dy * (ptrdiff_t)censusL.step + dx * (ptrdiff_t)sizeof(int);
     const ptrdiff_t stepR = dy * (ptrdiff_t)censusR.step + dx * (ptrdiff_t)sizeof(int);
     const ptrdiff_t stepP = dy * (ptrdiff_t)prior16.step + dx * (ptrdiff_t)sizeof(short);
@@ -72,7 +75,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     for (int i = 0; i < PPT; i++)
         roff[i] = (i / G < NG - 1 || lastIn ? 64 * G * (i / G) : 0) + 2 * (i % G);
     const int* pL = censusL.ptr(y) + x;
-    const int* pR = censusR.ptr(y) + x - minD - 2 * G * lane;
+    const int* pR = censusR.ptr(y) + x - minD - 2 * G * (active ? lane : 0);
     const bool hasPrior = prior16.data != nullptr, edges = p.edgeThreshold > 0;
     const short* pP = hasPrior ? prior16.ptr(y) + x : nullptr;
     const T* pI = edges ? image.ptr(y) + x : nullptr;
@@ -136,6 +139,15 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             pL = (const int*)((const char*)pL + stepL);
             pR = (const int*)((const char*)pR + stepR);
             l = (unsigned)*pL;
+            // PF (large images): the loads above and below wait on memory every step (the sums' atomics keep
+            // evicting the census strings from L2), so PREFETCH steps ahead they are asked into L2.
+            if (PF && left > PREFETCH)
+            {
+                prefetchL2((const char*)pL + PREFETCH * stepL);
+#pragma unroll
+                for (int g = 0; g < NG; g++)
+                    prefetchL2((const char*)(pR - roff[G * g]) + PREFETCH * stepR);
+            }
             if (hasPrior)
             {
                 pP = (const short*)((const char*)pP + stepP);
@@ -240,8 +252,12 @@ void run(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior1
     cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
     const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
-    pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, T><<<grid, dim3(32 * WARPS_PER_BLOCK), 0, stream>>>(censusL, censusR, prior16,
-                                                                                             image, p, sum);
+    const dim3 block(32 * WARPS_PER_BLOCK);
+    // Prefetching costs instructions, which set the time at small sizes; it pays where memory does (doc/perf.md).
+    if ((size_t)W * H >= PREFETCH_PIXELS)
+        pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, true, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum);
+    else
+        pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, false, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum);
     cudaSafeCall(cudaGetLastError());
 }
 
