@@ -19,8 +19,6 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 namespace {
 
 const int WARPS_PER_BLOCK = 4;
-const int PREFETCH = 4;                  // steps ahead
-const size_t PREFETCH_PIXELS = 1000000;  // from this image size on
 using namespace aggregation;
 
 /* One warp walks one line of direction blockIdx.y (lineStart), adding its path costs into the zeroed sum volume with
@@ -29,7 +27,7 @@ using namespace aggregation;
  right census strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are
  issued before the current step's recurrence, to hide their latency. The left image is read (warp-uniform) only for
  the edge rule of the jump penalty (jumpPenalty). */
-template <int PPT, int G, bool PF, typename T>
+template <int PPT, int G, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
                            PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum)
 {
@@ -139,15 +137,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             pL = (const int*)((const char*)pL + stepL);
             pR = (const int*)((const char*)pR + stepR);
             l = (unsigned)*pL;
-            // PF (large images): the loads above and below wait on memory every step (the sums' atomics keep
-            // evicting the census strings from L2), so PREFETCH steps ahead they are asked into L2.
-            if (PF && left > PREFETCH)
-            {
-                prefetchL2((const char*)pL + PREFETCH * stepL);
-#pragma unroll
-                for (int g = 0; g < NG; g++)
-                    prefetchL2((const char*)(pR - roff[G * g]) + PREFETCH * stepR);
-            }
+
             if (hasPrior)
             {
                 pP = (const short*)((const char*)pP + stepP);
@@ -252,12 +242,8 @@ void run(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior1
     cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
     const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
-    const dim3 block(32 * WARPS_PER_BLOCK);
-    // Prefetching costs instructions, which set the time at small sizes; it pays where memory does (doc/perf.md).
-    if ((size_t)W * H >= PREFETCH_PIXELS)
-        pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, true, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum);
-    else
-        pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, false, T><<<grid, block, 0, stream>>>(censusL, censusR, prior16, image, p, sum);
+    pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, T><<<grid, dim3(32 * WARPS_PER_BLOCK), 0, stream>>>(censusL, censusR, prior16,
+                                                                                             image, p, sum);
     cudaSafeCall(cudaGetLastError());
 }
 

@@ -31,12 +31,6 @@ __device__ __forceinline__ unsigned censusTermPair(unsigned h, unsigned lo, unsi
     return h * hi + __byte_perm(h * lo + 0x00800080u, 0, 0x4341);
 }
 
-//! Asks the line holding p into L2 without waiting for it.
-__device__ __forceinline__ void prefetchL2(const void* p)
-{
-    asm volatile("prefetch.global.L2 [%0];" :: "l"(p));
-}
-
 /* Line `line` of direction (dx, dy): its first pixel. Horizontal lines are rows, vertical lines columns; diagonal
  lines start on the row the direction enters from (W lines), then on the column it enters from (H - 1 lines). */
 __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H, int& x, int& y)
