@@ -102,8 +102,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     unsigned P[PPT];
     int minPrev = 0;
     const unsigned q2Pair = (unsigned)w.q2 * 0x10001u;
-    const unsigned long long nearPairs = ((unsigned long long)(w.q2 - w.q1) << 16) |
-                                         ((unsigned long long)w.q2 << 32) | ((unsigned long long)(w.q2 - w.q1) << 48);
     const unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
     for (int step = 0; ; step++)
     {
@@ -127,15 +125,10 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             near |= (unsigned)(k - e[G * g] + 1) <= (unsigned)(2 * G + 1);   // k in [e - 1, e + 2 G], e the group's first
         if (near)
         {
-            // ddcTerm (pipeline.hpp) is Q2 less Q2, Q2 - Q1 or 0 at |d - k| = 0, 1 or more: the pair (e, e + 1)
-            // subtracts the 16-bit fields m = e - k + 2 and m + 1 of [0, Q2 - Q1, Q2, Q2 - Q1, 0...] (nearPairs). No
-            // field exceeds its cost (which includes Q2) nor is negative (the API keeps Q1 <= Q2): no borrow.
 #pragma unroll
             for (int i = 0; i < PPT; i++)
-            {
-                const int m = e[i] - k + 2;
-                Cp[i] -= (unsigned)m <= 3u ? (unsigned)(nearPairs >> (16 * m)) : 0u;
-            }
+                Cp[i] = (unsigned)matchingCost((int)h[2 * i], e[i], k, w) |
+                        ((unsigned)matchingCost((int)h[2 * i + 1], e[i] + 1, k, w) << 16);
         }
         const int curIntensity = intensity;
         const bool more = --left > 0;

@@ -134,7 +134,6 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     }
 
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
-    CV_Assert(p.w.q1 <= p.w.q2);   // the path kernel's DDC correction relies on it (StereoLidarSGM keeps Q1 <= Q2)
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
     if (L.depth() == CV_8U)
