@@ -44,11 +44,11 @@ __global__ void censusKernel(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<in
     __shared__ T tile[TH * TW];
     const bool isLeft = blockIdx.z == 0;
     const PtrStepSz<T> img = isLeft ? left : right;
-    const int ox = (int)blockIdx.x * BX - padBefore - RX, oy = (int)blockIdx.y * BY - RY;
+    const ClampedWindow<T> origin = { img, (int)blockIdx.x * BX - padBefore - RX, (int)blockIdx.y * BY - RY };
     for (int i = threadIdx.y * BX + threadIdx.x; i < TH * TW; i += BX * BY)
     {
         const int ty = i / TW, tx = i - ty * TW;
-        tile[i] = img(::min(::max(oy + ty, 0), img.rows - 1), ::min(::max(ox + tx, 0), img.cols - 1));
+        tile[i] = origin(tx, ty);
     }
     __syncthreads();
     const int x = blockIdx.x * BX + threadIdx.x - padBefore, y = blockIdx.y * BY + threadIdx.y;
