@@ -152,7 +152,9 @@ INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_CUDA_Random,
                     make_tuple(Size(53, 1), 64, 3), make_tuple(Size(97, 61), 64, 0), make_tuple(Size(333, 111), 128, -7),
                     make_tuple(Size(257, 190), 256, 0), make_tuple(Size(130, 77), 48, 2),
                     // 160 and 176: a warp lane's run of 6 disparities passes the last one
-                    make_tuple(Size(75, 40), 160, 0), make_tuple(Size(64, 33), 176, -3)));
+                    make_tuple(Size(75, 40), 160, 0), make_tuple(Size(64, 33), 176, -3),
+                    // 224: lanes in groups of 4 disparities, the second group held by only some lanes
+                    make_tuple(Size(90, 50), 224, -2)));
 
 // Every shared KITTI frame and Middlebury scene (LIDARSGM_SHARED_DATA, set by the README's test command to
 // ../shared/data): CPU and CUDA outputs equal. KITTI frames use sparse16/<id>.png when present (pre-projected raw
