@@ -236,11 +236,10 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
  run of eight per lane, made each load span eight lines and kept L1 busy; doc/perf.md). */
 template <int PPT, typename T>
 void run(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-         const PipelineParams& p, PtrStepSz<ushort> sum, bool sumIsZero, cudaStream_t stream)
+         const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    if (!sumIsZero)
-        cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
     const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
     pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, T><<<grid, dim3(32 * WARPS_PER_BLOCK), 0, stream>>>(censusL, censusR, prior16,
@@ -250,29 +249,29 @@ void run(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior1
 
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-               const PipelineParams& p, PtrStepSz<ushort> sum, bool sumIsZero, cudaStream_t stream)
+               const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: run<1>(censusL, censusR, prior16, image, p, sum, sumIsZero, stream); break;
-    case 2: run<2>(censusL, censusR, prior16, image, p, sum, sumIsZero, stream); break;
-    case 3: run<3>(censusL, censusR, prior16, image, p, sum, sumIsZero, stream); break;
-    default: run<4>(censusL, censusR, prior16, image, p, sum, sumIsZero, stream); break;
+    case 1: run<1>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 2: run<2>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 3: run<3>(censusL, censusR, prior16, image, p, sum, stream); break;
+    default: run<4>(censusL, censusR, prior16, image, p, sum, stream); break;
     }
 }
 
 } // namespace
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, bool sumIsZero, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, sumIsZero, stream);
+    aggregate(censusL, censusR, prior16, left, p, sum, stream);
 }
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, bool sumIsZero, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, sumIsZero, stream);
+    aggregate(censusL, censusR, prior16, left, p, sum, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

@@ -75,20 +75,6 @@ template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, 
     }
 }
 
-//! Zeroes what loadPairs reads.
-template <int PPT> __device__ __forceinline__ void clearPairs(unsigned* S, int n)
-{
-    if (PPT == 4) *(uint4*)S = make_uint4(0, 0, 0, 0);
-    else if (PPT == 2) *(uint2*)S = make_uint2(0, 0);
-    else
-    {
-#pragma unroll
-        for (int i = 0; i < PPT; i++)
-            if (i < n)
-                S[i] = 0;
-    }
-}
-
 }}}}} // namespace cv::lidarsgm::detail::cuda_impl::aggregation
 
 #endif

@@ -42,12 +42,6 @@ struct CudaPipeline::Buffers
     the right-view disparities and the median's outputs take its memory. */
     cuda::GpuMat censusL, censusR, sparse16, semidense16, sum;
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
-    /* The sum volume (its data and size) as it was left zero by the last call that aggregated: the winner-takes-all
-    zeroes what it reads, and the call then zeroes the maps placed in the volume, so a next call into the same
-    allocation skips its zeroing pass. Null while not known: before a first call, after one that did not finish
-    enqueueing, and after a graph capture (nothing ran; a captured call always zeroes). */
-    const void* zeroSum = nullptr;
-    Size zeroSumSize;
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
 
@@ -141,13 +135,11 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
 
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
-    const bool sumIsZero = !capturing && b.zeroSum == b.sum.data && b.zeroSumSize == b.sum.size();
-    b.zeroSum = nullptr;
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
     if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, sumIsZero, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, st);
     else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, sumIsZero, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
     ci::winnerTakesAll(b.sum, sz.width, p, disp16, dispInt, rightKey, dispRight, st);
@@ -168,13 +160,6 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         ci::consistencyCheck(d16, dInt, dRight, sparse, p, cuda::PtrStepSz<float>(o), st);
     else
         ci::consistencyCheck(d16, dInt, dRight, sparse, p, cuda::PtrStepSz<short>(o), st);
-    // The winner-takes-all left the volume zero but for the maps placed in it since: zero their columns again.
-    cudaCheck(cudaMemset2DAsync(b.sum.data, b.sum.step, 0, 4 * sz.width * sizeof(short), sz.height, st));
-    if (!capturing)
-    {
-        b.zeroSum = b.sum.data;
-        b.zeroSumSize = b.sum.size();
-    }
     b.markCallEnd(st, capturing);
 }
 

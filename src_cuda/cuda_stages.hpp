@@ -50,16 +50,14 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
 
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
-The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). The sums are added into
-the volume: it is zeroed first unless sumIsZero (the winner-takes-all leaves it zero). */
+The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, bool sumIsZero, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, bool sumIsZero, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
-right-view disparity as on the CPU. Every sum read is written back as zero, so that the next aggregation into the
-volume needs no zeroing pass (dispRight may lie in the volume's memory: it is written after the sums are read). */
+right-view disparity as on the CPU. */
 void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
                     PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
                     cudaStream_t stream);

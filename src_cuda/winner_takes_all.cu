@@ -14,7 +14,6 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 namespace {
 
 using aggregation::loadPairs;
-using aggregation::clearPairs;
 
 const int WARPS = 8, PIXELS_PER_WARP = 4, SEG = WARPS * PIXELS_PER_WARP;  // a block: 32 pixels of one row
 const int MAX_D = 256;
@@ -71,15 +70,6 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
             v[i][j] = 0xFFFFFFFFu;
         if (pairs > 0)
             loadPairs<PPT>((const unsigned*)(sum.ptr(y) + (size_t)x * D + d0), pairs, v[i]);
-    }
-    // The sums read are zeroed for the next aggregation (by the warp that owns the pixel: a clamped duplicate of
-    // the last pixel must not zero it before its owner has read it).
-#pragma unroll
-    for (int i = 0; i < PIXELS_PER_WARP; i++)
-    {
-        const int x = x0 + warp + WARPS * i;
-        if (x < W && pairs > 0)
-            clearPairs<PPT>((unsigned*)(sum.ptr(y) + (size_t)x * D + d0), pairs);
     }
     struct { int x; bool valid, parabola; int bd, c0, cm, cp; } mine = { -1, false, false, 0, 0, 0, 0 };
 #pragma unroll
