@@ -42,6 +42,8 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     int x, y;
     if (!lineStart(line, dx, dy, W, H, x, y))
         return;
+    // The line's length: steps until it leaves the image.
+    const int n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
     const CostWeights w = p.w;
     // Lane t holds PPT pairs in NG = PPT / G groups of G adjacent pairs: pair i = gG + j covers disparities
     // e_i = 2 (32 G g + G t + j) and e_i + 1. Across the warp the census strings of one pair index then lie 8 G bytes
@@ -79,8 +81,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     const int edgeThreshold = edges ? p.edgeThreshold : INT_MAX;
     // The sums of pair i: S[32 G (i / G) + i % G], S at this lane's first pair.
     unsigned* S = (unsigned*)(sum.ptr(y) + (size_t)x * D) + G * lane;
-    // The line's length: steps until it leaves the image.
-    int left = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
+    int left = n;
 
     // Values of the current pixel, loaded one step ahead.
     unsigned l = (unsigned)*pL;
@@ -102,8 +103,9 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     int minPrev = 0;
     const unsigned q2Pair = (unsigned)w.q2 * 0x10001u;
     const unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
-    for (bool start = true; ; start = false)
+    for (int step = 0; ; step++)
     {
+        const bool start = step == 0;
         // k: the prior's disparity index; without a prior far below every lane's run, so that no lane is near it.
         const bool hasK = pr != NO_DISP;
         const int k = hasK ? roundDisp16(pr) - minD : -1024;
@@ -135,6 +137,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             pL = (const int*)((const char*)pL + stepL);
             pR = (const int*)((const char*)pR + stepR);
             l = (unsigned)*pL;
+
             if (hasPrior)
             {
                 pP = (const short*)((const char*)pP + stepP);
