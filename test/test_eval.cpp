@@ -1,5 +1,5 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
-// The evaluator (opencv2/lidarsgm/evaluation.hpp) and the dataset helpers (datasets/lidarsgm_datasets.hpp) the tool,
+// The evaluator (opencv2/lidarsgm/evaluation.hpp) and the dataset helpers (samples/common/lidarsgm_datasets.hpp) the tool,
 // the tests and the perf tests use, checked against small cases computed by hand: the KITTI devkit's background
 // interpolation and D1 rule, Middlebury bad-N, formats, colour maps, the LiDAR ring selection.
 #include "test_precomp.hpp"

@@ -28,7 +28,7 @@ Dense disparity from a rectified stereo pair and a sparse (LiDAR) disparity map,
 6. the consistency check: a disparity survives the left-right check, or (stereo-LiDAR check) if some original sparse
    disparity within a (2 rc + 1)^2 window differs from it by at most Tc. A disparity whose right-view pixel lies
    outside the right image cannot be verified by the left-right check and fails it (the public code keeps such
-   pixels; rejecting them measured better on KITTI and Middlebury, doc/notes.md); the LiDAR test can still keep it.
+   pixels; rejecting them measured better on KITTI and Middlebury, doc/design.md); the LiDAR test can still keep it.
 
 Semi-global aggregation follows @cite Hirschmuller2008.
 
@@ -57,7 +57,7 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 Beyond the paper: `doc/params/kitti_best.yml` (StereoLidarSGM::load) switches on the visibility filter with the
 HDL-64E's footprint (2 x 4) and the edge rule (32 grey levels, P2 halved): on the 20 KITTI development frames SDSGM's
 total D1 falls from 2.01 % to 1.69 % and DSGM's from 2.53 % to 1.85 %, and the Middlebury sums improve too
-(doc/notes.md).
+(doc/accuracy.md).
 
 Inputs: rectified 8- or 16-bit single-channel images of one size; a sparse disparity map of the left view of that
 size, CV_16UC1 (KITTI encoding, value / 256, 0 = none) or CV_32FC1 (pixels; 0, negative, NaN, infinite = none),
@@ -315,5 +315,6 @@ CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray project
 }} // namespace cv::cuda
 
 #include "opencv2/lidarsgm/evaluation.hpp"
+#include "opencv2/lidarsgm/depth.hpp"
 
 #endif // OPENCV_LIDARSGM_HPP

@@ -53,7 +53,7 @@ int runFrame(const Options& o, Frame& f)
         }
         printf("\n");
         if (!out.empty())
-            writeDisparity(o, out, modes.size() > 1 ? "_" + name : "", disp, minD, m->getNumDisparities(), f.gt);
+            writeDisparity(o, out, modes.size() > 1 ? "_" + name : "", disp, minD, m->getNumDisparities(), f);
     }
     if (!out.empty())
     {

@@ -1,10 +1,11 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// A KITTI-layout folder: every frame of frames.txt with each mode, sums of the devkit's counts over the frames, one
-// summary table per LiDAR line count (the paper's Tables III-VI). A frame that cannot be read or computed is reported
-// and skipped; the run goes on and exits with 1 at the end. With --out each frame's counts go to <frame>/metrics.yml,
-// written last, so --resume can take a finished frame's counts instead of computing it again.
+// Folder runs: every frame of a KITTI-layout folder (frames.txt) or of a KITTI raw drive (in order) with each mode,
+// sums of the devkit's counts over the frames where there is ground truth, one summary table per LiDAR line count
+// (the paper's Tables III-VI). A frame that cannot be read or computed is reported and skipped; the run goes on and
+// exits with 1 at the end. With --out each frame's counts go to <frame>/metrics.yml, written last, so --resume can
+// take a finished frame's counts instead of computing it again.
 
 #include "tool.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
@@ -12,6 +13,7 @@
 #include <atomic>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -92,6 +94,16 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr)
     return true;
 }
 
+//! Where a folder run's frames come from: their names, how to load one (with every lidarEvery-th ring), and whether
+//! each must have ground truth.
+struct FrameSource
+{
+    std::string label;   //!< "KITTI DIR" or "KITTI raw DRIVE", for the table's title
+    std::vector<std::string> ids;
+    std::function<Frame(const std::string& id, int lidarEvery)> load;
+    bool needGroundTruth;
+};
+
 //! What a frame gave: its rows, or why it failed; whether it was taken from an earlier run.
 struct FrameResult
 {
@@ -103,10 +115,10 @@ struct FrameResult
 /* One pass over the frames; failed frames are appended to failures ("id: why"). The frames go to --streams workers
 (default 1), each on its own thread taking the next frame when done with one: reading and writing on the CPU overlap
 the other workers' matching. The sums are taken in frame order at the end. */
-void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines, bool lineTitle,
-               std::vector<std::string>& failures)
+void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTitle, std::vector<std::string>& failures)
 {
-    const std::string dir = o.str("kitti"), out = o.str("out"), key = optionsKey(o);
+    const std::vector<std::string>& ids = src.ids;
+    const std::string out = o.str("out"), key = optionsKey(o);
     const std::vector<std::string> modes = o.list("modes", "sgm,dsgm,sdsgm");
     const int check = checkFromName(o.str("check", "stereo-lidar"));
     PassRows sums;
@@ -144,10 +156,10 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
             }
             else
             {
-                const Frame f = loadKittiFrame(dir, ids[n], 64 / lines);
-                if (f.gt.empty())
+                const Frame f = src.load(ids[n], 64 / lines);
+                if (f.gt.empty() && src.needGroundTruth)
                     CV_Error(Error::StsObjectNotFound,
-                             "no ground truth " + dir + "/disp_occ_0/" + ids[n] + "_10.png");
+                             "no ground truth " + o.str("kitti") + "/disp_occ_0/" + ids[n] + "_10.png");
                 if (!frameOut.empty())
                     prepareFrameDir(frameOut);
                 worker.compute(f, frameOut, res.rows);
@@ -193,6 +205,7 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
         std::rethrow_exception(workerError);
 
     size_t computed = 0, resumed = 0, failed = 0;
+    bool scored = false;
     for (size_t n = 0; n < ids.size(); n++)
     {
         FrameResult& res = results[n];
@@ -203,6 +216,7 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
             continue;
         }
         (res.resumed ? resumed : computed)++;
+        scored = scored || res.rows.lidar.stats.groundTruthPixels > 0;
         std::vector<Row*> all = sums.all(), one = res.rows.all();
         for (size_t i = 0; i < all.size(); i++)
         {
@@ -211,40 +225,74 @@ void kittiPass(const Options& o, const std::vector<std::string>& ids, int lines,
         }
     }
     total.stop();
-    const std::string title = format("KITTI %s: %zu frames%s, D1 (KITTI devkit rules), sums over frames, %s",
-                                     dir.c_str(), computed + resumed,
+    const std::string title = format("%s: %zu frames%s, D1 (KITTI devkit rules), sums over frames, %s",
+                                     src.label.c_str(), computed + resumed,
                                      lineTitle ? format(", %d LiDAR lines", lines).c_str() : "",
                                      o.has("cuda") ? format("CUDA, %d stream(s), ms = GPU time per call",
                                                             o.i("streams", 1)).c_str()
                                                    : format("CPU, %d threads", getNumThreads()).c_str());
     std::vector<Row> table = sums.modes;
-    table.push_back(sums.lidar);
-    printTable(title, "D1", table);
-    printf("| %-28s | %6.2f %% | %11.2f %% | %11s | %8s |\n", sums.semi.label.c_str(), sums.semi.stats.coverage(),
-           sums.semi.stats.coveredError(), "-", "-");
+    if (scored)
+    {
+        table.push_back(sums.lidar);
+        printTable(title, "D1", table);
+        printf("| %-28s | %6.2f %% | %11.2f %% | %11s | %8s |\n", sums.semi.label.c_str(),
+               sums.semi.stats.coverage(), sums.semi.stats.coveredError(), "-", "-");
+    }
+    else
+        printTimes(title.substr(0, title.find(", D1")) + ", no ground truth", table);
     if (!sums.table5.empty())
         printTable("Consistency checks on SDSGM (the paper's Table V)", "D1", sums.table5);
     printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed; %.2f frames/s over the pass\n",
            computed, resumed, failed, ids.size() / std::max(total.getTimeSec(), 1e-9));
 }
 
-} // namespace
-
-int runKittiFolder(const Options& o)
+//! Every pass of a folder run (one per LiDAR line count), then the failed frames; 1 where a frame failed.
+int runPasses(const Options& o, const FrameSource& src)
 {
-    const std::vector<std::string> ids = kittiFrameIds(o.str("kitti"));
-    if (ids.empty())
-        CV_Error(Error::StsObjectNotFound, o.str("kitti") + "/frames.txt lists no frame");
     std::vector<std::string> failures;
     const std::vector<int> lines = lidarLineCounts(o);
     for (int n : lines)
-        kittiPass(o, ids, n, lines.size() > 1 || n != 64, failures);
+        kittiPass(o, src, n, lines.size() > 1 || n != 64, failures);
     if (failures.empty())
         return 0;
     fprintf(stderr, "lidarsgm_fuse: %zu frame(s) failed:\n", failures.size());
     for (const std::string& f : failures)
         fprintf(stderr, "  %s\n", f.c_str());
     return 1;
+}
+
+} // namespace
+
+int runKittiFolder(const Options& o)
+{
+    const std::string dir = o.str("kitti");
+    FrameSource src;
+    src.label = "KITTI " + dir;
+    src.ids = kittiFrameIds(dir);
+    if (src.ids.empty())
+        CV_Error(Error::StsObjectNotFound, dir + "/frames.txt lists no frame");
+    src.load = [dir](const std::string& id, int every) { return loadKittiFrame(dir, id, every); };
+    src.needGroundTruth = true;
+    return runPasses(o, src);
+}
+
+int runKittiRaw(const Options& o)
+{
+    const std::string drive = o.str("kitti-raw"), calibDir = kittiRawCalibDir(drive), gtDir = o.str("gt-depth");
+    // The calibration is the drive's, read once: a missing file or key stops the run before any frame.
+    const KittiCalib calib = readKittiRawCalib(calibDir + "/calib_cam_to_cam.txt", calibDir + "/calib_velo_to_cam.txt");
+    FrameSource src;
+    src.label = "KITTI raw " + drive;
+    src.ids = kittiRawFrameNames(drive);
+    src.load = [drive, calib, gtDir](const std::string& id, int every) {
+        Frame f = loadKittiRawFrame(drive, calib, id, every);
+        if (!gtDir.empty())
+            f.gt = readKittiDepthAsDisparity(gtDir + "/" + id + ".png", calib.focalBaseline);
+        return f;
+    };
+    src.needGroundTruth = !gtDir.empty();
+    return runPasses(o, src);
 }
 
 } // namespace lidarsgm_fuse

@@ -7,6 +7,7 @@
 //   lidarsgm_fuse --kitti-frame DIR --id 000002 [--out OUT]      one frame of a KITTI-layout folder (raw scan)
 //   lidarsgm_fuse --left L --right R (--sparse S | --velodyne V --calib C) [--gt G] [--out OUT]
 //   lidarsgm_fuse --kitti DIR [--table5] [--lidar-lines 64,32,16]   every frame listed in DIR/frames.txt
+//   lidarsgm_fuse --kitti-raw DRIVE [--gt-depth DIR] --out OUT --format depth,ply   every frame of a raw drive
 //   lidarsgm_fuse --middlebury DIR [--seed N]                   every scene folder in DIR (1 % of GT as input)
 // Run with --help for every option.
 
@@ -41,21 +42,24 @@ Frame loadFrame(const Options& o)
         return f;
     }
     f.name = o.str("left");
-    f.left = lidarsgm_data::readGrey(o.str("left"));
+    f.leftImage = lidarsgm_data::readImage(o.str("left"));
+    f.left = lidarsgm_data::toGrey(f.leftImage);
     f.right = lidarsgm_data::readGrey(o.str("right"));
     if (o.has("sparse"))
     {
         f.sparse = imread(o.str("sparse"), IMREAD_UNCHANGED);
         if (f.sparse.empty())
             CV_Error(Error::StsObjectNotFound, "cannot read sparse disparity " + o.str("sparse"));
+        if (o.has("calib"))
+        {
+            const lidarsgm_data::KittiCalib c = lidarsgm_data::readKittiCalib(o.str("calib"));
+            f.P2 = c.P2;
+            f.focalBaseline = c.focalBaseline;
+        }
     }
     else if (o.has("velodyne") && o.has("calib"))
-    {
-        const lidarsgm_data::KittiCalib c = lidarsgm_data::readKittiCalib(o.str("calib"));
-        const Mat pts = lidarsgm_data::selectLidarRings(lidarsgm_data::readVelodyne(o.str("velodyne")),
-                                                        64 / lidarLineCounts(o).front());
-        lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
-    }
+        lidarsgm_data::projectScan(f, o.str("velodyne"), lidarsgm_data::readKittiCalib(o.str("calib")),
+                                   64 / lidarLineCounts(o).front());
     if (o.has("gt"))
         f.gt = lidarsgm_data::readKittiDisparity(o.str("gt"));
     return f;
@@ -75,9 +79,10 @@ int main(int argc, char** argv)
         return 0;
     }
     const bool frame = o.has("kitti-frame") || (o.has("left") && o.has("right"));
-    if (!frame && !o.has("kitti") && !o.has("middlebury"))
+    if (!frame && !o.has("kitti") && !o.has("kitti-raw") && !o.has("middlebury"))
     {
-        fprintf(stderr, "lidarsgm_fuse: give --kitti-frame, --left/--right, --kitti or --middlebury (see --help)\n");
+        fprintf(stderr, "lidarsgm_fuse: give --kitti-frame, --left/--right, --kitti, --kitti-raw or --middlebury "
+                        "(see --help)\n");
         return 2;
     }
     try
@@ -87,6 +92,8 @@ int main(int argc, char** argv)
             setNumThreads(o.i("threads", -1));
         if (o.has("kitti"))
             return runKittiFolder(o);
+        if (o.has("kitti-raw"))
+            return runKittiRaw(o);
         if (o.has("middlebury"))
             return runMiddlebury(o);
         Frame f = loadFrame(o);

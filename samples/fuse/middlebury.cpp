@@ -93,7 +93,10 @@ int runMiddlebury(const Options& o)
             fflush(stdout);
             if (!frameOut.empty())
             {
-                writeDisparity(o, frameOut, "_" + modes[k], disp, m->getMinDisparity(), m->getNumDisparities(), Mat());
+                Frame noErrorPicture = f;   // KITTI's error colours do not fit bad-N: no error picture here
+                noErrorPicture.gt.release();
+                writeDisparity(o, frameOut, "_" + modes[k], disp, m->getMinDisparity(), m->getNumDisparities(),
+                               noErrorPicture);
                 if (k == 0)
                 {
                     const Ptr<Matcher> sdsgm = makeMatcher(o, Matcher::MODE_SDSGM, check, ndisp);

@@ -36,16 +36,25 @@ const OptionSpec kOptions[] = {
     { "right", 's', "R", "right image", nullptr },
     { "sparse", 's', "S", "sparse disparity: PNG (uint16, value / 256) or .exr/.pfm float", nullptr },
     { "velodyne", 's', "V", "raw Velodyne scan (float32 x y z r), projected with --calib", nullptr },
-    { "calib", 's', "C", "KITTI calibration file (P2, P3, R0_rect, Tr_velo_to_cam)", nullptr },
+    { "calib", 's', "C", "KITTI calibration file (P2, P3, R0_rect, Tr_velo_to_cam); with --sparse only for\n"
+      "--format depth / ply", nullptr },
     { "gt", 's', "G", "ground truth of a single frame (KITTI 16-bit PNG)", nullptr },
     { "kitti", 's', "DIR", "every frame of DIR/frames.txt, scored with the KITTI devkit's rules", nullptr },
+    { "kitti-raw", 's', "DRIVE", "every frame of a KITTI raw drive in order (DRIVE = <date>/<date>_drive_<n>_sync:\n"
+      "image_02/data, image_03/data, velodyne_points/data; calibration from <date>/calib_cam_to_cam.txt\n"
+      "and <date>/calib_velo_to_cam.txt); no ground truth needed", nullptr },
+    { "gt-depth", 's', "DIR", "(--kitti-raw) ground truth as KITTI depth PNGs DIR/<frame>.png (metres x 256, e.g.\n"
+      "the depth-completion set's proj_depth/groundtruth/image_02): scored as disparity fB / depth", nullptr },
     { "middlebury", 's', "DIR", "every scene folder of DIR, 1 % of its ground truth as the sparse input", nullptr },
     { nullptr, 0, nullptr, "Outputs:", nullptr },
     { "out", 's', "DIR", "write per frame (folder runs: DIR/<frame>/): disparity[_mode].png|.pfm|.s16,\n"
       "disparity[_mode]_color.png, error[_mode].png (with ground truth), semidense.png and\n"
       "semidense_color.png (SDSGM), lidar_points.png", nullptr },
-    { "format", 's', "LIST", "disparity formats, comma list of kitti (16-bit PNG, d * 256, 0 = invalid), pfm (float,\n"
-      "invalid = inf), s16 (the matcher's CV_16S x16, little-endian, no header); default kitti", nullptr },
+    { "format", 's', "LIST", "output formats, comma list of kitti (16-bit PNG, d * 256, 0 = invalid), pfm (float,\n"
+      "invalid = inf), s16 (the matcher's CV_16S x16, little-endian, no header), depth\n"
+      "(depth[_mode].png: KITTI depth, uint16 metres x 256, 0 = none), ply (points[_mode].ply:\n"
+      "binary PLY, x y z metres in the left camera frame and the left image's colour, one vertex\n"
+      "per valid pixel); default kitti. depth and ply need a calibration (KITTI inputs, --calib)", nullptr },
     { "quiet", 'i', "1", "no progress line on folder runs", nullptr },
     { "resume", 'f', nullptr, "(KITTI folder with --out) take the frames whose outputs are complete (their\n"
       "metrics.yml, written last) from the earlier run instead of computing them again", nullptr },
@@ -273,8 +282,16 @@ void checkOptions(const Options& o)
         modeFromName(m);
     const int check = checkFromName(o.str("check", "stereo-lidar"));
     for (const std::string& f : o.list("format", "kitti"))
-        if (f != "kitti" && f != "pfm" && f != "s16")
-            CV_Error(Error::StsBadArg, "unknown --format '" + f + "' (kitti, pfm, s16)");
+    {
+        if (f != "kitti" && f != "pfm" && f != "s16" && f != "depth" && f != "ply")
+            CV_Error(Error::StsBadArg, "unknown --format '" + f + "' (kitti, pfm, s16, depth, ply)");
+        if ((f == "depth" || f == "ply") && o.has("middlebury"))
+            CV_Error(Error::StsBadArg, "--format " + f + " needs a calibration, which Middlebury runs do not read");
+        if ((f == "depth" || f == "ply") && o.has("left") && !o.has("calib"))
+            CV_Error(Error::StsBadArg, "--format " + f + " needs the calibration: give --calib");
+    }
+    if (o.has("gt-depth") && !o.has("kitti-raw"))
+        CV_Error(Error::StsBadArg, "--gt-depth goes with --kitti-raw");
     lidarLineCounts(o);
     int w = 0, h = 0;
     char rest = 0;
@@ -282,8 +299,8 @@ void checkOptions(const Options& o)
         CV_Error(Error::StsBadArg, "--resize takes WIDTHxHEIGHT, got '" + o.str("resize") + "'");
     if (o.i("streams", 1) < 1 || o.i("streams", 1) > 64)
         CV_Error(Error::StsBadArg, "--streams takes 1 to 64 workers, got " + o.str("streams"));
-    if (o.has("resume") && (!o.has("kitti") || !o.has("out")))
-        CV_Error(Error::StsBadArg, "--resume needs --kitti and --out (the earlier run's outputs)");
+    if (o.has("resume") && (!(o.has("kitti") || o.has("kitti-raw")) || !o.has("out")))
+        CV_Error(Error::StsBadArg, "--resume needs --kitti or --kitti-raw, and --out (the earlier run's outputs)");
     if (o.has("params") && !utils::fs::exists(o.str("params")))
         CV_Error(Error::StsObjectNotFound, "cannot open --params " + o.str("params"));
     makeMatcher(o, Matcher::MODE_SDSGM, check);   // every parameter value and relation

@@ -55,18 +55,34 @@ static void writeImage(const std::string& path, const Mat& img)
 }
 
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const Mat& disp16,
-                    int minD, int numD, const Mat& gt)
+                    int minD, int numD, const Frame& f)
 {
-    const Mat d = disparityToFloat(disp16, minD);
+    const Mat d = disparityToFloat(disp16, minD), &gt = f.gt;
     const std::string base = dir + "/disparity" + suffix;
     for (const std::string& format : o.list("format", "kitti"))
     {
+        if ((format == "depth" || format == "ply") && !(f.focalBaseline > 0))
+            CV_Error(Error::StsBadArg, "--format " + format + " needs a calibration, and " + f.name + " has none");
         if (format == "kitti")
             writeImage(base + ".png", toKittiPng(d));
         else if (format == "pfm")
             writeAtomically(base + ".pfm", [&](const std::string& tmp) { return writePfm(tmp, d); });
         else if (format == "s16")
             writeAtomically(base + ".s16", [&](const std::string& tmp) { return writeRawS16(tmp, disp16); });
+        else if (format == "depth")
+        {
+            Mat depth;
+            lidarsgm::disparityToDepth(disp16, f.focalBaseline, depth, minD);
+            writeImage(dir + "/depth" + suffix + ".png", toKittiDepthPng(depth));
+        }
+        else if (format == "ply")
+        {
+            Mat points;
+            lidarsgm::disparityToPoints(disp16, lidarsgm::reprojectionMatrix(f.P2, f.focalBaseline), points, minD);
+            const Mat& colour = f.leftImage.empty() ? f.left : f.leftImage;
+            writeAtomically(dir + "/points" + suffix + ".ply",
+                            [&](const std::string& tmp) { return writePly(tmp, points, colour); });
+        }
     }
     Mat colour;
     lidarsgm::colorizeDisparity(d, colour, minD + numD);
@@ -112,6 +128,15 @@ void printTable(const std::string& title, const std::string& metric, const std::
         printf("| %-28s | %6.2f %% | %11.2f %% | %9.2f %% | %8s |\n", r.label.c_str(), r.stats.coverage(),
                r.stats.coveredError(), r.stats.totalError(), t);
     }
+}
+
+void printTimes(const std::string& title, const std::vector<Row>& rows)
+{
+    printf("\n%s\n", title.c_str());
+    printf("| %-28s | ms/frame |\n", "method");
+    printf("|------------------------------|----------|\n");
+    for (const Row& r : rows)
+        printf("| %-28s | %8.1f |\n", r.label.c_str(), medianMs(r.ms));
 }
 
 void progress(const Options& o, size_t done, size_t total, double seconds)

@@ -53,9 +53,10 @@ void makeDir(const std::string& dir);
 /** Writes path through a temporary name beside it, renamed when write() returned true: a run killed mid-write leaves
 no file under the final name. Raises cv::Exception naming path when writing fails. */
 void writeAtomically(const std::string& path, const std::function<bool(const std::string&)>& write);
-//! The disparity in the --format formats, its colour picture and, with ground truth, the error picture.
+/** The disparity in the --format formats (depth and ply from f's calibration), its colour picture and, with f's ground
+truth, the error picture. */
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const cv::Mat& disp16,
-                    int minD, int numD, const cv::Mat& gt);
+                    int minD, int numD, const Frame& f);
 //! LiDAR points over the left image and, where semidense16 (semidensify()'s output) is not empty, the semidense map.
 void writeInputs(const std::string& dir, const Frame& f, int minD, int numD, const cv::Mat& semidense16);
 
@@ -67,6 +68,8 @@ struct Row
     std::vector<double> ms;
 };
 void printTable(const std::string& title, const std::string& metric, const std::vector<Row>& rows);
+//! A summary table of times only (runs without ground truth).
+void printTimes(const std::string& title, const std::vector<Row>& rows);
 
 // ---- kitti_frame.cpp --------------------------------------------------------------------------------------------
 //! The rows of one frame or of a pass: the modes, the LiDAR points, the semidense map, Table V.
@@ -103,6 +106,7 @@ double medianMs(std::vector<double> v);
 // ---- the commands -----------------------------------------------------------------------------------------------
 int runFrame(const Options& o, Frame& f);
 int runKittiFolder(const Options& o);
+int runKittiRaw(const Options& o);
 int runMiddlebury(const Options& o);
 int runCpuTiming(const Options& o, const Frame& f, int reps);
 int runCudaTiming(const Options& o, const Frame& f, int reps);

@@ -2,9 +2,10 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // The datasets as the tool, the tests and the perf tests read them: KITTI calibration, Velodyne scans and ground
-// truth, one KITTI frame with its scan projected (optionally thinned to fewer laser rings), the Middlebury layouts of
-// ../shared/data, the paper's indoor sampling protocol, and the file formats the tool writes. Scoring and colour maps
-// are the module's public API (opencv2/lidarsgm/evaluation.hpp). Header-only: three executables include it.
+// truth, one KITTI frame with its scan projected (optionally thinned to fewer laser rings), KITTI raw drives, the
+// Middlebury layouts of ../shared/data, the paper's indoor sampling protocol, and the file formats the tool writes
+// (disparity, KITTI depth, PLY). Scoring, colour maps, depth and points are the module's public API
+// (opencv2/lidarsgm/evaluation.hpp, depth.hpp). Header-only: three executables include it.
 
 #ifndef LIDARSGM_DATASETS_HPP
 #define LIDARSGM_DATASETS_HPP
@@ -14,6 +15,8 @@
 #include "opencv2/imgcodecs.hpp"
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -30,38 +33,79 @@ struct KittiCalib
     double focalBaseline;
 };
 
-//! KITTI-object-style calibration ("NAME: v0 v1 ..." per line).
+//! The numeric entries of a KITTI calibration file ("NAME: v0 v1 ..." per line; lines without numbers are kept empty).
+class CalibFile
+{
+public:
+    explicit CalibFile(const std::string& path) : path_(path)
+    {
+        std::ifstream f(path.c_str());
+        if (!f)
+            CV_Error(cv::Error::StsObjectNotFound, "cannot open calibration file " + path);
+        std::string line;
+        while (std::getline(f, line))
+        {
+            const size_t colon = line.find(':');
+            if (colon == std::string::npos)
+                continue;
+            std::istringstream vals(line.substr(colon + 1));
+            std::vector<double>& v = entries_[line.substr(0, colon)];
+            double x;
+            while (vals >> x)
+                v.push_back(x);
+        }
+    }
+
+    //! Entry name as a rows x cols CV_64F matrix; raises cv::Exception naming the file and the key when it is missing.
+    cv::Mat matrix(const std::string& name, int rows, int cols) const
+    {
+        auto it = entries_.find(name);
+        if (it == entries_.end())
+            CV_Error(cv::Error::StsParseError, "calibration file " + path_ + " has no key " + name);
+        if ((int)it->second.size() != rows * cols)
+            CV_Error(cv::Error::StsParseError, cv::format("calibration entry %s in %s has %d numbers, expected %d",
+                                                          name.c_str(), path_.c_str(), (int)it->second.size(),
+                                                          rows * cols));
+        return cv::Mat(rows, cols, CV_64F, (void*)it->second.data()).clone();
+    }
+
+private:
+    std::string path_;
+    std::map<std::string, std::vector<double> > entries_;
+};
+
+//! [R | t] (3x3, 3x1 or 3x4) as a 4x4 rigid transform.
+inline cv::Mat homogeneous(const cv::Mat& R, const cv::Mat& t = cv::Mat())
+{
+    cv::Mat T = cv::Mat::eye(4, 4, CV_64F);
+    R.copyTo(T(cv::Rect(0, 0, R.cols, 3)));
+    if (!t.empty())
+        t.reshape(1, 3).copyTo(T(cv::Rect(3, 0, 1, 3)));
+    return T;
+}
+
+//! KITTI-object-style calibration (P2, P3, R0_rect, Tr_velo_to_cam in one file, as in the stereo benchmark).
 inline KittiCalib readKittiCalib(const std::string& path)
 {
-    std::map<std::string, std::vector<double> > c;
-    std::ifstream f(path.c_str());
-    if (!f)
-        CV_Error(cv::Error::StsObjectNotFound, "cannot open calibration file " + path);
-    std::string line;
-    while (std::getline(f, line))
-    {
-        const size_t colon = line.find(':');
-        if (colon == std::string::npos)
-            continue;
-        std::istringstream vals(line.substr(colon + 1));
-        std::vector<double>& v = c[line.substr(0, colon)];
-        double x;
-        while (vals >> x)
-            v.push_back(x);
-    }
-    auto matrix = [&](const std::string& name, int rows, int cols) {
-        auto it = c.find(name);
-        if (it == c.end() || (int)it->second.size() != rows * cols)
-            CV_Error(cv::Error::StsParseError, "calibration entry " + name + " is missing or has the wrong size in " + path);
-        return cv::Mat(rows, cols, CV_64F, (void*)it->second.data()).clone();
-    };
+    const CalibFile c(path);
     KittiCalib k;
-    k.P2 = matrix("P2", 3, 4);
-    const cv::Mat P3 = matrix("P3", 3, 4);
-    cv::Mat R0 = cv::Mat::eye(4, 4, CV_64F), Tr = cv::Mat::eye(4, 4, CV_64F);
-    matrix("R0_rect", 3, 3).copyTo(R0(cv::Rect(0, 0, 3, 3)));
-    matrix("Tr_velo_to_cam", 3, 4).copyTo(Tr(cv::Rect(0, 0, 4, 3)));
-    k.lidarToCamera = R0 * Tr;
+    k.P2 = c.matrix("P2", 3, 4);
+    const cv::Mat P3 = c.matrix("P3", 3, 4);
+    k.lidarToCamera = homogeneous(c.matrix("R0_rect", 3, 3)) * homogeneous(c.matrix("Tr_velo_to_cam", 3, 4));
+    k.focalBaseline = k.P2.at<double>(0, 3) - P3.at<double>(0, 3);
+    return k;
+}
+
+/** KITTI raw calibration: calib_cam_to_cam.txt (P_rect_02, P_rect_03, R_rect_00) and calib_velo_to_cam.txt (R, T),
+the two files beside a raw drive's folder. The LiDAR-to-rectified-camera transform is R_rect_00 [R | T]. */
+inline KittiCalib readKittiRawCalib(const std::string& camToCamPath, const std::string& veloToCamPath)
+{
+    const CalibFile cam(camToCamPath), velo(veloToCamPath);
+    KittiCalib k;
+    k.P2 = cam.matrix("P_rect_02", 3, 4);
+    const cv::Mat P3 = cam.matrix("P_rect_03", 3, 4);
+    k.lidarToCamera = homogeneous(cam.matrix("R_rect_00", 3, 3)) *
+                      homogeneous(velo.matrix("R", 3, 3), velo.matrix("T", 3, 1));
     k.focalBaseline = k.P2.at<double>(0, 3) - P3.at<double>(0, 3);
     return k;
 }
@@ -141,25 +185,67 @@ inline cv::Mat readKittiDisparity(const std::string& path)
     return d;
 }
 
-//! An image as one grey channel: decoded as stored, colour converted with cv::cvtColor.
-inline cv::Mat readGrey(const std::string& path)
+/** KITTI depth ground truth (uint16 PNG, metres x 256, 0 = none) as disparity focalBaseline / depth, float pixels
+with -1 for "none". */
+inline cv::Mat readKittiDepthAsDisparity(const std::string& path, double focalBaseline)
+{
+    cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+    if (raw.empty() || raw.type() != CV_16UC1)
+        CV_Error(cv::Error::StsObjectNotFound, "cannot read KITTI depth PNG " + path);
+    cv::Mat d(raw.size(), CV_32F);
+    for (int y = 0; y < raw.rows; y++)
+        for (int x = 0; x < raw.cols; x++)
+        {
+            const ushort v = raw.at<ushort>(y, x);
+            d.at<float>(y, x) = v ? (float)(focalBaseline * 256.0 / v) : -1.f;
+        }
+    return d;
+}
+
+//! An image as stored (grey or colour).
+inline cv::Mat readImage(const std::string& path)
 {
     cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
     if (img.empty())
         CV_Error(cv::Error::StsObjectNotFound, "cannot read image " + path);
-    if (img.channels() == 3)
-        cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
-    else if (img.channels() == 4)
-        cv::cvtColor(img, img, cv::COLOR_BGRA2GRAY);
     return img;
 }
 
-//! A stereo frame with its sparse disparity (CV_32F pixels, 0 = none) and ground truth (float, -1 = none; may be empty).
+//! An image as one grey channel, converted with cv::cvtColor.
+inline cv::Mat toGrey(const cv::Mat& img)
+{
+    cv::Mat g;
+    if (img.channels() == 3)
+        cv::cvtColor(img, g, cv::COLOR_BGR2GRAY);
+    else if (img.channels() == 4)
+        cv::cvtColor(img, g, cv::COLOR_BGRA2GRAY);
+    else
+        g = img;
+    return g;
+}
+
+//! An image as one grey channel: decoded as stored, colour converted with cv::cvtColor.
+inline cv::Mat readGrey(const std::string& path) { return toGrey(readImage(path)); }
+
+/** A stereo frame with its sparse disparity (CV_32F pixels, 0 = none) and ground truth (float, -1 = none; may be
+empty).
+leftImage is the left image as stored (colour where it is), for coloured outputs; focalBaseline and P2 are the
+calibration (KITTI layouts), for depth and points. */
 struct Frame
 {
     std::string name;
-    cv::Mat left, right, sparse, gt;
+    cv::Mat left, right, sparse, gt, leftImage, P2;
+    double focalBaseline = 0;
 };
+
+//! Projects every lidarEvery-th ring of a Velodyne scan into f.sparse with calibration c; f.left must be read.
+inline void projectScan(Frame& f, const std::string& scanPath, const KittiCalib& c, int lidarEvery)
+{
+    const cv::Mat pts = selectLidarRings(readVelodyne(scanPath), lidarEvery);
+    cv::lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
+    f.P2 = c.P2;
+    f.focalBaseline = c.focalBaseline;
+}
 
 /** Frame `id` of a KITTI-layout folder (image_2/ID_10.png, image_3/ID_10.png, velodyne/ID.bin, calib.txt, optional
 disp_occ_0/ID_10.png): the grey pair, the raw scan (every lidarEvery-th ring, see selectLidarRings) projected by
@@ -168,11 +254,10 @@ inline Frame loadKittiFrame(const std::string& dir, const std::string& id, int l
 {
     Frame f;
     f.name = id;
-    f.left = readGrey(dir + "/image_2/" + id + "_10.png");
+    f.leftImage = readImage(dir + "/image_2/" + id + "_10.png");
+    f.left = toGrey(f.leftImage);
     f.right = readGrey(dir + "/image_3/" + id + "_10.png");
-    const KittiCalib c = readKittiCalib(dir + "/calib.txt");
-    const cv::Mat pts = selectLidarRings(readVelodyne(dir + "/velodyne/" + id + ".bin"), lidarEvery);
-    cv::lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
+    projectScan(f, dir + "/velodyne/" + id + ".bin", readKittiCalib(dir + "/calib.txt"), lidarEvery);
     const std::string gt = dir + "/disp_occ_0/" + id + "_10.png";
     if (std::ifstream(gt.c_str()).good())
         f.gt = readKittiDisparity(gt);
@@ -190,6 +275,51 @@ inline std::vector<std::string> kittiFrameIds(const std::string& dir)
     while (list >> id)
         ids.push_back(id);
     return ids;
+}
+
+/** A KITTI raw drive (DRIVE = <date>/<date>_drive_<n>_sync): its frame names, the stems of image_02/data/*.png in
+order. Raises cv::Exception when the folder holds no such image. */
+inline std::vector<std::string> kittiRawFrameNames(const std::string& drive)
+{
+    std::vector<cv::String> files;
+    cv::glob(drive + "/image_02/data/*.png", files, false);
+    std::vector<std::string> names;
+    for (const cv::String& p : files)
+    {
+        const size_t slash = p.find_last_of("/\\");
+        const std::string file = p.substr(slash == std::string::npos ? 0 : slash + 1);
+        names.push_back(file.substr(0, file.size() - 4));
+    }
+    std::sort(names.begin(), names.end());
+    if (names.empty())
+        CV_Error(cv::Error::StsObjectNotFound, "KITTI raw drive " + drive + " has no image_02/data/*.png");
+    return names;
+}
+
+//! The folder that holds a raw drive's calibration files: the drive folder's parent (<date>/).
+inline std::string kittiRawCalibDir(const std::string& drive)
+{
+    std::string d = drive;
+    while (d.size() > 1 && (d.back() == '/' || d.back() == '\\'))
+        d.pop_back();
+    const size_t slash = d.find_last_of("/\\");
+    return slash == std::string::npos ? std::string(".") : d.substr(0, slash == 0 ? 1 : slash);
+}
+
+/** Frame `name` of a KITTI raw drive: image_02/data/NAME.png, image_03/data/NAME.png and velodyne_points/data/NAME.bin,
+with the drive's calibration c (readKittiRawCalib); no ground truth. */
+inline Frame loadKittiRawFrame(const std::string& drive, const KittiCalib& c, const std::string& name,
+                               int lidarEvery = 1)
+{
+    Frame f;
+    f.name = name;
+    f.leftImage = readImage(drive + "/image_02/data/" + name + ".png");
+    f.left = toGrey(f.leftImage);
+    f.right = readGrey(drive + "/image_03/data/" + name + ".png");
+    if (f.right.size() != f.left.size())
+        CV_Error(cv::Error::StsBadSize, "the images of frame " + name + " in " + drive + " differ in size");
+    projectScan(f, drive + "/velodyne_points/data/" + name + ".bin", c, lidarEvery);
+    return f;
 }
 
 /** A Middlebury scene folder in one of the layouts of ../shared/data/middlebury (2003: im2/im6 + disp2 / 4;
@@ -270,6 +400,69 @@ inline bool writeRawS16(const std::string& path, const cv::Mat& disp16)
     std::ofstream out(path.c_str(), std::ios::binary);
     for (int y = 0; y < disp16.rows && out; y++)
         out.write(disp16.ptr<char>(y), (std::streamsize)disp16.cols * 2);
+    return (bool)out;
+}
+
+/** Depth in the KITTI depth-completion encoding: uint16, round(metres x 256), 0 = none. A depth that does not fit
+(beyond 65535 / 256 = 256 m) is written as none rather than clamped to a wrong value. */
+inline cv::Mat toKittiDepthPng(const cv::Mat& depth)
+{
+    CV_Assert(depth.type() == CV_32FC1);
+    cv::Mat out(depth.size(), CV_16UC1, cv::Scalar::all(0));
+    for (int y = 0; y < depth.rows; y++)
+        for (int x = 0; x < depth.cols; x++)
+        {
+            const double v = std::floor(depth.at<float>(y, x) * 256.0 + 0.5);
+            if (v >= 1 && v <= 65535)
+                out.at<ushort>(y, x) = (ushort)v;
+        }
+    return out;
+}
+
+/** A point cloud as binary little-endian PLY: one vertex (float x, y, z; uchar red, green, blue) per pixel whose point
+is finite, in row order. points: CV_32FC3 (disparityToPoints); image: the colours, grey or BGR, 8 or 16 bits. */
+inline bool writePly(const std::string& path, const cv::Mat& points, const cv::Mat& image)
+{
+    CV_Assert(points.type() == CV_32FC3 && image.size() == points.size());
+    cv::Mat bgr = image;
+    if (bgr.depth() == CV_16U)
+        bgr.convertTo(bgr, CV_8U, 1.0 / 256);
+    if (bgr.channels() == 1)
+        cv::cvtColor(bgr, bgr, cv::COLOR_GRAY2BGR);
+    else if (bgr.channels() == 4)
+        cv::cvtColor(bgr, bgr, cv::COLOR_BGRA2BGR);
+    CV_Assert(bgr.type() == CV_8UC3);
+    size_t n = 0;
+    for (int y = 0; y < points.rows; y++)
+        for (int x = 0; x < points.cols; x++)
+        {
+            const cv::Vec3f& p = points.at<cv::Vec3f>(y, x);
+            n += std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+        }
+    std::ofstream out(path.c_str(), std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\ncomment lidarsgm: left camera frame, metres\n"
+        << "element vertex " << n << "\nproperty float x\nproperty float y\nproperty float z\n"
+        << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+    for (int y = 0; y < points.rows && out; y++)
+        for (int x = 0; x < points.cols; x++)
+        {
+            const cv::Vec3f& p = points.at<cv::Vec3f>(y, x);
+            if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])))
+                continue;
+            const cv::Vec3b& c = bgr.at<cv::Vec3b>(y, x);
+            char rec[15];
+            for (int k = 0; k < 3; k++)   // little-endian float32, whatever the host's byte order
+            {
+                uint32_t bits;
+                std::memcpy(&bits, &p[k], 4);
+                for (int b = 0; b < 4; b++)
+                    rec[4 * k + b] = (char)((bits >> (8 * b)) & 0xFF);
+            }
+            rec[12] = (char)c[2];
+            rec[13] = (char)c[1];
+            rec[14] = (char)c[0];
+            out.write(rec, sizeof(rec));
+        }
     return (bool)out;
 }
 
