@@ -5,7 +5,7 @@
 // so background points land on the near object in the image: wrong priors for semidensification, DDC and the LiDAR
 // check. The near object's own points lie around them, within one sample spacing; a point with a nearer point (by
 // more than Tc) within its window is dropped. The window is the sensor's sample footprint: about half the spacing of
-// neighbouring samples, plus the half pixel of rounding (doc/notes.md derives it for KITTI's HDL-64E).
+// neighbouring samples, plus the half pixel of rounding (doc/design.md derives it for KITTI's HDL-64E).
 
 #include "precomp.hpp"
 #include "cpu_stages.hpp"

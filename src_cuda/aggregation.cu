@@ -7,7 +7,7 @@
 // into the one 16-bit sum volume (the only large buffer) with atomics; integer sums: the order does not matter.
 // Measured against one launch per direction, and pairs of opposite directions walking each line from both ends,
 // without atomics: this is the fastest at every size since the census strings' loads span few cache lines
-// (doc/perf.md, session 6).
+// (doc/perf.md, "Tried and dropped").
 
 #include "cuda_stages.hpp"
 #include "aggregation.cuh"

@@ -1,6 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // Accuracy on the curated frames in testdata/ (KITTI 000002 + 000046 with their raw scans, Middlebury Cones with 1 %
-// of the ground truth). Thresholds were set from measured values (doc/notes.md) with a small margin, so that the
+// of the ground truth). Thresholds were set from measured values (doc/accuracy.md) with a small margin, so that the
 // tests fail when DDC, semidensification or the LiDAR consistency check is switched off or broken.
 #include "test_precomp.hpp"
 #include "lidarsgm_datasets.hpp"
@@ -25,7 +25,7 @@
 #define LIDARSGM_T_SHARED_SDSGM_TOTAL 2.10
 #define LIDARSGM_T_SHARED_DSGM_TOTAL 2.65
 #define LIDARSGM_T_SHARED_SEMI_GAIN 0.3
-// doc/params/kitti_best.yml (LIDARSGM_PARAMS) on the same 20 frames, SDSGM: the bar (measured 2026-11-23:
+// doc/params/kitti_best.yml (LIDARSGM_PARAMS) on the same 20 frames, SDSGM: the bar (measured 2026-11-23:
 // 99.54 / 1.56 / 1.69 %, DSGM 1.85 %).
 #define LIDARSGM_T_SHARED_BEST_SDSGM_TOTAL 1.75
 #define LIDARSGM_T_SHARED_BEST_DSGM_TOTAL 2.00

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Would filling the matcher's holes beat the devkit's background interpolation? (doc/notes.md, section 4, session 3)
+"""Would filling the matcher's holes beat the devkit's background interpolation? (doc/design.md, "Filling holes")
 
   PYTHONPATH=<opencv build>/python_loader python3 tools/analysis/hole_fill.py [shared data dir]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where SDSGM's KITTI errors come from, and what wrong LiDAR points cost (doc/notes.md, section 4, session 3).
+"""Where SDSGM's KITTI errors come from, and what wrong LiDAR points cost (doc/design.md, "Where the errors are").
 
   PYTHONPATH=<opencv build>/python_loader python3 tools/analysis/lidar_points.py [--filters] [shared data dir]
 

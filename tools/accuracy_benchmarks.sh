@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Rewrites the accuracy outputs in doc/benchmarks/ (the figures of doc/accuracy.md and the README) with the tool of an
+# OpenCV build made by the README's commands: the 20 shared KITTI frames (every mode and check; DSGM and SDSGM at
+# 64, 32 and 16 LiDAR lines) and the Middlebury scenes, with the create() defaults and with kitti_best.yml.
+#   tools/accuracy_benchmarks.sh [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90] [shared data dir]
+set -eo pipefail
+cd "$(dirname "$0")/.."
+T=${1:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
+DATA=${2:-../shared/data}
+C=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src src_cuda include samples || echo " + uncommitted changes")
+run() {  # output file, then the tool's arguments
+  local f=doc/benchmarks/$1; shift
+  { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"
+    echo "# Command: lidarsgm_lidarsgm_fuse $*"
+    "$T" "$@"; } > "$f" 2>&1
+  echo "wrote $f"
+}
+for cfg in defaults best; do
+  P=(); [ $cfg = best ] && P=(--params doc/params/kitti_best.yml)
+  run accuracy_kitti20_$cfg.txt --kitti "$DATA/kitti2015_lidar" --table5 --quiet 1 "${P[@]}"
+  run accuracy_kitti20_lines_$cfg.txt --kitti "$DATA/kitti2015_lidar" --modes dsgm,sdsgm --lidar-lines 64,32,16 \
+    --quiet 1 "${P[@]}"
+  run accuracy_middlebury_$cfg.txt --middlebury "$DATA/middlebury" "${P[@]}"
+done
