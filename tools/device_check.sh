@@ -103,6 +103,23 @@ if [ "${THROUGHPUT:-0}" = 1 ]; then
   echo "the same folder on the CPU, 16 threads, one worker:"
   $B/lidarsgm_lidarsgm_fuse --kitti $TP --quiet 1 --threads 16 | grep -E "SDSGM|frames:" || true
 fi
+if [ "${RAW:-0}" = 1 ]; then
+  # A KITTI raw drive (tools/make_raw_drive.sh) on the GPU with depth and PLY out; its disparity files against the
+  # CPU's of the same drive.
+  rm -rf /tmp/raw; D=$(tools/make_raw_drive.sh /tmp/raw)
+  $B/lidarsgm_lidarsgm_fuse --kitti-raw $D --out /tmp/raw/gpu --cuda 1 --streams 2 --modes sgm,sdsgm \
+    --format kitti,depth,ply --quiet 1
+  $B/lidarsgm_lidarsgm_fuse --kitti-raw $D --out /tmp/raw/cpu --modes sgm,sdsgm --format kitti,depth,ply --quiet 1 \
+    > /dev/null
+  for f in /tmp/raw/gpu/*/*.png /tmp/raw/gpu/*/*.ply; do
+    cmp -s "$f" "/tmp/raw/cpu/${f#/tmp/raw/gpu/}" && echo "same as the CPU: ${f#/tmp/raw/gpu/}" \
+      || echo "DIFFERS from the CPU: ${f#/tmp/raw/gpu/}"
+  done
+fi
+if [ -n "${SPREAD:-}" ]; then
+  # Fresh processes of the CPU timing at each thread count of SPREAD (tools/process_spread.sh), 8 paths.
+  for t in $SPREAD; do tools/process_spread.sh ${SPREAD_N:-10} $t 8 "$B/.." | tail -n +2; done
+fi
 if [ "${CPU_SCALING:-0}" = 1 ]; then
   # The CPU path on the host's cores: cv::setNumThreads 1..16, every cv::StereoSGBM mode alongside. With
   # .device/prebuilt_base.tar.xz (tools/pack_device_build.sh with PACK_NAME=prebuilt_base, from an earlier commit)
