@@ -124,6 +124,71 @@ inline ushort pathStart(const ushort* C, ushort* Lout, int D)
     return m;
 }
 
+/** The vertical paths of one pixel in one pass over the disparities: for each direction k < ND, pathStep(C, Lp[k],
+minPrev[k], Lout[k], D, P1, P2[k]) (a path's first pixel passes a row of sentinels, minPrev 0 and P2 0, which gives
+Lout = C), and S = A + Lout[0] + ... + Lout[ND - 1] + B (A, B may be null). The same operations in the same order as
+pathStep and sumInto, so the same results; C and the outputs are loaded once instead of once per direction. */
+template <int ND>
+inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const ushort* minPrev, ushort* const* Lout,
+                            ushort* minOut, const ushort* P2, const ushort* A, const ushort* B, ushort* S, int D,
+                            ushort P1)
+{
+    int d = 0;
+    ushort m[ND];
+    for (int k = 0; k < ND; k++)
+        m[k] = SENTINEL;
+#if (CV_SIMD || CV_SIMD_SCALABLE)
+    const int n = VTraits<v_uint16>::vlanes();
+    const v_uint16 vp1 = vx_setall_u16(P1);
+    v_uint16 vjump[ND], vmp[ND], vmin[ND];
+    for (int k = 0; k < ND; k++)
+    {
+        vjump[k] = vx_setall_u16((ushort)(minPrev[k] + P2[k]));
+        vmp[k] = vx_setall_u16(minPrev[k]);
+        vmin[k] = vx_setall_u16(SENTINEL);
+    }
+    for (; d <= D - n; d += n)
+    {
+        const v_uint16 c = vx_load(C + d);
+        v_uint16 sum = A ? vx_load(A + d) : vx_setzero_u16();
+        for (int k = 0; k < ND; k++)
+        {
+            const ushort* lp = Lp[k];
+            const v_uint16 a = vx_load(lp + d);
+            const v_uint16 b = v_add(vx_load(lp + d - 1), vp1);   // saturating: SENTINEL stays SENTINEL
+            const v_uint16 e = v_add(vx_load(lp + d + 1), vp1);
+            const v_uint16 best = v_min(v_min(a, b), v_min(e, vjump[k]));
+            const v_uint16 l = v_sub(v_add(c, best), vmp[k]);
+            v_store(Lout[k] + d, l);
+            vmin[k] = v_min(vmin[k], l);
+            sum = v_add(sum, l);
+        }
+        if (B)
+            sum = v_add(sum, vx_load(B + d));
+        v_store(S + d, sum);
+    }
+    for (int k = 0; k < ND; k++)
+        m[k] = (ushort)v_reduce_min(vmin[k]);
+#endif
+    for (; d < D; d++)
+    {
+        int sum = A ? A[d] : 0;
+        for (int k = 0; k < ND; k++)
+        {
+            const ushort* lp = Lp[k];
+            const int best = std::min(std::min((int)lp[d], (int)lp[d - 1] + P1),
+                                      std::min((int)lp[d + 1] + P1, minPrev[k] + P2[k]));
+            const ushort l = (ushort)(C[d] + best - minPrev[k]);
+            Lout[k][d] = l;
+            m[k] = std::min(m[k], l);
+            sum += l;
+        }
+        S[d] = (ushort)(sum + (B ? B[d] : 0));
+    }
+    for (int k = 0; k < ND; k++)
+        minOut[k] = m[k];
+}
+
 //! S = A + B (B may be null: S = A), and the same with a third and fourth operand where given.
 inline void sumInto(ushort* S, const ushort* A, const ushort* B, const ushort* C, const ushort* E, int D)
 {
@@ -171,12 +236,15 @@ void horizontalRow(AggregationState& a, int y, ushort* lr)
     ushort m = pathStart(C, lr, D);
     for (int x = 1; x < W; x++)
         m = pathStep(C + (size_t)x * D, lr + (size_t)(x - 1) * st, m, lr + (size_t)x * st, D, P1, jump(a, I, x, x - 1));
+    // Right-left, each step with the sum of the row's paths: S = top-down + right-left + left-right, in one pass.
     m = pathStart(C + (size_t)(W - 1) * D, u, D);
     sumInto(S + (size_t)(W - 1) * D, V + (size_t)(W - 1) * D, u, lr + (size_t)(W - 1) * st, nullptr, D);
     for (int x = W - 2; x >= 0; x--)
     {
-        m = pathStep(C + (size_t)x * D, u, m, v, D, P1, jump(a, I, x, x + 1));
-        sumInto(S + (size_t)x * D, V + (size_t)x * D, v, lr + (size_t)x * st, nullptr, D);
+        const ushort* lp = u;
+        const ushort p2 = jump(a, I, x, x + 1);
+        pathStepsAndSum<1>(C + (size_t)x * D, &lp, &m, &v, &m, &p2, V + (size_t)x * D, lr + (size_t)x * st,
+                           S + (size_t)x * D, D, P1);
         std::swap(u, v);
     }
 }
@@ -219,29 +287,40 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     ushort* finalSum = a.finalSum.empty() ? nullptr : a.finalSum.ptr<ushort>(y);
     short* d16 = down ? nullptr : a.disp16.ptr<short>(y);
     short* dInt = down ? nullptr : a.dispInt.ptr<short>(y);
+    // A path's first pixel steps from a row of sentinels with minPrev 0 and P2 0: that gives L = C (pathStart).
+    AutoBuffer<ushort> noPathBuf(D + 2);
+    std::fill(noPathBuf.data(), noPathBuf.data() + D + 2, SENTINEL);
+    const ushort* noPath = noPathBuf.data() + 1;
     auto pixel = [&](int x) {
         ushort* c = down ? costRow + (size_t)x * D : cBuf.data();
         costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1, a.p.w, D, c);
-        const ushort* out[3] = { nullptr, nullptr, nullptr };
+        const ushort* lp[3] = {};
+        ushort* out[3] = {};
+        ushort minPrev[3] = {}, p2[3] = {}, mins[3];
         for (int k = 0; k < a.ndirs; k++)
         {
             const int xp = x - a.dx[k];
-            ushort* o = curL[k] + (size_t)x * st;
+            out[k] = curL[k] + (size_t)x * st;
             if (first || xp < 0 || xp >= W)
-                curMin[k][x] = pathStart(c, o, D);
+                lp[k] = noPath;
             else
-                curMin[k][x] = pathStep(c, prevL[k] + (size_t)xp * st, prevMin[k][xp], o, D, P1,
-                                        Iq ? (ushort)jumpPenalty(I[x], Iq[xp], a.p.edgeThreshold, a.p.w)
-                                           : (ushort)a.p.w.p2);
-            out[k] = o;
+            {
+                lp[k] = prevL[k] + (size_t)xp * st;
+                minPrev[k] = prevMin[k][xp];
+                p2[k] = Iq ? (ushort)jumpPenalty(I[x], Iq[xp], a.p.edgeThreshold, a.p.w) : (ushort)a.p.w.p2;
+            }
         }
+        // Down: the sum of the top-down paths to the ring row; up: the pixel's complete sum.
+        ushort* f = down ? downRow + (size_t)x * D : fBuf.data();
+        const ushort* base = down ? nullptr : S + (size_t)x * D;
+        if (a.ndirs == 3)
+            pathStepsAndSum<3>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1);
+        else
+            pathStepsAndSum<1>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1);
+        for (int k = 0; k < a.ndirs; k++)
+            curMin[k][x] = mins[k];
         if (down)
-        {
-            sumInto(downRow + (size_t)x * D, out[0], out[1], out[2], nullptr, D);
             return;
-        }
-        ushort* f = fBuf.data();
-        sumInto(f, S + (size_t)x * D, out[0], out[1], out[2], D);
         if (finalSum)
             memcpy(finalSum + (size_t)x * D, f, D * sizeof(ushort));
         selectPixel(f, x, W, a.p, d16[x], dInt[x], rv);
