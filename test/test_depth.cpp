@@ -1,0 +1,131 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// Disparity to metric depth and 3D points (opencv2/lidarsgm/depth.hpp): the x16 scale of the CV_16S output, the
+// invalid value, minDisparity, the reprojection formula (the Python test compares with cv2.reprojectImageTo3D), and
+// the refusals of bad input; and the tool's depth and PLY encodings (samples/common/lidarsgm_datasets.hpp).
+#include "test_precomp.hpp"
+#include "lidarsgm_datasets.hpp"
+#include <fstream>
+
+namespace opencv_test { namespace {
+
+using namespace cv::lidarsgm;
+
+TEST(Lidarsgm_Depth, x16_output_and_invalid_pixels)
+{
+    const double fb = 389.0;
+    // The matcher's CV_16S output: -16 is "invalid" (minDisparity 0), 0 a valid disparity of 0 px (no depth).
+    const Mat_<short> disp16 = (Mat_<short>(2, 3) << -16, 0, 16, 32 * 16, 1, 100 * 16 + 8);
+    Mat depth;
+    disparityToDepth(disp16, fb, depth);
+    ASSERT_EQ(CV_32FC1, depth.type());
+    const float expected[6] = { 0.f, 0.f, (float)fb, (float)(fb / 32), (float)(fb * 16), (float)(fb / 100.5) };
+    for (int i = 0; i < 6; i++)
+        EXPECT_FLOAT_EQ(expected[i], depth.at<float>(i / 3, i % 3)) << i;
+    // The same in pixels (CV_32F), with NaN and infinity as "invalid".
+    const Mat_<float> dispF = (Mat_<float>(1, 4) << 2.f, -1.f, std::numeric_limits<float>::quiet_NaN(),
+                               std::numeric_limits<float>::infinity());
+    disparityToDepth(dispF, fb, depth);
+    EXPECT_FLOAT_EQ((float)(fb / 2), depth.at<float>(0, 0));
+    EXPECT_EQ(0.f, depth.at<float>(0, 1));
+    EXPECT_EQ(0.f, depth.at<float>(0, 2));
+    EXPECT_EQ(0.f, depth.at<float>(0, 3));
+    // minDisparity 2: its invalid code (2 - 1) * 16 and everything below 2 px give no depth.
+    disparityToDepth(disp16, fb, depth, 2);
+    EXPECT_EQ(0.f, depth.at<float>(0, 2));
+    EXPECT_EQ(0.f, depth.at<float>(1, 1));
+    EXPECT_FLOAT_EQ((float)(fb / 32), depth.at<float>(1, 0));
+}
+
+TEST(Lidarsgm_Depth, points_match_the_reprojection_formula)
+{
+    const double fb = 384.3815, f = 721.5377, cx = 609.5593, cy = 172.854;
+    const Matx34d P2(f, 0, cx, 44.85728, 0, f, cy, 0.2163791, 0, 0, 1, 0.002745884);
+    const Mat Q = reprojectionMatrix(P2, fb);
+    ASSERT_EQ(CV_64FC1, Q.type());
+    RNG rng(7);
+    Mat_<short> disp16(37, 53);
+    for (int y = 0; y < disp16.rows; y++)
+        for (int x = 0; x < disp16.cols; x++)
+            disp16(y, x) = rng.uniform(0, 5) == 0 ? (short)-16 : (short)rng.uniform(1, 128 * 16);
+    Mat points;
+    disparityToPoints(disp16, Q, points);
+    ASSERT_EQ(CV_32FC3, points.type());
+    for (int y = 0; y < disp16.rows; y++)
+        for (int x = 0; x < disp16.cols; x++)
+        {
+            const Vec3f p = points.at<Vec3f>(y, x);
+            if (disp16(y, x) < 0)
+            {
+                EXPECT_TRUE(cvIsNaN(p[0]) && cvIsNaN(p[1]) && cvIsNaN(p[2])) << x << ", " << y;
+                continue;
+            }
+            const double z = fb / (disp16(y, x) / 16.0);
+            EXPECT_NEAR(z, p[2], 1e-5 * z);
+            EXPECT_NEAR((x - cx) * z / f, p[0], 1e-5 * z);
+            EXPECT_NEAR((y - cy) * z / f, p[1], 1e-5 * z);
+        }
+}
+
+TEST(Lidarsgm_Depth, bad_input_is_refused)
+{
+    const Mat disp(4, 4, CV_16SC1, Scalar(160));
+    Mat out;
+    EXPECT_THROW(disparityToDepth(Mat(), 389.0, out), cv::Exception);
+    EXPECT_THROW(disparityToDepth(Mat(4, 4, CV_32SC1, Scalar(1)), 389.0, out), cv::Exception);
+    EXPECT_THROW(disparityToDepth(Mat(4, 4, CV_16SC2, Scalar(1)), 389.0, out), cv::Exception);
+    EXPECT_THROW(disparityToDepth(disp, 0.0, out), cv::Exception);
+    EXPECT_THROW(disparityToDepth(disp, std::numeric_limits<double>::quiet_NaN(), out), cv::Exception);
+    EXPECT_THROW(disparityToPoints(disp, Mat::eye(3, 3, CV_64F), out), cv::Exception);
+    Mat Qnan = Mat::eye(4, 4, CV_64F);
+    Qnan.at<double>(0, 3) = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_THROW(disparityToPoints(disp, Qnan, out), cv::Exception);
+    EXPECT_THROW(reprojectionMatrix(Mat::eye(2, 3, CV_64F), 389.0), cv::Exception);
+    EXPECT_THROW(reprojectionMatrix(Mat::zeros(3, 4, CV_64F), 389.0), cv::Exception);
+    EXPECT_THROW(reprojectionMatrix(Mat::eye(3, 4, CV_64F), -1.0), cv::Exception);
+    try
+    {
+        disparityToDepth(Mat(4, 4, CV_8UC1, Scalar(1)), 389.0, out);
+        ADD_FAILURE() << "no exception";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(std::string::npos, e.err.find("CV_16SC1 (x16) or CV_32FC1")) << e.err;
+    }
+}
+
+TEST(Lidarsgm_Depth, kitti_depth_png_and_ply_encodings)
+{
+    // Depth PNG: metres x 256, 0 = none; a depth beyond 65535 / 256 m is none, not clamped.
+    const Mat_<float> depth = (Mat_<float>(1, 4) << 0.f, 10.f, 255.99f, 300.f);
+    const Mat png = lidarsgm_data::toKittiDepthPng(depth);
+    ASSERT_EQ(CV_16UC1, png.type());
+    EXPECT_EQ(0, png.at<ushort>(0, 0));
+    EXPECT_EQ(2560, png.at<ushort>(0, 1));
+    EXPECT_EQ(65533, png.at<ushort>(0, 2));
+    EXPECT_EQ(0, png.at<ushort>(0, 3));
+    // PLY: a header naming the valid points, then x y z float32 and r g b per point, NaN pixels left out.
+    Mat points(1, 3, CV_32FC3, Scalar::all(std::numeric_limits<float>::quiet_NaN()));
+    points.at<Vec3f>(0, 1) = Vec3f(1.5f, -2.f, 7.25f);
+    Mat bgr(1, 3, CV_8UC3, Scalar(10, 20, 30));
+    const std::string path = cv::tempfile(".ply");
+    ASSERT_TRUE(lidarsgm_data::writePly(path, points, bgr));
+    std::ifstream in(path.c_str(), std::ios::binary);
+    std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::remove(path.c_str());
+    const size_t end = content.find("end_header\n");
+    ASSERT_NE(std::string::npos, end);
+    EXPECT_NE(std::string::npos, content.find("format binary_little_endian 1.0\n"));
+    EXPECT_NE(std::string::npos, content.find("element vertex 1\n"));
+    const std::string body = content.substr(end + 11);
+    ASSERT_EQ(15u, body.size());
+    float xyz[3];
+    memcpy(xyz, body.data(), 12);   // the test hosts are little-endian
+    EXPECT_EQ(1.5f, xyz[0]);
+    EXPECT_EQ(-2.f, xyz[1]);
+    EXPECT_EQ(7.25f, xyz[2]);
+    EXPECT_EQ(30, (uchar)body[12]);   // red
+    EXPECT_EQ(20, (uchar)body[13]);
+    EXPECT_EQ(10, (uchar)body[14]);   // blue
+}
+
+}} // namespace
