@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """KITTI raw drives in, metric depth and point clouds out: the tool's --kitti-raw and --format depth,ply, and the
-module's disparityToDepth / disparityToPoints, checked as a robotics user would use them. The raw drive is made here
-from the shipped KITTI frames (the calibration written in the raw files' format); the PLY is read with plyfile.
+module's disparityToDepth / disparityToPoints, checked as a robotics user would use them. The raw drive is made from
+the shipped KITTI frames by tools/make_raw_drive.sh (the calibration in the raw files' format); the PLY is read with
+plyfile.
 
 Environment (set by ctest): LIDARSGM_TOOL (the tool binary), LIDARSGM_TESTDATA (testdata/), PYTHONPATH with cv2.
 """
@@ -9,6 +10,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
 import unittest
 
@@ -19,22 +21,15 @@ from plyfile import PlyData
 TOOL = os.environ.get("LIDARSGM_TOOL", "")
 DATA = os.environ.get("LIDARSGM_TESTDATA", os.path.join(os.path.dirname(__file__), "..", "..", "testdata"))
 KITTI = os.path.join(DATA, "kitti")
-FRAMES = {"0000000000": "000002", "0000000001": "000046"}   # raw frame name: KITTI 2015 frame
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+FRAMES = {"0000000000": "000002", "0000000001": "000046"}   # raw frame name: KITTI 2015 frame (make_raw_drive.sh)
+sys.path.insert(0, os.path.join(ROOT, "samples", "python"))
+from lidarsgm_fuse import read_calib  # noqa: E402  (the Python sample's KITTI calibration reader)
 
 
 def run(cmd):
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True, timeout=600)
     return p.returncode, p.stdout, p.stderr
-
-
-def read_calib(path):
-    entries = {}
-    with open(path) as f:
-        for line in f:
-            if ":" in line:
-                name, values = line.split(":", 1)
-                entries[name.strip()] = np.array([float(v) for v in values.split()])
-    return entries
 
 
 def d1_outliers(d, gt):
@@ -46,36 +41,22 @@ def d1_outliers(d, gt):
 class RawDriveTest(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.mkdtemp(prefix="lidarsgm_raw_")
-        c = read_calib(os.path.join(KITTI, "calib.txt"))
-        self.P2 = c["P2"].reshape(3, 4)
-        self.fb = self.P2[0, 3] - c["P3"].reshape(3, 4)[0, 3]
-        # <date>/<date>_drive_0001_sync/{image_02,image_03,velodyne_points}/data, calibration files in <date>/.
-        self.date = os.path.join(self.tmp, "2011_09_26")
-        self.drive = os.path.join(self.date, "2011_09_26_drive_0001_sync")
-        for sub in ["image_02", "image_03", "velodyne_points"]:
-            os.makedirs(os.path.join(self.drive, sub, "data"))
+        self.P2, _, self.fb = read_calib(os.path.join(KITTI, "calib.txt"))
+        # <date>/<date>_drive_0001_sync/{image_02,image_03,velodyne_points}/data, calibration files in <date>/,
+        # made from testdata/kitti (the script reads the repository's testdata: the same frames as KITTI here).
+        p = subprocess.run(["bash", os.path.join(ROOT, "tools", "make_raw_drive.sh"), self.tmp],
+                           stdout=subprocess.PIPE, universal_newlines=True, check=True)
+        self.drive = p.stdout.strip()
+        self.date = os.path.dirname(self.drive)
+        self.assertEqual(os.path.join(self.tmp, "2011_09_26", "2011_09_26_drive_0001_sync"), self.drive)
+        # The ground truth as KITTI depth (metres x 256), the depth-completion set's format.
         self.gt_depth = os.path.join(self.tmp, "groundtruth")
         os.makedirs(self.gt_depth)
         for name, fid in FRAMES.items():
-            shutil.copy(os.path.join(KITTI, "image_2", fid + "_10.png"),
-                        os.path.join(self.drive, "image_02", "data", name + ".png"))
-            shutil.copy(os.path.join(KITTI, "image_3", fid + "_10.png"),
-                        os.path.join(self.drive, "image_03", "data", name + ".png"))
-            shutil.copy(os.path.join(KITTI, "velodyne", fid + ".bin"),
-                        os.path.join(self.drive, "velodyne_points", "data", name + ".bin"))
-            # The ground truth as KITTI depth (metres x 256), the depth-completion set's format.
             gt = cv.imread(os.path.join(KITTI, "disp_occ_0", fid + "_10.png"), cv.IMREAD_UNCHANGED)
             depth = np.zeros(gt.shape, np.uint16)
             depth[gt > 0] = np.round(self.fb / (gt[gt > 0] / 256.0) * 256.0).astype(np.uint16)
             cv.imwrite(os.path.join(self.gt_depth, name + ".png"), depth)
-        fmt = lambda a: " ".join("%.12e" % v for v in np.ravel(a))
-        with open(os.path.join(self.date, "calib_cam_to_cam.txt"), "w") as f:
-            f.write("calib_time: 09-Jan-2012 13:57:47\ncorner_dist: 9.950000e-02\n")
-            f.write("S_rect_02: 1.242000e+03 3.750000e+02\nR_rect_00: %s\nP_rect_02: %s\nP_rect_03: %s\n"
-                    % (fmt(c["R0_rect"]), fmt(c["P2"]), fmt(c["P3"])))
-        tr = c["Tr_velo_to_cam"].reshape(3, 4)
-        with open(os.path.join(self.date, "calib_velo_to_cam.txt"), "w") as f:
-            f.write("calib_time: 15-Mar-2012 11:37:16\nR: %s\nT: %s\ndelta_f: 0 0\n" % (fmt(tr[:, :3]), fmt(tr[:, 3])))
 
     def tearDown(self):
         shutil.rmtree(self.tmp, ignore_errors=True)
