@@ -241,7 +241,7 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
     }
     else
         printTimes(title.substr(0, title.find(", D1")) + ", no ground truth", table);
-    if (!sums.table5.empty())
+    if (scored && !sums.table5.empty())
         printTable("Consistency checks on SDSGM (the paper's Table V)", "D1", sums.table5);
     printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed; %.2f frames/s over the pass\n",
            computed, resumed, failed, ids.size() / std::max(total.getTimeSec(), 1e-9));
