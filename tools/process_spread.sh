@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 N=${1:?number of processes}; THREADS=${2:?threads}; PATHS=${3:?4 or 8}
 T=${4:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
 RUNS=${5:-5}
-echo "# $(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD 2>/dev/null || cat /tmp/prebuilt/COMMIT 2>/dev/null | head -c 7), $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
+echo "# $(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD 2>/dev/null || echo "unknown (no git checkout)"), $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
 echo "# Command: tools/process_spread.sh $N $THREADS $PATHS, each process: lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --timing $RUNS --threads $THREADS --paths $PATHS"
 times=()
 for i in $(seq 1 "$N"); do

@@ -228,9 +228,8 @@ inline cv::Mat toGrey(const cv::Mat& img)
 inline cv::Mat readGrey(const std::string& path) { return toGrey(readImage(path)); }
 
 /** A stereo frame with its sparse disparity (CV_32F pixels, 0 = none) and ground truth (float, -1 = none; may be
-empty).
-leftImage is the left image as stored (colour where it is), for coloured outputs; focalBaseline and P2 are the
-calibration (KITTI layouts), for depth and points. */
+empty). leftImage is the left image as stored (colour where it is), for coloured outputs; focalBaseline and P2 are
+the calibration (KITTI layouts), for depth and points. */
 struct Frame
 {
     std::string name;
@@ -238,13 +237,20 @@ struct Frame
     double focalBaseline = 0;
 };
 
-//! Projects every lidarEvery-th ring of a Velodyne scan into f.sparse with calibration c; f.left must be read.
+//! The frame's calibration for depth and points: P2 and f * baseline of c.
+inline void useCalibration(Frame& f, const KittiCalib& c)
+{
+    f.P2 = c.P2;
+    f.focalBaseline = c.focalBaseline;
+}
+
+//! Projects every lidarEvery-th ring of a Velodyne scan into f.sparse with calibration c (and keeps c for depth and
+//! points); f.left must be read.
 inline void projectScan(Frame& f, const std::string& scanPath, const KittiCalib& c, int lidarEvery)
 {
     const cv::Mat pts = selectLidarRings(readVelodyne(scanPath), lidarEvery);
     cv::lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
-    f.P2 = c.P2;
-    f.focalBaseline = c.focalBaseline;
+    useCalibration(f, c);
 }
 
 /** Frame `id` of a KITTI-layout folder (image_2/ID_10.png, image_3/ID_10.png, velodyne/ID.bin, calib.txt, optional

@@ -94,14 +94,13 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr)
     return true;
 }
 
-//! Where a folder run's frames come from: their names, how to load one (with every lidarEvery-th ring), and whether
-//! each must have ground truth.
+//! Where a folder run's frames come from: their names and how to load one (with every lidarEvery-th ring); the
+//! loader raises cv::Exception for a frame that cannot be read, or lacks ground truth its source requires.
 struct FrameSource
 {
     std::string label;   //!< "KITTI DIR" or "KITTI raw DRIVE", for the table's title
     std::vector<std::string> ids;
     std::function<Frame(const std::string& id, int lidarEvery)> load;
-    bool needGroundTruth;
 };
 
 //! What a frame gave: its rows, or why it failed; whether it was taken from an earlier run.
@@ -157,9 +156,6 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
             else
             {
                 const Frame f = src.load(ids[n], 64 / lines);
-                if (f.gt.empty() && src.needGroundTruth)
-                    CV_Error(Error::StsObjectNotFound,
-                             "no ground truth " + o.str("kitti") + "/disp_occ_0/" + ids[n] + "_10.png");
                 if (!frameOut.empty())
                     prepareFrameDir(frameOut);
                 worker.compute(f, frameOut, res.rows);
@@ -272,8 +268,12 @@ int runKittiFolder(const Options& o)
     src.ids = kittiFrameIds(dir);
     if (src.ids.empty())
         CV_Error(Error::StsObjectNotFound, dir + "/frames.txt lists no frame");
-    src.load = [dir](const std::string& id, int every) { return loadKittiFrame(dir, id, every); };
-    src.needGroundTruth = true;
+    src.load = [dir](const std::string& id, int every) {
+        Frame f = loadKittiFrame(dir, id, every);
+        if (f.gt.empty())
+            CV_Error(Error::StsObjectNotFound, "no ground truth " + dir + "/disp_occ_0/" + id + "_10.png");
+        return f;
+    };
     return runPasses(o, src);
 }
 
@@ -291,7 +291,6 @@ int runKittiRaw(const Options& o)
             f.gt = readKittiDepthAsDisparity(gtDir + "/" + id + ".png", calib.focalBaseline);
         return f;
     };
-    src.needGroundTruth = !gtDir.empty();
     return runPasses(o, src);
 }
 

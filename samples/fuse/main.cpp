@@ -51,11 +51,7 @@ Frame loadFrame(const Options& o)
         if (f.sparse.empty())
             CV_Error(Error::StsObjectNotFound, "cannot read sparse disparity " + o.str("sparse"));
         if (o.has("calib"))
-        {
-            const lidarsgm_data::KittiCalib c = lidarsgm_data::readKittiCalib(o.str("calib"));
-            f.P2 = c.P2;
-            f.focalBaseline = c.focalBaseline;
-        }
+            lidarsgm_data::useCalibration(f, lidarsgm_data::readKittiCalib(o.str("calib")));
     }
     else if (o.has("velodyne") && o.has("calib"))
         lidarsgm_data::projectScan(f, o.str("velodyne"), lidarsgm_data::readKittiCalib(o.str("calib")),

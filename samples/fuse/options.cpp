@@ -292,6 +292,8 @@ void checkOptions(const Options& o)
     }
     if (o.has("gt-depth") && !o.has("kitti-raw"))
         CV_Error(Error::StsBadArg, "--gt-depth goes with --kitti-raw");
+    if (o.has("table5") && o.has("kitti-raw") && !o.has("gt-depth"))
+        CV_Error(Error::StsBadArg, "--table5 scores each check against ground truth: with --kitti-raw give --gt-depth");
     lidarLineCounts(o);
     int w = 0, h = 0;
     char rest = 0;
