@@ -149,6 +149,21 @@ if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
       $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
+if [ -n "${DRAM_SIZES:-}" ] && command -v ncu >/dev/null; then
+  # DRAM bytes read and written by each kernel of one SDSGM call at each WxH:disparities:paths of DRAM_SIZES.
+  for spec in $DRAM_SIZES; do
+    IFS=: read -r sz nd np <<< "$spec"
+    ncu --clock-control none --csv --print-units base --launch-count 40 \
+      --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum $B/lidarsgm_lidarsgm_fuse \
+      --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 --resize $sz --num-disparities $nd --paths $np \
+      > "$OUT/dram_$sz.csv" 2> "$OUT/dram_$sz.err"
+    python3 tools/analysis/ncu_call_bytes.py "$OUT/dram_$sz.csv" "$spec" || tail -5 "$OUT/dram_$sz.err"
+  done
+fi
+if [ -n "${HANDOFF:-}" ] && command -v nvcc >/dev/null; then
+  # The row hand-off of a strip-wise sweep alone (tools/analysis/wavefront_handoff.cu).
+  nvcc -O3 -arch=sm_90 tools/analysis/wavefront_handoff.cu -o /tmp/wavefront_handoff && /tmp/wavefront_handoff
+fi
 if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
   # Per-kernel durations of the second SDSGM call at each WxH:disparities:paths of PROFILE_SIZES (the first call
   # includes module loading), e.g. PROFILE_SIZES="1242x375:128:8 1920x1080:256:8". With STALLS=1 also the warp
