@@ -213,6 +213,21 @@ TEST(Lidarsgm_Eval, lidar_rings)
         for (int i = 0; i < quarter.rows; i++)
             missing += !in32.count(std::vector<float>(quarter.ptr<float>(i), quarter.ptr<float>(i) + 4));
         EXPECT_EQ(0, missing) << id;
+        // The four ring offsets of the 16-line thinning split the scan: together they hold every point once.
+        int total = 0;
+        std::set<std::vector<float> > seen;
+        for (int first = 0; first < 4; first++)
+        {
+            const Mat part = selectLidarRings(pts, 4, nullptr, first);
+            total += part.rows;
+            for (int i = 0; i < part.rows; i++)
+                seen.insert(std::vector<float>(part.ptr<float>(i), part.ptr<float>(i) + 4));
+        }
+        std::set<std::vector<float> > scan;
+        for (int i = 0; i < pts.rows; i++)
+            scan.insert(std::vector<float>(pts.ptr<float>(i), pts.ptr<float>(i) + 4));
+        EXPECT_EQ(pts.rows, total) << id;
+        EXPECT_TRUE(seen == scan) << id;
         // The top ring (highest elevation) is kept: the highest point of the scan's first ring is in every subset.
         double top = -1e9;
         for (int i = 0; i < quarter.rows; i++)

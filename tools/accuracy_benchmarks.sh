@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Rewrites the accuracy outputs in doc/benchmarks/ (the figures of doc/accuracy.md and the README) with the tool of an
 # OpenCV build made by the README's commands: the 20 shared KITTI frames (every mode and check; DSGM and SDSGM at
-# 64, 32 and 16 LiDAR lines) and the Middlebury scenes, with the create() defaults and with kitti_best.yml.
+# 64, 32 and 16 LiDAR lines, and SDSGM with the other ring offsets) and the Middlebury scenes, with the create()
+# defaults and with kitti_best.yml.
 #   tools/accuracy_benchmarks.sh [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90] [shared data dir]
 set -eo pipefail
 cd "$(dirname "$0")/.."
@@ -21,4 +22,13 @@ for cfg in defaults best; do
   run accuracy_kitti20_lines_$cfg.txt --kitti "$DATA/kitti2015_lidar" --modes dsgm,sdsgm --lidar-lines 64,32,16 \
     --quiet 1 "${P[@]}"
   run accuracy_middlebury_$cfg.txt --middlebury "$DATA/middlebury" "${P[@]}"
+  # Which rings simulate the sparser sensors (the paper does not say): SDSGM with the other ring offsets.
+  f=doc/benchmarks/accuracy_kitti20_ring_offsets_$cfg.txt
+  { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"
+    for a in "32 1" "16 1" "16 2" "16 3"; do
+      set -- $a
+      echo "# Command: lidarsgm_lidarsgm_fuse --kitti $DATA/kitti2015_lidar --modes sdsgm --lidar-lines $1 --lidar-ring-offset $2 --quiet 1 ${P[*]}"
+      "$T" --kitti "$DATA/kitti2015_lidar" --modes sdsgm --lidar-lines $1 --lidar-ring-offset $2 --quiet 1 "${P[@]}"
+    done; } > "$f" 2>&1
+  echo "wrote $f"
 done

@@ -127,15 +127,17 @@ inline cv::Mat readVelodyne(const std::string& path)
     return pts;
 }
 
-/** Thins a Velodyne scan to every keepEvery-th laser ring, counted from the top (the paper's Table VI simulates 32- and
-16-line LiDARs from 64-line scans this way). The rings come from the scan's order: the driver writes the scan ring by
+/** Thins a Velodyne scan to every keepEvery-th laser ring, counted from the top, starting with ring firstRing (0: the
+top ring; the paper's Table VI simulates 32- and 16-line LiDARs from 64-line scans this way, without saying which rings
+it keeps). The rings come from the scan's order: the driver writes the scan ring by
 ring, each ring sweeping the azimuth once round from straight ahead (KITTI: counter-clockwise from +x), so a new
 ring starts where the azimuth, taken in [0, 360), falls back by more than 90 degrees. Rings are then ranked by their
 median elevation angle. (Elevation alone does not separate the rings: near points of neighbouring rings overlap in
 elevation by up to a degree, as the lasers sit off the sensor's centre.) keepEvery 1 returns the scan unchanged. */
-inline cv::Mat selectLidarRings(const cv::Mat& points, int keepEvery, int* ringCount = nullptr)
+inline cv::Mat selectLidarRings(const cv::Mat& points, int keepEvery, int* ringCount = nullptr, int firstRing = 0)
 {
-    CV_Assert(points.type() == CV_32FC1 && points.cols >= 3 && keepEvery >= 1);
+    CV_Assert(points.type() == CV_32FC1 && points.cols >= 3 && keepEvery >= 1 && firstRing >= 0 &&
+              firstRing < keepEvery);
     std::vector<int> start(1, 0);
     double prev = 0;
     for (int i = 0; i < points.rows; i++)
@@ -168,7 +170,7 @@ inline cv::Mat selectLidarRings(const cv::Mat& points, int keepEvery, int* ringC
     }
     std::sort(order.begin(), order.end());
     cv::Mat out;
-    for (int k = 0; k < rings; k += keepEvery)
+    for (int k = firstRing; k < rings; k += keepEvery)
         out.push_back(points.rowRange(start[order[k].second], start[order[k].second + 1]));
     return out.empty() ? cv::Mat(0, points.cols, CV_32FC1) : out;
 }
@@ -244,26 +246,26 @@ inline void useCalibration(Frame& f, const KittiCalib& c)
     f.focalBaseline = c.focalBaseline;
 }
 
-//! Projects every lidarEvery-th ring of a Velodyne scan into f.sparse with calibration c (and keeps c for depth and
-//! points); f.left must be read.
-inline void projectScan(Frame& f, const std::string& scanPath, const KittiCalib& c, int lidarEvery)
+//! Projects every lidarEvery-th ring of a Velodyne scan from ring firstRing (selectLidarRings) into f.sparse with
+//! calibration c (and keeps c for depth and points); f.left must be read.
+inline void projectScan(Frame& f, const std::string& scanPath, const KittiCalib& c, int lidarEvery, int firstRing = 0)
 {
-    const cv::Mat pts = selectLidarRings(readVelodyne(scanPath), lidarEvery);
+    const cv::Mat pts = selectLidarRings(readVelodyne(scanPath), lidarEvery, nullptr, firstRing);
     cv::lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
     useCalibration(f, c);
 }
 
 /** Frame `id` of a KITTI-layout folder (image_2/ID_10.png, image_3/ID_10.png, velodyne/ID.bin, calib.txt, optional
-disp_occ_0/ID_10.png): the grey pair, the raw scan (every lidarEvery-th ring, see selectLidarRings) projected by
-cv::lidarsgm::projectPointsToDisparity, and the ground truth where it exists. */
-inline Frame loadKittiFrame(const std::string& dir, const std::string& id, int lidarEvery = 1)
+disp_occ_0/ID_10.png): the grey pair, the raw scan (every lidarEvery-th ring from ring firstRing, see selectLidarRings)
+projected by cv::lidarsgm::projectPointsToDisparity, and the ground truth where it exists. */
+inline Frame loadKittiFrame(const std::string& dir, const std::string& id, int lidarEvery = 1, int firstRing = 0)
 {
     Frame f;
     f.name = id;
     f.leftImage = readImage(dir + "/image_2/" + id + "_10.png");
     f.left = toGrey(f.leftImage);
     f.right = readGrey(dir + "/image_3/" + id + "_10.png");
-    projectScan(f, dir + "/velodyne/" + id + ".bin", readKittiCalib(dir + "/calib.txt"), lidarEvery);
+    projectScan(f, dir + "/velodyne/" + id + ".bin", readKittiCalib(dir + "/calib.txt"), lidarEvery, firstRing);
     const std::string gt = dir + "/disp_occ_0/" + id + "_10.png";
     if (std::ifstream(gt.c_str()).good())
         f.gt = readKittiDisparity(gt);
@@ -315,7 +317,7 @@ inline std::string kittiRawCalibDir(const std::string& drive)
 /** Frame `name` of a KITTI raw drive: image_02/data/NAME.png, image_03/data/NAME.png and velodyne_points/data/NAME.bin,
 with the drive's calibration c (readKittiRawCalib); no ground truth. */
 inline Frame loadKittiRawFrame(const std::string& drive, const KittiCalib& c, const std::string& name,
-                               int lidarEvery = 1)
+                               int lidarEvery = 1, int firstRing = 0)
 {
     Frame f;
     f.name = name;
@@ -324,7 +326,7 @@ inline Frame loadKittiRawFrame(const std::string& drive, const KittiCalib& c, co
     f.right = readGrey(drive + "/image_03/data/" + name + ".png");
     if (f.right.size() != f.left.size())
         CV_Error(cv::Error::StsBadSize, "the images of frame " + name + " in " + drive + " differ in size");
-    projectScan(f, drive + "/velodyne_points/data/" + name + ".bin", c, lidarEvery);
+    projectScan(f, drive + "/velodyne_points/data/" + name + ".bin", c, lidarEvery, firstRing);
     return f;
 }
 

@@ -94,13 +94,13 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr)
     return true;
 }
 
-//! Where a folder run's frames come from: their names and how to load one (with every lidarEvery-th ring); the
+//! Where a folder run's frames come from: their names and how to load one (with the LiDAR rings given); the
 //! loader raises cv::Exception for a frame that cannot be read, or lacks ground truth its source requires.
 struct FrameSource
 {
     std::string label;   //!< "KITTI DIR" or "KITTI raw DRIVE", for the table's title
     std::vector<std::string> ids;
-    std::function<Frame(const std::string& id, int lidarEvery)> load;
+    std::function<Frame(const std::string& id, LidarRings rings)> load;
 };
 
 //! What a frame gave: its rows, or why it failed; whether it was taken from an earlier run.
@@ -155,7 +155,7 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
             }
             else
             {
-                const Frame f = src.load(ids[n], 64 / lines);
+                const Frame f = src.load(ids[n], lidarRings(o, lines));
                 if (!frameOut.empty())
                     prepareFrameDir(frameOut);
                 worker.compute(f, frameOut, res.rows);
@@ -268,8 +268,8 @@ int runKittiFolder(const Options& o)
     src.ids = kittiFrameIds(dir);
     if (src.ids.empty())
         CV_Error(Error::StsObjectNotFound, dir + "/frames.txt lists no frame");
-    src.load = [dir](const std::string& id, int every) {
-        Frame f = loadKittiFrame(dir, id, every);
+    src.load = [dir](const std::string& id, LidarRings rings) {
+        Frame f = loadKittiFrame(dir, id, rings.every, rings.first);
         if (f.gt.empty())
             CV_Error(Error::StsObjectNotFound, "no ground truth " + dir + "/disp_occ_0/" + id + "_10.png");
         return f;
@@ -285,8 +285,8 @@ int runKittiRaw(const Options& o)
     FrameSource src;
     src.label = "KITTI raw " + drive;
     src.ids = kittiRawFrameNames(drive);
-    src.load = [drive, calib, gtDir](const std::string& id, int every) {
-        Frame f = loadKittiRawFrame(drive, calib, id, every);
+    src.load = [drive, calib, gtDir](const std::string& id, LidarRings rings) {
+        Frame f = loadKittiRawFrame(drive, calib, id, rings.every, rings.first);
         if (!gtDir.empty())
             f.gt = readKittiDepthAsDisparity(gtDir + "/" + id + ".png", calib.focalBaseline);
         return f;

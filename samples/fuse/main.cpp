@@ -25,8 +25,8 @@ Frame loadFrame(const Options& o)
     Frame f;
     if (o.has("kitti-frame"))
     {
-        f = lidarsgm_data::loadKittiFrame(o.str("kitti-frame"), o.str("id", "000002"),
-                                          64 / lidarLineCounts(o).front());
+        const LidarRings rings = lidarRings(o, lidarLineCounts(o).front());
+        f = lidarsgm_data::loadKittiFrame(o.str("kitti-frame"), o.str("id", "000002"), rings.every, rings.first);
         if (o.has("resize"))
         {
             // Speed runs at other sizes: the frame scaled (LiDAR disparities scaled with the width).
@@ -54,8 +54,11 @@ Frame loadFrame(const Options& o)
             lidarsgm_data::useCalibration(f, lidarsgm_data::readKittiCalib(o.str("calib")));
     }
     else if (o.has("velodyne") && o.has("calib"))
-        lidarsgm_data::projectScan(f, o.str("velodyne"), lidarsgm_data::readKittiCalib(o.str("calib")),
-                                   64 / lidarLineCounts(o).front());
+    {
+        const LidarRings rings = lidarRings(o, lidarLineCounts(o).front());
+        lidarsgm_data::projectScan(f, o.str("velodyne"), lidarsgm_data::readKittiCalib(o.str("calib")), rings.every,
+                                   rings.first);
+    }
     if (o.has("gt"))
         f.gt = lidarsgm_data::readKittiDisparity(o.str("gt"));
     return f;

@@ -64,6 +64,8 @@ const OptionSpec kOptions[] = {
     { "table5", 'f', nullptr, "also run SDSGM with each consistency check (the paper's Table V)", nullptr },
     { "lidar-lines", 's', "LIST", "LiDAR line counts, comma list of 64, 32, 16 (default 64): every 2nd / 4th ring of\n"
       "the 64-line scans (the paper's Table VI); a folder run prints one table per count", nullptr },
+    { "lidar-ring-offset", 'i', "K", "with --lidar-lines: the first ring kept, counted from the top, modulo the 2 or 4\n"
+      "(default 0: the top ring; 3 keeps the lowest ring at 16 lines)", nullptr },
     { "params", 's', "FILE", "matcher parameters saved with StereoLidarSGM::save (e.g. doc/params/kitti_best.yml);\n"
       "the parameter options below override it", nullptr },
     { "seed", 'i', "N", "random seed of the Middlebury sampling (default 1)", nullptr },
@@ -243,6 +245,12 @@ std::vector<int> lidarLineCounts(const Options& o)
     return lines;
 }
 
+LidarRings lidarRings(const Options& o, int lines)
+{
+    const int every = 64 / lines;
+    return { every, o.i("lidar-ring-offset", 0) % every };
+}
+
 Ptr<Matcher> makeMatcher(const Options& o, int mode, int check, int sceneNumDisparities)
 {
     Ptr<Matcher> m = o.has("params") ? Matcher::load(o.str("params")) : Matcher::create();
@@ -295,6 +303,8 @@ void checkOptions(const Options& o)
     if (o.has("table5") && o.has("kitti-raw") && !o.has("gt-depth"))
         CV_Error(Error::StsBadArg, "--table5 scores each check against ground truth: with --kitti-raw give --gt-depth");
     lidarLineCounts(o);
+    if (o.i("lidar-ring-offset", 0) < 0 || o.i("lidar-ring-offset", 0) > 63)
+        CV_Error(Error::StsBadArg, "--lidar-ring-offset takes a ring 0..63");
     int w = 0, h = 0;
     char rest = 0;
     if (o.has("resize") && (sscanf(o.str("resize").c_str(), "%dx%d%c", &w, &h, &rest) != 2 || w <= 0 || h <= 0))

@@ -45,8 +45,12 @@ const char* checkLabel(int check);
 /** The matcher: create() defaults, then --params FILE, then the mode and check, then (Middlebury) the scene's
 disparity count, then the parameter options of the command line. */
 cv::Ptr<Matcher> makeMatcher(const Options& o, int mode, int check, int sceneNumDisparities = 0);
-//! The LiDAR line counts to run (--lidar-lines, default 64) as "keep every k-th ring" factors of a 64-line scan.
+//! The LiDAR line counts to run (--lidar-lines, default 64).
 std::vector<int> lidarLineCounts(const Options& o);
+//! The rings of a 64-line scan that simulate `lines` lines: every `every`-th ring from ring `first` (selectLidarRings),
+//! first = --lidar-ring-offset modulo every.
+struct LidarRings { int every, first; };
+LidarRings lidarRings(const Options& o, int lines);
 
 // ---- outputs.cpp ------------------------------------------------------------------------------------------------
 void makeDir(const std::string& dir);
