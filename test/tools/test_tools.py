@@ -219,6 +219,16 @@ class ToolTest(unittest.TestCase):
         rc, so64, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1"])
         row = r"\| SDSGM \(stereo-lidar\) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+) %"
         self.assertEqual(re.search(row, so64).groups(), re.search(row, so).groups())
+        # Another ring offset keeps other rings at 16 lines (other LiDAR points); offset 4 is offset 0 again.
+        lines16 = [TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1", "--lidar-lines", "16"]
+        lidar = r"\| LiDAR points alone +\| +([\d.]+) % \| +([\d.]+) %"
+        outs = []
+        for k in ("0", "3", "4"):
+            rc, o, se = run(lines16 + ["--lidar-ring-offset", k])
+            self.assertEqual(rc, 0, se)
+            outs.append(re.search(lidar, o).groups())
+        self.assertNotEqual(outs[0], outs[1])
+        self.assertEqual(outs[0], outs[2])
 
     def test_exit_codes_and_messages(self):
         cases = [
@@ -235,6 +245,7 @@ class ToolTest(unittest.TestCase):
             (["--kitti-frame", KITTI, "--id", "000002", "--out", self.tmp, "--format", "jpg"], 1, "unknown --format"),
             (["--kitti-frame", KITTI, "--id", "000002", "--colour", "1"], 2, "unknown option --colour"),
             (["--kitti-frame", KITTI, "--id", "000002", "--lidar-lines", "48"], 1, "--lidar-lines takes 64, 32 or 16"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--lidar-ring-offset", "-1"], 1, "--lidar-ring-offset takes"),
             (["--kitti-frame", KITTI, "--id", "000002", "--params", os.path.join(self.tmp, "none.yml")], 1,
              "cannot open --params"),
             (["--kitti-frame", KITTI, "--id", "000002", "--resize", "10x"], 1, "--resize takes"),
