@@ -9,9 +9,10 @@ cd "$(dirname "$0")/.."
 T=${1:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
 DATA=${2:-../shared/data}
 C=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src src_cuda include samples || echo " + uncommitted changes")
+header() { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"; }
 run() {  # output file, then the tool's arguments
   local f=doc/benchmarks/$1; shift
-  { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"
+  { header
     echo "# Command: lidarsgm_lidarsgm_fuse $*"
     "$T" "$@"; } > "$f" 2>&1
   echo "wrote $f"
@@ -24,7 +25,7 @@ for cfg in defaults best; do
   run accuracy_middlebury_$cfg.txt --middlebury "$DATA/middlebury" "${P[@]}"
   # Which rings simulate the sparser sensors (the paper does not say): SDSGM with the other ring offsets.
   f=doc/benchmarks/accuracy_kitti20_ring_offsets_$cfg.txt
-  { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"
+  { header
     for a in "32 1" "16 1" "16 2" "16 3"; do
       set -- $a
       echo "# Command: lidarsgm_lidarsgm_fuse --kitti $DATA/kitti2015_lidar --modes sdsgm --lidar-lines $1 --lidar-ring-offset $2 --quiet 1 ${P[*]}"

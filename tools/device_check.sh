@@ -149,13 +149,17 @@ if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
       $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
+# The tool's arguments for one SDSGM call at a WxH:disparities:paths spec of DRAM_SIZES / PROFILE_SIZES.
+spec_args() {
+  IFS=: read -r sz nd np <<< "$1"
+  echo "--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 --resize $sz --num-disparities $nd --paths $np"
+}
 if [ -n "${DRAM_SIZES:-}" ] && command -v ncu >/dev/null; then
   # DRAM bytes read and written by each kernel of one SDSGM call at each WxH:disparities:paths of DRAM_SIZES.
   for spec in $DRAM_SIZES; do
-    IFS=: read -r sz nd np <<< "$spec"
+    args=$(spec_args "$spec"); sz=${spec%%:*}
     ncu --clock-control none --csv --print-units base --launch-count 40 \
-      --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum $B/lidarsgm_lidarsgm_fuse \
-      --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 --resize $sz --num-disparities $nd --paths $np \
+      --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum $B/lidarsgm_lidarsgm_fuse $args \
       > "$OUT/dram_$sz.csv" 2> "$OUT/dram_$sz.err"
     python3 tools/analysis/ncu_call_bytes.py "$OUT/dram_$sz.csv" "$spec" || tail -5 "$OUT/dram_$sz.err"
   done
@@ -169,8 +173,7 @@ if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
   # includes module loading), e.g. PROFILE_SIZES="1242x375:128:8 1920x1080:256:8". With STALLS=1 also the warp
   # states, scheduler and memory statistics of one path kernel (skipping STALL_SKIP path kernels, default 9).
   for spec in $PROFILE_SIZES; do
-    IFS=: read -r sz nd np <<< "$spec"
-    args="--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 --resize $sz --num-disparities $nd --paths $np"
+    args=$(spec_args "$spec"); sz=${spec%%:*}
     echo "== $spec: kernels of one SDSGM call (the second), summed by name:"
     ncu --clock-control none --print-units base --metrics gpu__time_duration.sum --launch-count 60 \
       $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - \

@@ -23,9 +23,9 @@ namespace {
 Frame loadFrame(const Options& o)
 {
     Frame f;
+    const LidarRings rings = lidarRings(o, lidarLineCounts(o).front());   // the scan's rings, where a scan is read
     if (o.has("kitti-frame"))
     {
-        const LidarRings rings = lidarRings(o, lidarLineCounts(o).front());
         f = lidarsgm_data::loadKittiFrame(o.str("kitti-frame"), o.str("id", "000002"), rings.every, rings.first);
         if (o.has("resize"))
         {
@@ -54,11 +54,8 @@ Frame loadFrame(const Options& o)
             lidarsgm_data::useCalibration(f, lidarsgm_data::readKittiCalib(o.str("calib")));
     }
     else if (o.has("velodyne") && o.has("calib"))
-    {
-        const LidarRings rings = lidarRings(o, lidarLineCounts(o).front());
         lidarsgm_data::projectScan(f, o.str("velodyne"), lidarsgm_data::readKittiCalib(o.str("calib")), rings.every,
                                    rings.first);
-    }
     if (o.has("gt"))
         f.gt = lidarsgm_data::readKittiDisparity(o.str("gt"));
     return f;

@@ -303,7 +303,8 @@ void checkOptions(const Options& o)
     if (o.has("table5") && o.has("kitti-raw") && !o.has("gt-depth"))
         CV_Error(Error::StsBadArg, "--table5 scores each check against ground truth: with --kitti-raw give --gt-depth");
     lidarLineCounts(o);
-    if (o.i("lidar-ring-offset", 0) < 0 || o.i("lidar-ring-offset", 0) > 63)
+    const int ringOffset = o.i("lidar-ring-offset", 0);
+    if (ringOffset < 0 || ringOffset > 63)
         CV_Error(Error::StsBadArg, "--lidar-ring-offset takes a ring 0..63");
     int w = 0, h = 0;
     char rest = 0;
