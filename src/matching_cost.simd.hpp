@@ -18,6 +18,18 @@ static inline void reversedRightRow(const unsigned* R, int W, int minD, int D, u
     }
 }
 
+#if CV_AVX2 && CV_SIMD_WIDTH == 32
+#define LIDARSGM_EXACT_CENSUS_MUL 1
+//! Each 16-bit lane's two bytes added (unsigned bytes).
+static inline v_uint16 bytePairSums(const v_uint8& b) { return v_uint16(_mm256_maddubs_epi16(b.val, _mm256_set1_epi8(1))); }
+//! (a b + 2^14) >> 15 per 16-bit lane (a, b < 2^15).
+static inline v_uint16 mulRound15(const v_uint16& a, const v_uint16& b) { return v_uint16(_mm256_mulhrs_epi16(a.val, b.val)); }
+#elif CV_SSSE3 && CV_SIMD_WIDTH == 16
+#define LIDARSGM_EXACT_CENSUS_MUL 1
+static inline v_uint16 bytePairSums(const v_uint8& b) { return v_uint16(_mm_maddubs_epi16(b.val, _mm_set1_epi8(1))); }
+static inline v_uint16 mulRound15(const v_uint16& a, const v_uint16& b) { return v_uint16(_mm_mulhrs_epi16(a.val, b.val)); }
+#endif
+
 /** C(p, d) for d in [0, D): left census string l, the right strings' halves at rvLo[d], rvHi[d] (offset W - 1 - x),
 prior index k (-1: none). The vector loop adds Q2 at every disparity where a prior exists; the three costs around it
 then follow the rule. */
@@ -35,6 +47,20 @@ static inline void costVector(const ushort* rvLo, const ushort* rvHi, unsigned l
                    vbyte = vx_setall_u16(0xFF), vhi = vx_setall_u16((ushort)(w.census256 >> 8)),
                    vlo = vx_setall_u16((ushort)(w.census256 & 255)), vhalf = vx_setall_u16(128),
                    vadd = vx_setall_u16(k >= 0 ? (ushort)w.q2 : (ushort)0);
+#ifdef LIDARSGM_EXACT_CENSUS_MUL
+    // census256 < 2^15 (every configuration but plain SGM with small penalties): (128 h census256 + 2^14) >> 15 is
+    // (census256 h + 128) >> 8 exactly, one rounding high multiply (and the lanes' byte sums one multiply-add).
+    if (w.census256 < 32768)
+    {
+        const v_uint16 vweight = vx_setall_u16((ushort)w.census256);
+        for (; d <= D - n16; d += n16)
+        {
+            const v_uint8 pc = v_add(v_popcount(v_reinterpret_as_u8(v_xor(vx_load(rvLo + d), vlLo))),
+                                     v_popcount(v_reinterpret_as_u8(v_xor(vx_load(rvHi + d), vlHi))));
+            v_store(c + d, v_add(mulRound15(v_shl<7>(bytePairSums(pc)), vweight), vadd));
+        }
+    }
+#endif
     for (; d <= D - n16; d += n16)
     {
         const v_uint8 pc = v_add(v_popcount(v_reinterpret_as_u8(v_xor(vx_load(rvLo + d), vlLo))),

@@ -112,6 +112,50 @@ TEST(Lidarsgm_MatchingCost, plain_sgm_ignores_prior)
             }
 }
 
+/* The vector cost against the scalar rule (matchingCost) on full 32-bit census strings (Hamming distances 0-32), for
+ census weights on both sides of 2^15 (the vector path takes a different multiply there) and a prior at every third
+ pixel. */
+TEST(Lidarsgm_MatchingCost, vector_equals_scalar_rule)
+{
+    RNG rng(11);
+    const int W = 53, H = 3, D = 48, minD = -2;
+    Mat cl(H, W, CV_32SC1), cr(H, W, CV_32SC1), prior(H, W, CV_16SC1, Scalar::all(NO_DISP));
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+        {
+            // A third of the strings are complements, so that every distance up to 32 occurs.
+            const unsigned r = (unsigned)rng.next();
+            cl.at<int>(y, x) = (int)r;
+            cr.at<int>(y, x) = (int)(x % 3 == 0 ? ~r : (unsigned)rng.next());
+            if (x % 3 == 1)
+                prior.at<short>(y, x) = (short)rng.uniform(minD * 16, (minD + D) * 16 - 8);
+        }
+    struct { int P1, P2, Q1, Q2; double alpha; int paths; bool ddc; } cases[] = {
+        { 10, 120, 5, 160, 0.7, 8, true }, { 10, 120, 5, 160, 0.7, 4, true }, { 10, 120, 5, 160, 0.7, 4, false },
+        { 0, 0, 0, 0, 0.0, 4, true }, { 1, 2, 0, 0, 0.3, 4, false } };
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++)
+    {
+        PipelineParams p = smallParams(minD, D, cases[i].ddc);
+        p.w = computeCostWeights(cases[i].P1, cases[i].P2, cases[i].Q1, cases[i].Q2, cases[i].alpha, cases[i].paths,
+                                 cases[i].ddc);
+        Mat cost;
+        computeMatchingCost(cl, cr, cases[i].ddc ? prior : Mat(), p, cost);
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++)
+            {
+                const short pr = prior.at<short>(y, x);
+                const int k = cases[i].ddc && pr != NO_DISP ? roundDisp16(pr) - minD : -1;
+                for (int d = 0; d < D; d++)
+                {
+                    const int xr = std::min(std::max(x - minD - d, 0), W - 1);
+                    const int h = popcount32((unsigned)cl.at<int>(y, x) ^ (unsigned)cr.at<int>(y, xr));
+                    ASSERT_EQ(matchingCost(h, d, k, p.w), (int)cost.at<ushort>(y, x * D + d))
+                        << "case " << i << " census256 " << p.w.census256 << " x " << x << " d " << d;
+                }
+            }
+    }
+}
+
 TEST(Lidarsgm_SparseInput, conversion_rules)
 {
     Mat f(1, 8, CV_32FC1);
