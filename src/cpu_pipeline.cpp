@@ -26,7 +26,10 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     else
         sparse16_.release();
     if (semidenseOnly || p.semidense)
+    {
         semidensify(censusL_, censusR_, sparse16_, p, semidense16_);
+        interpolateRings(censusL_, censusR_, sparse16_, p, semidense16_, above16_, below16_);
+    }
     if (semidenseOnly)
     {
         encodeOutput(semidense16_, p, out);

@@ -36,6 +36,11 @@ value (or none). */
 CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
                             Mat& semidense16);
 
+/** Ring interpolation (pipeline.hpp; off where p.ringGapFactor16 is 0): fills the pixels of semidense16 that have no
+value. above16 and below16 are work maps (the rows of each column's nearest sparse point above and below a pixel). */
+CV_EXPORTS void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
+                                 Mat& semidense16, Mat& above16, Mat& below16);
+
 /** Semi-global aggregation (paper Eq. 2) over 4 or 8 paths and the winner-takes-all, fused: the matching cost
 (matchingCost with the prior index round(prior16) - minD where prior16 has a value; prior16 may be empty for plain
 SGM) is computed as the paths go, and each pixel's winner is taken when its sum completes (aggregation.simd.hpp).

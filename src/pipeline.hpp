@@ -61,6 +61,7 @@ struct PipelineParams
     int visibilityRadiusX; //!< half width of the visibility filter's window (0 and visibilityRadiusY 0: off)
     int visibilityRadiusY; //!< half height
     int edgeThreshold;     //!< left-image step above which a disparity jump costs w.p2Edge (0: off)
+    int ringGapFactor16;   //!< round(ringGapFactor * 16): ring interpolation's longest gap in ring spacings (0: off)
     bool semidense;        //!< SDSGM: the prior is the semidense map
     bool ddc;              //!< DSGM, SDSGM: the matching cost has the DDC term
     bool stereoCheck;      //!< the left-right test
@@ -175,6 +176,79 @@ static LIDARSGM_HD unsigned semidenseKey(int cost, int dx, int dy, int rs)
 //! The census cost of a key.
 static LIDARSGM_HD int semidenseKeyCost(unsigned key) { return (int)(key >> 26); }
 
+/* Ring interpolation (interpolateRings), after semidensification: a pixel left without a value takes the disparity
+interpolated between the nearest sparse points above and below it (within RING_COLUMNS columns on either side) when
+they are at most ringGapLimit apart and its census cost there is below Ts. The gap limit scales with the ring spacing
+measured on the sparse map: the lower median of each point's vertical distance to the next point below it within the
+same columns (distances of RING_GAP_BINS - 1 and more share the last bin). */
+enum { RING_COLUMNS = 2, RING_GAP_BINS = 256 };
+
+//! The i-th column offset searched, i in [0, 2 RING_COLUMNS]: 0, -1, 1, -2, 2 (on equal rows the nearer column wins).
+static LIDARSGM_HD int ringColumnOffset(int i) { return (i & 1) ? -((i + 1) >> 1) : (i >> 1); }
+
+//! The longest gap bridged: round(ringGapFactor * spacing) from round(16 ringGapFactor).
+static LIDARSGM_HD int ringGapLimit(int factor16, int spacing) { return (factor16 * spacing + 8) >> 4; }
+
+//! The lower median of a histogram of n values (0 where n is 0): the smallest bin whose cumulative count exceeds (n - 1) / 2.
+static LIDARSGM_HD int histogramLowerMedian(const int* hist, int bins)
+{
+    int n = 0;
+    for (int i = 0; i < bins; i++)
+        n += hist[i];
+    if (n == 0)
+        return 0;
+    for (int i = 0, c = 0; i < bins; i++)
+        if ((c += hist[i]) > (n - 1) / 2)
+            return i;
+    return bins - 1;
+}
+
+/** va + (vb - va) (y - ya) / (yb - ya) in 1/16 pixel, rounded to nearest (halves up), for ya < y < yb: the disparity
+of the plane through both points at row y (a plane's disparity is linear in the image). */
+static LIDARSGM_HD int ringInterpolate16(int va, int ya, int vb, int yb, int y)
+{
+    const int num = 2 * (vb - va) * (y - ya) + (yb - ya), den = 2 * (yb - ya);
+    return va + (num >= 0 ? num / den : -((-num + den - 1) / den));   // floor division
+}
+
+/** The nearest sparse points above and below pixel x of a row, from that row's maps above[c] / below[c] (the row of
+column c's nearest point strictly above / below, -1: none): rows ya, yb (-1: none) and columns xa, xb. Rows closer to
+the pixel win, then the order of ringColumnOffset. */
+static LIDARSGM_HD void nearestRingPoints(const short* above, const short* below, int x, int W, int& xa, int& ya,
+                                          int& xb, int& yb)
+{
+    xa = ya = xb = yb = -1;
+    for (int i = 0; i <= 2 * RING_COLUMNS; i++)
+    {
+        const int c = x + ringColumnOffset(i);
+        if (c < 0 || c >= W)
+            continue;
+        if (above[c] > ya)
+        {
+            ya = above[c];
+            xa = c;
+        }
+        if (below[c] >= 0 && (yb < 0 || below[c] < yb))
+        {
+            yb = below[c];
+            xb = c;
+        }
+    }
+}
+
+//! A sparse point's vertical distance to the nearest point below it (maps of its row, as above), capped to the last bin; -1: none.
+static LIDARSGM_HD int ringPointGap(const short* below, int x, int W, int y)
+{
+    int g = -1;
+    for (int i = 0; i <= 2 * RING_COLUMNS; i++)
+    {
+        const int c = x + ringColumnOffset(i);
+        if (c >= 0 && c < W && below[c] >= 0 && (g < 0 || below[c] - y < g))
+            g = below[c] - y;
+    }
+    return g < 0 ? -1 : g < RING_GAP_BINS - 1 ? g : RING_GAP_BINS - 1;
+}
+
 /* The 3x3 median of a disparity map: "no disparity" ranks above every value (so a pixel with 5 or more invalid
 neighbours stays invalid, as in the paper's public code), coordinates outside the image are clamped (the census'
 border rule). The median of 9 is taken as med3(max3(lows), med3(mids), min3(highs)) over the three columns of the
@@ -277,7 +351,7 @@ public:
     void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
              OutputArray out);
 private:
-    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, disp16_, dispInt_, dispRight_;
+    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, above16_, below16_, disp16_, dispInt_, dispRight_;
     Ptr<AggregationState> aggregation_;
     Mat med16_, medInt_, medRight_;
 };

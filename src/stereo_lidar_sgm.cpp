@@ -42,6 +42,8 @@ table makes the members, getters, setters, write() and read(); the public header
     X(int, EdgeThreshold, edgeThreshold, 0, v >= 0 && v <= 65535, "in [0, 65535] (0: off)", \
       "the left-image step that makes a disparity jump cheaper") \
     X(double, EdgeP2Ratio, edgeP2Ratio, 0.5, v > 0.0 && v <= 1.0, "in (0, 1]", "P2's factor across an image edge") \
+    X(double, RingGapFactor, ringGapFactor, 0.0, v >= 0.0 && v <= 16.0, "in [0, 16] (0: off; and not NaN)", \
+      "the ring interpolation's longest gap in ring spacings") \
     X(int, Mode, mode, MODE_SDSGM, v == MODE_SGM || v == MODE_DSGM || v == MODE_SDSGM, \
       "MODE_SGM (0), MODE_DSGM (1) or MODE_SDSGM (2)", "the fusion mode") \
     X(int, ConsistencyCheck, consistencyCheck, CHECK_STEREO_LIDAR, v >= CHECK_NONE && v <= CHECK_STEREO_LIDAR, \
@@ -218,6 +220,7 @@ private:
         p.lidarCheck = consistencyCheck_ == CHECK_CAMERA_LIDAR || consistencyCheck_ == CHECK_STEREO_LIDAR;
         p.floatOutput = outputType_ == CV_32F;
         p.edgeThreshold = edgeThreshold_;
+        p.ringGapFactor16 = cvRound(ringGapFactor_ * 16);
         p.w = computeCostWeights(P1_, P2_, Q1_, Q2_, alpha_, numPaths_, p.ddc, edgeP2Ratio_);
         return p;
     }

@@ -42,6 +42,7 @@ struct CudaPipeline::Buffers
     the right-view disparities and the median's outputs take its memory. */
     cuda::GpuMat censusL, censusR, sparse16, semidense16, sum;
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
+    cuda::GpuMat ring, ringStats;    //!< ring interpolation's work maps (above, then below) and gap statistics
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
 
@@ -119,6 +120,13 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     {
         b.semidense16.create(sz, CV_16SC1);
         ci::semidensify(b.censusL, b.censusR, b.sparse16, p, b.semidense16, st);
+        if (p.ringGapFactor16 > 0 && !Sp.empty())
+        {
+            b.ring.create(2 * sz.height, sz.width, CV_16SC1);
+            b.ringStats.create(1, RING_GAP_BINS + 1, CV_32SC1);
+            ci::interpolateRings(b.censusL, b.censusR, b.sparse16, p, b.semidense16, b.ring.rowRange(0, sz.height),
+                                 b.ring.rowRange(sz.height, 2 * sz.height), b.ringStats.ptr<int>(), st);
+        }
     }
 
     out.create(sz, p.floatOutput ? CV_32FC1 : CV_16SC1);

@@ -48,6 +48,12 @@ void censusTransform(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
+/** Ring interpolation (pipeline.hpp) into semidense16's empty pixels; above and below are work maps of the image's
+size, stats RING_GAP_BINS + 1 ints of device memory (the gap histogram and the gap limit). */
+void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
+                      const PipelineParams& p, PtrStepSz<short> semidense16, PtrStepSz<short> above,
+                      PtrStepSz<short> below, int* stats, cudaStream_t stream);
+
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
 The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). */

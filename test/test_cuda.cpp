@@ -88,8 +88,8 @@ TEST(Lidarsgm_CUDA, kitti_median_off_bit_exact)
     }
 }
 
-// The steps beyond the paper that doc/params/kitti_best.yml switches on (visibility filter, edge-aware P2), both
-// frames, every mode, 4 and 8 paths.
+// The steps beyond the paper that doc/params/kitti_best.yml switches on (visibility filter, edge-aware P2, ring
+// interpolation), both frames, every mode, 4 and 8 paths.
 TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
 {
     requireCudaDevice();
@@ -104,6 +104,7 @@ TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
                 m->setVisibilityRadiusX(2);
                 m->setVisibilityRadiusY(4);
                 m->setEdgeThreshold(32);
+                m->setRingGapFactor(2);
                 m->setNumPaths(paths);
                 compareCpuGpu(m, l, r, s, format("frame %s mode %d paths %d, kitti_best steps", id, mode, paths));
             }
@@ -143,6 +144,7 @@ TEST_P(Lidarsgm_CUDA_Random, bit_exact)
                 m->setVisibilityRadiusX(k == 1 ? mode : 0);   // mode 0: a vertical window only
                 m->setVisibilityRadiusY(k == 1 ? 3 : 0);
                 m->setEdgeThreshold(k == 2 || mode == 2 ? (depth ? 4000 : 16) : 0);
+                m->setRingGapFactor(k == 0 || k == 1 ? 1.5 * (k + 1) : 0.0);
                 compareCpuGpu(m, l, r, sparses[k], format("size %dx%d depth %d sparse %d mode %d", sz.width, sz.height, depth, k, mode));
             }
     }

@@ -52,6 +52,7 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 | medianSize | median filter before the check: 1 (off) or 3 | 1, 3 | 3 (the public code's) |
 | visibilityRadiusX, visibilityRadiusY | visibility filter of the sparse input (beyond the paper) | [0, 16] each | 0, 0 (off) |
 | edgeThreshold, edgeP2Ratio | P2 x ratio across left-image steps above the threshold (beyond the paper) | [0, 65535], (0, 1] | 0 (off), 0.5 |
+| ringGapFactor | interpolation between LiDAR rings after semidensification, longest gap in measured ring spacings (beyond the paper) | [0, 16] | 0 (off) |
 | outputType | CV_16S (disparity x 16) or CV_32F (pixels) | | CV_16S |
 
 Beyond the paper: `doc/params/kitti_best.yml` (StereoLidarSGM::load) switches on the visibility filter with the
@@ -252,6 +253,16 @@ public:
     //! P2's factor across an intensity edge (see getEdgeThreshold), in (0, 1]; default 0.5.
     CV_WRAP virtual double getEdgeP2Ratio() const = 0;
     CV_WRAP virtual void setEdgeP2Ratio(double ratio) = 0;
+    /** Ring interpolation (off by default: the paper has none; SDSGM and semidensify() only): a pixel that
+    semidensification leaves without a value takes the disparity interpolated linearly between the nearest sparse
+    points above and below it (within 2 columns on either side) if its census cost there is below Ts and the two
+    points are at most ringGapFactor x the ring spacing apart. The ring spacing is measured on each sparse map (the
+    median vertical distance from a point to the next one below it), so one setting serves 64, 32 and 16 lines. A
+    LiDAR's rings leave bands of rows without points (about 20 px at 16 lines on KITTI); the surfaces seen from both
+    neighbouring rings (road, walls, vehicle sides) are locally planar and a plane's disparity is linear in the image.
+    In [0, 16]; 0: off. doc/params/kitti_best.yml: 2 (a ring's neighbours, one missing return bridged). */
+    CV_WRAP virtual double getRingGapFactor() const = 0;
+    CV_WRAP virtual void setRingGapFactor(double factor) = 0;
     //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
     CV_WRAP virtual int getOutputType() const = 0;
     CV_WRAP virtual void setOutputType(int type) = 0;

@@ -99,6 +99,7 @@ const OptionSpec kOptions[] = {
     { "visibility-ry", 'i', "N", "visibilityRadiusY", "visibilityRadiusY" },
     { "edge-threshold", 'i', "N", "edgeThreshold", "edgeThreshold" },
     { "edge-p2-ratio", 'd', "R", "edgeP2Ratio", "edgeP2Ratio" },
+    { "ring-gap-factor", 'd', "F", "ringGapFactor", "ringGapFactor" },
 };
 
 const OptionSpec* findOption(const std::string& name)

@@ -1,0 +1,80 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// Ring interpolation (beyond the paper; the rule is in pipeline.hpp): a spinning LiDAR samples the scene in rings, and
+// with 16 or 32 of them the rows between rings hold no sparse point, so semidensification (a window of rs around
+// each point) leaves bands without a prior. Surfaces seen from both neighbouring rings (road, walls, vehicle sides)
+// are locally planar, and a plane's disparity is linear in the image, so the column interpolation between the rings
+// is that surface's disparity; the census cost test, as for semidensification's own candidates, rejects it where the
+// pixel shows something else. The gap limit follows the ring spacing measured on each map, so one setting serves
+// every LiDAR density.
+
+#include "precomp.hpp"
+#include "cpu_stages.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail {
+
+void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
+                      Mat& semidense16, Mat& above16, Mat& below16)
+{
+    if (p.ringGapFactor16 <= 0 || sparse16.empty())
+        return;
+    CV_Assert(sparse16.type() == CV_16SC1 && semidense16.type() == CV_16SC1 && sparse16.size() == censusL.size() &&
+              semidense16.size() == censusL.size());
+    const int W = censusL.cols, H = censusL.rows;
+    above16.create(H, W, CV_16SC1);
+    below16.create(H, W, CV_16SC1);
+    // Row y's maps from row y - 1's (above) and row y + 1's (below): one pass each way, row by row.
+    above16.row(0).setTo(Scalar::all(-1));
+    for (int y = 1; y < H; y++)
+    {
+        const short *s = sparse16.ptr<short>(y - 1), *prev = above16.ptr<short>(y - 1);
+        short* a = above16.ptr<short>(y);
+        for (int x = 0; x < W; x++)
+            a[x] = s[x] != NO_DISP ? (short)(y - 1) : prev[x];
+    }
+    below16.row(H - 1).setTo(Scalar::all(-1));
+    for (int y = H - 2; y >= 0; y--)
+    {
+        const short *s = sparse16.ptr<short>(y + 1), *next = below16.ptr<short>(y + 1);
+        short* b = below16.ptr<short>(y);
+        for (int x = 0; x < W; x++)
+            b[x] = s[x] != NO_DISP ? (short)(y + 1) : next[x];
+    }
+    int hist[RING_GAP_BINS] = {};
+    for (int y = 0; y < H; y++)
+    {
+        const short* s = sparse16.ptr<short>(y);
+        for (int x = 0; x < W; x++)
+        {
+            const int g = s[x] != NO_DISP ? ringPointGap(below16.ptr<short>(y), x, W, y) : -1;
+            if (g >= 0)
+                hist[g]++;
+        }
+    }
+    const int gap = ringGapLimit(p.ringGapFactor16, histogramLowerMedian(hist, RING_GAP_BINS));
+    const int Ts = p.semidenseThreshold;
+    parallel_for_(Range(0, H), [&](const Range& r) {
+        for (int y = r.start; y < r.end; y++)
+        {
+            const unsigned* L = censusL.ptr<unsigned>(y);
+            const unsigned* R = censusR.ptr<unsigned>(y);
+            short* out = semidense16.ptr<short>(y);
+            for (int x = 0; x < W; x++)
+            {
+                if (out[x] != NO_DISP)
+                    continue;
+                int xa, ya, xb, yb;
+                nearestRingPoints(above16.ptr<short>(y), below16.ptr<short>(y), x, W, xa, ya, xb, yb);
+                if (ya < 0 || yb < 0 || yb - ya > gap)
+                    continue;
+                const int v = ringInterpolate16(sparse16.at<short>(ya, xa), ya, sparse16.at<short>(yb, xb), yb, y);
+                const int xr = std::min(std::max(x - roundDisp16(v), 0), W - 1);
+                if (popcount32(L[x] ^ R[xr]) < Ts)
+                    out[x] = (short)v;
+            }
+        }
+    }, rowStripes(H));
+}
+
+}}} // namespace cv::lidarsgm::detail

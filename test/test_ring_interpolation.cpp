@@ -1,0 +1,130 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+#include "test_precomp.hpp"
+#include "test_common.hpp"
+#include "cpu_stages.hpp"
+
+namespace opencv_test { namespace {
+
+using namespace cv::lidarsgm::detail;
+using cv::lidarsgm::StereoLidarSGM;
+
+/* Two rings 20 rows apart (rows 5 and 25, a point in every second column of 10..30) on a plane whose disparity is
+ 4 + y / 4 px (64 + 4 y in 1/16 px). The left census strings equal the right ones at each row's true integer disparity,
+ so the plane's pixels match at cost 0. */
+class Lidarsgm_RingInterpolation : public testing::Test
+{
+protected:
+    void SetUp() CV_OVERRIDE
+    {
+        W = 48; H = 32;
+        RNG rng(5);
+        cr.create(H, W, CV_32SC1);
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++)
+                cr.at<int>(y, x) = (int)rng.next();
+        cl.create(H, W, CV_32SC1);
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++)
+                cl.at<int>(y, x) = cr.at<int>(y, std::min(std::max(x - roundDisp16(plane16(y)), 0), W - 1));
+        sparse = Mat(H, W, CV_16SC1, Scalar::all(NO_DISP));
+        for (int x = 10; x <= 30; x += 2)
+        {
+            sparse.at<short>(5, x) = (short)plane16(5);
+            sparse.at<short>(25, x) = (short)plane16(25);
+        }
+        p = PipelineParams();
+        p.minDisparity = 0;
+        p.numDisparities = 32;
+        p.semidenseThreshold = 2;
+    }
+    static int plane16(int y) { return 64 + 4 * y; }
+    Mat run(double factor, const Mat& left)
+    {
+        p.ringGapFactor16 = cvRound(factor * 16);
+        Mat out = sparse.clone(), above, below;
+        interpolateRings(left, cr, sparse, p, out, above, below);
+        return out;
+    }
+    int W, H;
+    Mat cl, cr, sparse;
+    PipelineParams p;
+};
+
+TEST_F(Lidarsgm_RingInterpolation, fills_the_plane_between_rings)
+{
+    // Spacing: each upper point's next point below is 20 rows away (the lower ring has none): median 20, limit 20.
+    const Mat out = run(1.0, cl);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+        {
+            const short v = out.at<short>(y, x);
+            if (sparse.at<short>(y, x) != NO_DISP)
+                EXPECT_EQ(sparse.at<short>(y, x), v) << x << "," << y;   // a pixel with a value keeps it
+            else if (y > 5 && y < 25 && x >= 8 && x <= 32)
+                EXPECT_EQ(plane16(y), v) << x << "," << y;               // a ring point within 2 columns
+            else
+                EXPECT_EQ(NO_DISP, v) << x << "," << y;                  // outside the rings or their columns
+        }
+}
+
+TEST_F(Lidarsgm_RingInterpolation, gap_limit_off_and_census_test)
+{
+    // 0.95 x 20 = 19 rows: the rings are 20 apart, nothing bridged; factor 0: off.
+    EXPECT_EQ(0, cvtest::norm(run(0.95, cl), sparse, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(run(0.0, cl), sparse, NORM_INF));
+    // Left strings that match nothing: the census test rejects every interpolation.
+    Mat other(H, W, CV_32SC1);
+    RNG rng(6);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            other.at<int>(y, x) = (int)rng.next();
+    EXPECT_EQ(0, cvtest::norm(run(1.0, other), sparse, NORM_INF));
+}
+
+TEST(Lidarsgm_RingInterpolationRules, arithmetic)
+{
+    // Rounded to nearest, halves up, for rising and falling values.
+    EXPECT_EQ(100, ringInterpolate16(100, 0, 200, 10, 0));
+    EXPECT_EQ(150, ringInterpolate16(100, 0, 200, 10, 5));
+    EXPECT_EQ(101, ringInterpolate16(100, 0, 103, 4, 1));   // 100.75
+    EXPECT_EQ(102, ringInterpolate16(100, 0, 103, 6, 3));   // 101.5 -> 102
+    EXPECT_EQ(102, ringInterpolate16(103, 0, 100, 6, 3));   // 101.5 -> 102
+    EXPECT_EQ(101, ringInterpolate16(103, 0, 100, 4, 3));   // 100.75
+    // Lower median of a histogram; the gap limit from 16 x the factor.
+    const int hist[5] = { 0, 2, 0, 3, 0 };
+    EXPECT_EQ(3, histogramLowerMedian(hist, 5));
+    const int even[4] = { 0, 1, 1, 0 };
+    EXPECT_EQ(1, histogramLowerMedian(even, 4));
+    const int none[3] = { 0, 0, 0 };
+    EXPECT_EQ(0, histogramLowerMedian(none, 3));
+    EXPECT_EQ(40, ringGapLimit(32, 20));
+    EXPECT_EQ(11, ringGapLimit(24, 7));    // 10.5 -> 11
+    // Nearest points: the closer row wins, on equal rows the nearer column (0, -1, 1, -2, 2).
+    const short above[5] = { 3, 4, -1, 4, 2 }, below[5] = { 9, -1, 12, 9, 9 };
+    int xa, ya, xb, yb;
+    nearestRingPoints(above, below, 2, 5, xa, ya, xb, yb);
+    EXPECT_EQ(4, ya); EXPECT_EQ(1, xa);
+    EXPECT_EQ(9, yb); EXPECT_EQ(3, xb);
+    nearestRingPoints(above, below, 0, 5, xa, ya, xb, yb);   // columns 0..2 only
+    EXPECT_EQ(4, ya); EXPECT_EQ(1, xa);
+    EXPECT_EQ(9, yb); EXPECT_EQ(0, xb);
+}
+
+// Through the API: ringGapFactor reaches the pipeline (semidensify() fills more pixels) and is range-checked.
+TEST(Lidarsgm_RingInterpolationApi, parameter)
+{
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+    EXPECT_EQ(0.0, m->getRingGapFactor());
+    EXPECT_THROW(m->setRingGapFactor(-1), cv::Exception);
+    EXPECT_THROW(m->setRingGapFactor(std::numeric_limits<double>::quiet_NaN()), cv::Exception);
+    Mat l, r, s;
+    loadKittiTestFrame("000002", l, r, s);
+    Mat off, on;
+    m->semidensify(l, r, s, off);
+    m->setRingGapFactor(2);
+    m->semidensify(l, r, s, on);
+    // Invalid pixels are minDisparity - 1 (-16 here): count the valid ones (64 lines: few gaps to bridge).
+    EXPECT_GT(countNonZero(on >= 0), countNonZero(off >= 0) + 500);   // 62000 + 879 measured
+}
+
+}} // namespace
