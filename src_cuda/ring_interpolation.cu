@@ -11,26 +11,46 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
-// One thread per column, rows in order: the row of the column's nearest point above and below each pixel.
+/* A block of 32 columns x 32 row segments: each thread finds its segment's first and last point, the segments before
+and after it give the points beyond its segment (the nearest above is the last one of the segments before, the
+nearest below the first one of those after), then it writes its segment's rows. */
 __global__ void ringNeighboursKernel(PtrStepSz<short> sparse16, PtrStepSz<short> above, PtrStepSz<short> below)
 {
-    const int x = blockIdx.x * blockDim.x + threadIdx.x;
-    if (x >= sparse16.cols)
+    __shared__ short first[32][33], last[32][33];   // [segment][column], padded against bank conflicts
+    const int tx = threadIdx.x, ts = threadIdx.y;
+    const int x = blockIdx.x * 32 + tx, H = sparse16.rows, len = (H + 31) / 32;
+    const int y0 = ts * len, y1 = ::min(y0 + len, H);
+    const bool inside = x < sparse16.cols;
+    short f = -1, l = -1;
+    for (int y = y0; inside && y < y1; y++)
+        if (sparse16(y, x) != NO_DISP)
+        {
+            if (f < 0)
+                f = (short)y;
+            l = (short)y;
+        }
+    first[ts][tx] = f;
+    last[ts][tx] = l;
+    __syncthreads();
+    if (!inside)
         return;
-    const int H = sparse16.rows;
-    short last = -1;
-    for (int y = 0; y < H; y++)
+    short a = -1, b = -1;
+    for (int t = 0; t < ts; t++)
+        a = ::max(a, last[t][tx]);
+    for (int t = 31; t > ts; t--)
+        if (first[t][tx] >= 0)
+            b = first[t][tx];
+    for (int y = y0; y < y1; y++)
     {
-        above(y, x) = last;
+        above(y, x) = a;
         if (sparse16(y, x) != NO_DISP)
-            last = (short)y;
+            a = (short)y;
     }
-    last = -1;
-    for (int y = H - 1; y >= 0; y--)
+    for (int y = y1 - 1; y >= y0; y--)
     {
-        below(y, x) = last;
+        below(y, x) = b;
         if (sparse16(y, x) != NO_DISP)
-            last = (short)y;
+            b = (short)y;
     }
 }
 
@@ -75,7 +95,7 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
 {
     using cv::cuda::device::divUp;
     const int W = semidense16.cols, H = semidense16.rows;
-    ringNeighboursKernel<<<divUp(W, 64), 64, 0, stream>>>(sparse16, above, below);
+    ringNeighboursKernel<<<divUp(W, 32), dim3(32, 32), 0, stream>>>(sparse16, above, below);
     cudaSafeCall(cudaGetLastError());
     cudaSafeCall(cudaMemsetAsync(stats, 0, (RING_GAP_BINS + 1) * sizeof(int), stream));
     const dim3 block(32, 8), grid(divUp(W, block.x), divUp(H, block.y));
