@@ -177,10 +177,11 @@ static LIDARSGM_HD unsigned semidenseKey(int cost, int dx, int dy, int rs)
 static LIDARSGM_HD int semidenseKeyCost(unsigned key) { return (int)(key >> 26); }
 
 /* Ring interpolation (interpolateRings), after semidensification: a pixel left without a value takes the disparity
-interpolated between the nearest sparse points above and below it (within RING_COLUMNS columns on either side) when
-they are at most ringGapLimit apart and its census cost there is below Ts. The gap limit scales with the ring spacing
-measured on the sparse map: the lower median of each point's vertical distance to the next point below it within the
-same columns (distances of RING_GAP_BINS - 1 and more share the last bin). */
+on the line through two sparse points of its column (ringCandidate16) if its census cost there is below Ts: the
+nearest points above and below it (within RING_COLUMNS columns on either side) when they are at most ringGapLimit
+apart; beyond the last ring below (or above), the nearest two above (or below), each step at most ringGapLimit. The
+gap limit scales with the ring spacing measured on the sparse map: the lower median of each point's vertical distance
+to the next point below it within the same columns (distances of RING_GAP_BINS - 1 and more share the last bin). */
 enum { RING_COLUMNS = 2, RING_GAP_BINS = 256 };
 
 //! The i-th column offset searched, i in [0, 2 RING_COLUMNS]: 0, -1, 1, -2, 2 (on equal rows the nearer column wins).
@@ -203,9 +204,10 @@ static LIDARSGM_HD int histogramLowerMedian(const int* hist, int bins)
     return bins - 1;
 }
 
-/** va + (vb - va) (y - ya) / (yb - ya) in 1/16 pixel, rounded to nearest (halves up), for ya < y < yb: the disparity
-of the plane through both points at row y (a plane's disparity is linear in the image). */
-static LIDARSGM_HD int ringInterpolate16(int va, int ya, int vb, int yb, int y)
+/** va + (vb - va) (y - ya) / (yb - ya) in 1/16 pixel, rounded to nearest (halves up), for ya < yb: the disparity at
+row y (between the points or beyond them) of the plane through both points (a plane's disparity is linear in the
+image). */
+static LIDARSGM_HD int ringLine16(int va, int ya, int vb, int yb, int y)
 {
     const int num = 2 * (vb - va) * (y - ya) + (yb - ya), den = 2 * (yb - ya);
     return va + (num >= 0 ? num / den : -((-num + den - 1) / den));   // floor division
@@ -247,6 +249,46 @@ static LIDARSGM_HD int ringPointGap(const short* below, int x, int W, int y)
             g = below[c] - y;
     }
     return g < 0 ? -1 : g < RING_GAP_BINS - 1 ? g : RING_GAP_BINS - 1;
+}
+
+/** The ring interpolation's value at pixel (x, y) in 1/16 pixel, NO_DISP where the rule gives none: maps above and
+below (rows of each column's nearest sparse point, -1: none; `step` elements per row), the sparse map (sparseStep),
+the gap limit. The caller checks its range and census cost. */
+static LIDARSGM_HD int ringCandidate16(const short* above, const short* below, size_t step, const short* sparse,
+                                       size_t sparseStep, int x, int y, int W, int gap)
+{
+    int xa, ya, xb, yb, x2, y2, unusedX, unusedY;
+    nearestRingPoints(above + (size_t)y * step, below + (size_t)y * step, x, W, xa, ya, xb, yb);
+    if (ya >= 0 && yb >= 0)
+    {
+        if (yb - ya > gap)
+            return NO_DISP;
+    }
+    else if (ya >= 0)
+    {
+        // Below the last ring: the line through the nearest point above and the one above that.
+        nearestRingPoints(above + (size_t)ya * step, below + (size_t)ya * step, xa, W, x2, y2, unusedX, unusedY);
+        if (y - ya > gap || y2 < 0 || ya - y2 > gap)
+            return NO_DISP;
+        xb = xa;
+        yb = ya;
+        xa = x2;
+        ya = y2;
+    }
+    else if (yb >= 0)
+    {
+        // Above the first ring: the nearest point below and the one below that.
+        nearestRingPoints(above + (size_t)yb * step, below + (size_t)yb * step, xb, W, unusedX, unusedY, x2, y2);
+        if (yb - y > gap || y2 < 0 || y2 - yb > gap)
+            return NO_DISP;
+        xa = xb;
+        ya = yb;
+        xb = x2;
+        yb = y2;
+    }
+    else
+        return NO_DISP;
+    return ringLine16(sparse[(size_t)ya * sparseStep + xa], ya, sparse[(size_t)yb * sparseStep + xb], yb, y);
 }
 
 /* The 3x3 median of a disparity map: "no disparity" ranks above every value (so a pixel with 5 or more invalid

@@ -7,7 +7,8 @@
 // are locally planar, and a plane's disparity is linear in the image, so the column interpolation between the rings
 // is that surface's disparity; the census cost test, as for semidensification's own candidates, rejects it where the
 // pixel shows something else. The gap limit follows the ring spacing measured on each map, so one setting serves
-// every LiDAR density.
+// every LiDAR density. Beyond the outermost rings (the near road below the lowest one) the line through the two
+// nearest rings is extended: a plane again.
 
 #include "precomp.hpp"
 #include "cpu_stages.hpp"
@@ -53,7 +54,10 @@ void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse1
         }
     }
     const int gap = ringGapLimit(p.ringGapFactor16, histogramLowerMedian(hist, RING_GAP_BINS));
-    const int Ts = p.semidenseThreshold;
+    const int Ts = p.semidenseThreshold, lo = p.minDisparity, hi = p.minDisparity + p.numDisparities - 1;
+    const short *above = above16.ptr<short>(), *below = below16.ptr<short>(), *sparse = sparse16.ptr<short>();
+    const size_t step = above16.step1(), sparseStep = sparse16.step1();
+    CV_Assert(below16.step1() == step);
     parallel_for_(Range(0, H), [&](const Range& r) {
         for (int y = r.start; y < r.end; y++)
         {
@@ -64,11 +68,9 @@ void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse1
             {
                 if (out[x] != NO_DISP)
                     continue;
-                int xa, ya, xb, yb;
-                nearestRingPoints(above16.ptr<short>(y), below16.ptr<short>(y), x, W, xa, ya, xb, yb);
-                if (ya < 0 || yb < 0 || yb - ya > gap)
+                const int v = ringCandidate16(above, below, step, sparse, sparseStep, x, y, W, gap);
+                if (v == NO_DISP || !sparseInRange(v, lo, hi))
                     continue;
-                const int v = ringInterpolate16(sparse16.at<short>(ya, xa), ya, sparse16.at<short>(yb, xb), yb, y);
                 const int xr = std::min(std::max(x - roundDisp16(v), 0), W - 1);
                 if (popcount32(L[x] ^ R[xr]) < Ts)
                     out[x] = (short)v;

@@ -70,18 +70,17 @@ __global__ void ringGapLimitKernel(int* stats, int factor16)
 }
 
 __global__ void ringFillKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
-                               PtrStepSz<short> above, PtrStepSz<short> below, const int* stats, int Ts,
-                               PtrStepSz<short> out)
+                               PtrStepSz<short> above, PtrStepSz<short> below, const int* stats, int Ts, int lo,
+                               int hi, PtrStepSz<short> out)
 {
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     const int W = out.cols;
     if (x >= W || y >= out.rows || out(y, x) != NO_DISP)
         return;
-    int xa, ya, xb, yb;
-    nearestRingPoints(above.ptr(y), below.ptr(y), x, W, xa, ya, xb, yb);
-    if (ya < 0 || yb < 0 || yb - ya > stats[RING_GAP_BINS])
+    const int v = ringCandidate16(above.data, below.data, above.step / sizeof(short), sparse16.data,
+                                  sparse16.step / sizeof(short), x, y, W, stats[RING_GAP_BINS]);
+    if (v == NO_DISP || !sparseInRange(v, lo, hi))
         return;
-    const int v = ringInterpolate16(sparse16(ya, xa), ya, sparse16(yb, xb), yb, y);
     const int xr = ::min(::max(x - roundDisp16(v), 0), W - 1);
     if (popcount32((unsigned)censusL(y, x) ^ (unsigned)censusR(y, xr)) < Ts)
         out(y, x) = (short)v;
@@ -104,7 +103,8 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
     ringGapLimitKernel<<<1, 1, 0, stream>>>(stats, p.ringGapFactor16);
     cudaSafeCall(cudaGetLastError());
     ringFillKernel<<<grid, block, 0, stream>>>(censusL, censusR, sparse16, above, below, stats,
-                                               p.semidenseThreshold, semidense16);
+                                               p.semidenseThreshold, p.minDisparity,
+                                               p.minDisparity + p.numDisparities - 1, semidense16);
     cudaSafeCall(cudaGetLastError());
 }
 

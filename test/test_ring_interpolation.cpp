@@ -9,14 +9,14 @@ using namespace cv::lidarsgm::detail;
 using cv::lidarsgm::StereoLidarSGM;
 
 /* Two rings 20 rows apart (rows 5 and 25, a point in every second column of 10..30) on a plane whose disparity is
- 4 + y / 4 px (64 + 4 y in 1/16 px). The left census strings equal the right ones at each row's true integer disparity,
- so the plane's pixels match at cost 0. */
+ 4 + y / 4 px (64 + 4 y in 1/16 px), 50 rows. The left census strings equal the right ones at each row's true integer
+ disparity, so the plane's pixels match at cost 0. */
 class Lidarsgm_RingInterpolation : public testing::Test
 {
 protected:
     void SetUp() CV_OVERRIDE
     {
-        W = 48; H = 32;
+        W = 48; H = 50;
         RNG rng(5);
         cr.create(H, W, CV_32SC1);
         for (int y = 0; y < H; y++)
@@ -50,9 +50,11 @@ protected:
     PipelineParams p;
 };
 
-TEST_F(Lidarsgm_RingInterpolation, fills_the_plane_between_rings)
+TEST_F(Lidarsgm_RingInterpolation, fills_the_plane_between_and_beyond_rings)
 {
     // Spacing: each upper point's next point below is 20 rows away (the lower ring has none): median 20, limit 20.
+    // Between the rings the line through them; above the upper ring and up to 20 rows below the lower one the same
+    // line, extrapolated.
     const Mat out = run(1.0, cl);
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++)
@@ -60,10 +62,10 @@ TEST_F(Lidarsgm_RingInterpolation, fills_the_plane_between_rings)
             const short v = out.at<short>(y, x);
             if (sparse.at<short>(y, x) != NO_DISP)
                 EXPECT_EQ(sparse.at<short>(y, x), v) << x << "," << y;   // a pixel with a value keeps it
-            else if (y > 5 && y < 25 && x >= 8 && x <= 32)
+            else if (y != 5 && y != 25 && y <= 45 && x >= 8 && x <= 32)
                 EXPECT_EQ(plane16(y), v) << x << "," << y;               // a ring point within 2 columns
-            else
-                EXPECT_EQ(NO_DISP, v) << x << "," << y;                  // outside the rings or their columns
+            else   // too far below, no ring in the columns, or on a ring's row (its points are neither above nor below)
+                EXPECT_EQ(NO_DISP, v) << x << "," << y;
         }
 }
 
@@ -84,12 +86,14 @@ TEST_F(Lidarsgm_RingInterpolation, gap_limit_off_and_census_test)
 TEST(Lidarsgm_RingInterpolationRules, arithmetic)
 {
     // Rounded to nearest, halves up, for rising and falling values.
-    EXPECT_EQ(100, ringInterpolate16(100, 0, 200, 10, 0));
-    EXPECT_EQ(150, ringInterpolate16(100, 0, 200, 10, 5));
-    EXPECT_EQ(101, ringInterpolate16(100, 0, 103, 4, 1));   // 100.75
-    EXPECT_EQ(102, ringInterpolate16(100, 0, 103, 6, 3));   // 101.5 -> 102
-    EXPECT_EQ(102, ringInterpolate16(103, 0, 100, 6, 3));   // 101.5 -> 102
-    EXPECT_EQ(101, ringInterpolate16(103, 0, 100, 4, 3));   // 100.75
+    EXPECT_EQ(100, ringLine16(100, 0, 200, 10, 0));
+    EXPECT_EQ(150, ringLine16(100, 0, 200, 10, 5));
+    EXPECT_EQ(101, ringLine16(100, 0, 103, 4, 1));   // 100.75
+    EXPECT_EQ(102, ringLine16(100, 0, 103, 6, 3));   // 101.5 -> 102
+    EXPECT_EQ(102, ringLine16(103, 0, 100, 6, 3));   // 101.5 -> 102
+    EXPECT_EQ(101, ringLine16(103, 0, 100, 4, 3));   // 100.75
+    EXPECT_EQ(106, ringLine16(100, 0, 103, 4, 8));   // beyond the points
+    EXPECT_EQ(99, ringLine16(100, 4, 103, 8, 3));    // 99.25
     // Lower median of a histogram; the gap limit from 16 x the factor.
     const int hist[5] = { 0, 2, 0, 3, 0 };
     EXPECT_EQ(3, histogramLowerMedian(hist, 5));

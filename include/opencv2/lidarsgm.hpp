@@ -257,8 +257,10 @@ public:
     /** Ring interpolation (off by default: the paper has none; SDSGM and semidensify() only): a pixel that
     semidensification leaves without a value takes the disparity interpolated linearly between the nearest sparse
     points above and below it (within 2 columns on either side) if its census cost there is below Ts and the two
-    points are at most ringGapFactor x the ring spacing apart. The ring spacing is measured on each sparse map (the
-    median vertical distance from a point to the next one below it), so one setting serves 64, 32 and 16 lines. A
+    points are at most ringGapFactor x the ring spacing apart; below the last ring (above the first) the line through
+    the two nearest rings above (below) is extended, each step at most that far. The ring spacing is measured on each
+    sparse map (the median vertical distance from a point to the next one below it), so one setting serves 64, 32 and
+    16 lines. A
     LiDAR's rings leave bands of rows without points (about 20 px at 16 lines on KITTI); the surfaces seen from both
     neighbouring rings (road, walls, vehicle sides) are locally planar and a plane's disparity is linear in the image.
     In [0, 16]; 0: off. doc/params/kitti_best.yml: 2 (a ring's neighbours, one missing return bridged). */
