@@ -257,36 +257,26 @@ the gap limit. The caller checks its range and census cost. */
 static LIDARSGM_HD int ringCandidate16(const short* above, const short* below, size_t step, const short* sparse,
                                        size_t sparseStep, int x, int y, int W, int gap)
 {
-    int xa, ya, xb, yb, x2, y2, unusedX, unusedY;
+    int xa, ya, xb, yb;
     nearestRingPoints(above + (size_t)y * step, below + (size_t)y * step, x, W, xa, ya, xb, yb);
-    if (ya >= 0 && yb >= 0)
+    if (ya < 0 && yb < 0)
+        return NO_DISP;
+    if (ya < 0 || yb < 0)
     {
-        if (yb - ya > gap)
+        // Below the last ring (above the first): the line through the nearest point and the next one beyond it.
+        const bool belowLast = ya >= 0;
+        const int xn = belowLast ? xa : xb, yn = belowLast ? ya : yb;
+        int xu, yu, xd, yd;
+        nearestRingPoints(above + (size_t)yn * step, below + (size_t)yn * step, xn, W, xu, yu, xd, yd);
+        const int x2 = belowLast ? xu : xd, y2 = belowLast ? yu : yd;
+        if (y2 < 0 || (belowLast ? y - yn : yn - y) > gap || (belowLast ? yn - y2 : y2 - yn) > gap)
             return NO_DISP;
+        xa = belowLast ? x2 : xn;
+        ya = belowLast ? y2 : yn;
+        xb = belowLast ? xn : x2;
+        yb = belowLast ? yn : y2;
     }
-    else if (ya >= 0)
-    {
-        // Below the last ring: the line through the nearest point above and the one above that.
-        nearestRingPoints(above + (size_t)ya * step, below + (size_t)ya * step, xa, W, x2, y2, unusedX, unusedY);
-        if (y - ya > gap || y2 < 0 || ya - y2 > gap)
-            return NO_DISP;
-        xb = xa;
-        yb = ya;
-        xa = x2;
-        ya = y2;
-    }
-    else if (yb >= 0)
-    {
-        // Above the first ring: the nearest point below and the one below that.
-        nearestRingPoints(above + (size_t)yb * step, below + (size_t)yb * step, xb, W, unusedX, unusedY, x2, y2);
-        if (yb - y > gap || y2 < 0 || y2 - yb > gap)
-            return NO_DISP;
-        xa = xb;
-        ya = yb;
-        xb = x2;
-        yb = y2;
-    }
-    else
+    else if (yb - ya > gap)
         return NO_DISP;
     return ringLine16(sparse[(size_t)ya * sparseStep + xa], ya, sparse[(size_t)yb * sparseStep + xb], yb, y);
 }
