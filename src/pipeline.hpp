@@ -190,7 +190,8 @@ static LIDARSGM_HD int ringColumnOffset(int i) { return (i & 1) ? -((i + 1) >> 1
 //! The longest gap bridged: round(ringGapFactor * spacing) from round(16 ringGapFactor).
 static LIDARSGM_HD int ringGapLimit(int factor16, int spacing) { return (factor16 * spacing + 8) >> 4; }
 
-//! The lower median of a histogram of n values (0 where n is 0): the smallest bin whose cumulative count exceeds (n - 1) / 2.
+/** The lower median of a histogram of n values (0 where n is 0): the smallest bin whose cumulative count exceeds
+(n - 1) / 2. */
 static LIDARSGM_HD int histogramLowerMedian(const int* hist, int bins)
 {
     int n = 0;
@@ -238,17 +239,13 @@ static LIDARSGM_HD void nearestRingPoints(const short* above, const short* below
     }
 }
 
-//! A sparse point's vertical distance to the nearest point below it (maps of its row, as above), capped to the last bin; -1: none.
-static LIDARSGM_HD int ringPointGap(const short* below, int x, int W, int y)
+/** A sparse point's vertical distance to the nearest point below it (nearestRingPoints on the maps of its row),
+capped to the last bin; -1: none. */
+static LIDARSGM_HD int ringPointGap(const short* above, const short* below, int x, int W, int y)
 {
-    int g = -1;
-    for (int i = 0; i <= 2 * RING_COLUMNS; i++)
-    {
-        const int c = x + ringColumnOffset(i);
-        if (c >= 0 && c < W && below[c] >= 0 && (g < 0 || below[c] - y < g))
-            g = below[c] - y;
-    }
-    return g < 0 ? -1 : g < RING_GAP_BINS - 1 ? g : RING_GAP_BINS - 1;
+    int xa, ya, xb, yb;
+    nearestRingPoints(above, below, x, W, xa, ya, xb, yb);
+    return yb < 0 ? -1 : yb - y < RING_GAP_BINS - 1 ? yb - y : RING_GAP_BINS - 1;
 }
 
 /** The ring interpolation's value at pixel (x, y) in 1/16 pixel, NO_DISP where the rule gives none: maps above and

@@ -48,7 +48,8 @@ void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse1
         const short* s = sparse16.ptr<short>(y);
         for (int x = 0; x < W; x++)
         {
-            const int g = s[x] != NO_DISP ? ringPointGap(below16.ptr<short>(y), x, W, y) : -1;
+            const int g = s[x] != NO_DISP ? ringPointGap(above16.ptr<short>(y), below16.ptr<short>(y), x, W, y)
+                                          : -1;
             if (g >= 0)
                 hist[g]++;
         }

@@ -2,7 +2,8 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Ring interpolation, CUDA twin of src/ring_interpolation.cpp (the rule and its arithmetic: pipeline.hpp). The ring
-// spacing stays on the GPU: a histogram, its median and the gap limit are computed in stream order, no copy to the host.
+// spacing stays on the GPU: a histogram, its median and the gap limit are computed in stream order, no copy to the
+// host.
 
 #include "cuda_stages.hpp"
 #include "opencv2/core/cuda/common.hpp"
@@ -54,12 +55,13 @@ __global__ void ringNeighboursKernel(PtrStepSz<short> sparse16, PtrStepSz<short>
     }
 }
 
-__global__ void ringGapHistogramKernel(PtrStepSz<short> sparse16, PtrStepSz<short> below, int* hist)
+__global__ void ringGapHistogramKernel(PtrStepSz<short> sparse16, PtrStepSz<short> above, PtrStepSz<short> below,
+                                       int* hist)
 {
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     if (x >= sparse16.cols || y >= sparse16.rows || sparse16(y, x) == NO_DISP)
         return;
-    const int g = ringPointGap(below.ptr(y), x, sparse16.cols, y);
+    const int g = ringPointGap(above.ptr(y), below.ptr(y), x, sparse16.cols, y);
     if (g >= 0)
         atomicAdd(hist + g, 1);
 }
@@ -98,7 +100,7 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
     cudaSafeCall(cudaGetLastError());
     cudaSafeCall(cudaMemsetAsync(stats, 0, (RING_GAP_BINS + 1) * sizeof(int), stream));
     const dim3 block(32, 8), grid(divUp(W, block.x), divUp(H, block.y));
-    ringGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, below, stats);
+    ringGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, above, below, stats);
     cudaSafeCall(cudaGetLastError());
     ringGapLimitKernel<<<1, 1, 0, stream>>>(stats, p.ringGapFactor16);
     cudaSafeCall(cudaGetLastError());

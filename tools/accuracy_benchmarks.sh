@@ -10,11 +10,10 @@ T=${1:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
 DATA=${2:-../shared/data}
 C=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src src_cuda include samples || echo " + uncommitted changes")
 header() { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"; }
+tool() { echo "# Command: lidarsgm_lidarsgm_fuse $*"; "$T" "$@"; }   # the command line, then its output
 run() {  # output file, then the tool's arguments
   local f=doc/benchmarks/$1; shift
-  { header
-    echo "# Command: lidarsgm_lidarsgm_fuse $*"
-    "$T" "$@"; } > "$f" 2>&1
+  { header; tool "$@"; } > "$f" 2>&1
   echo "wrote $f"
 }
 for cfg in defaults best; do
@@ -28,8 +27,7 @@ for cfg in defaults best; do
   { header
     for a in "32 1" "16 1" "16 2" "16 3"; do
       set -- $a
-      echo "# Command: lidarsgm_lidarsgm_fuse --kitti $DATA/kitti2015_lidar --modes sdsgm --lidar-lines $1 --lidar-ring-offset $2 --quiet 1 ${P[*]}"
-      "$T" --kitti "$DATA/kitti2015_lidar" --modes sdsgm --lidar-lines $1 --lidar-ring-offset $2 --quiet 1 "${P[@]}"
+      tool --kitti "$DATA/kitti2015_lidar" --modes sdsgm --lidar-lines $1 --lidar-ring-offset $2 --quiet 1 "${P[@]}"
     done; } > "$f" 2>&1
   echo "wrote $f"
 done
