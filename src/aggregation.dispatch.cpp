@@ -51,15 +51,16 @@ void runCostRows(const AggregationState& a, int y0, int y1, Mat& cost)
     CV_CPU_DISPATCH(costRows, (a, y0, y1, cost), CV_CPU_DISPATCH_MODES_ALL);
 }
 void runSelectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt,
-                   Mat& dispRight)
+                   Mat& dispRight, Mat& nonUnique16)
 {
-    CV_CPU_DISPATCH(selectRows, (a, sum, y0, y1, disp16, dispInt, dispRight), CV_CPU_DISPATCH_MODES_ALL);
+    CV_CPU_DISPATCH(selectRows, (a, sum, y0, y1, disp16, dispInt, dispRight, nonUnique16), CV_CPU_DISPATCH_MODES_ALL);
 }
 
 } // namespace
 
 void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
-                    const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight, OutputArray finalSum,
+                    const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight, Mat& nonUnique16,
+                    OutputArray finalSum,
                     Ptr<AggregationState>* work)
 {
     CV_Assert(p.edgeThreshold == 0 || !left.empty());
@@ -76,6 +77,9 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     dispRight.create(H, W, CV_16SC1);
     a.disp16 = disp16;
     a.dispInt = dispInt;
+    if (ringCheckOn(p))
+        nonUnique16.create(H, W, CV_16SC1);
+    a.nonUnique16 = ringCheckOn(p) ? nonUnique16 : Mat();
     if (finalSum.needed())
     {
         finalSum.create(H, W * D, CV_16UC1);
@@ -175,7 +179,8 @@ void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prio
     }, rowStripes(a.H));
 }
 
-void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight)
+void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight,
+                    Mat& nonUnique16)
 {
     CV_Assert(sum.type() == CV_16UC1 && sum.cols == width * p.numDisparities);
     AggregationState a;
@@ -186,8 +191,9 @@ void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& dis
     disp16.create(a.H, a.W, CV_16SC1);
     dispInt.create(a.H, a.W, CV_16SC1);
     dispRight.create(a.H, a.W, CV_16SC1);
+    nonUnique16.create(a.H, a.W, CV_16SC1);
     parallel_for_(Range(0, a.H), [&](const Range& r) {
-        runSelectRows(a, sum, r.start, r.end, disp16, dispInt, dispRight);
+        runSelectRows(a, sum, r.start, r.end, disp16, dispInt, dispRight, nonUnique16);
     }, rowStripes(a.H));
 }
 

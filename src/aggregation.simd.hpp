@@ -50,7 +50,7 @@ struct AggregationState
                                                 // row y in row y % rows
     Mat leftRight;                              // per task a row of left-right path costs (horizontalRow)
     Mat finalSum;                               // optional (tests): the complete sums
-    Mat disp16, dispInt;                        // outputs of the winner-takes-all
+    Mat disp16, dispInt, nonUnique16;           // outputs of the winner-takes-all (nonUnique16 may be empty)
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
     std::vector<ushort> L[3][2], minL[3][2];    // per direction, rows of path costs: row y in [y & 1]
     // The right view's candidates per strip and row (RightView): strip s, row y at rightAt[s] + y * rightWidth[s],
@@ -68,7 +68,8 @@ CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 void horizontalRow(AggregationState& a, int y, ushort* lr);
 void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down);
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
-void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight);
+void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight,
+                Mat& nonUnique16);
 
 #ifndef CV_CPU_OPTIMIZATION_DECLARATIONS_ONLY
 
@@ -287,6 +288,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     ushort* finalSum = a.finalSum.empty() ? nullptr : a.finalSum.ptr<ushort>(y);
     short* d16 = down ? nullptr : a.disp16.ptr<short>(y);
     short* dInt = down ? nullptr : a.dispInt.ptr<short>(y);
+    short* nu = down || a.nonUnique16.empty() ? nullptr : a.nonUnique16.ptr<short>(y);
     // A path's first pixel steps from a row of sentinels with minPrev 0 and P2 0: that gives L = C (pathStart).
     AutoBuffer<ushort> noPathBuf(D + 2);
     std::fill(noPathBuf.data(), noPathBuf.data() + D + 2, SENTINEL);
@@ -323,7 +325,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
             return;
         if (finalSum)
             memcpy(finalSum + (size_t)x * D, f, D * sizeof(ushort));
-        selectPixel(f, x, W, a.p, d16[x], dInt[x], rv);
+        selectPixel(f, x, W, a.p, d16[x], dInt[x], nu ? nu + x : nullptr, rv);
     };
     for (int x = x0; x < x1; x++)
         pixel(x);
@@ -344,7 +346,8 @@ void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
     }
 }
 
-void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight)
+void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight,
+                Mat& nonUnique16)
 {
     const int W = a.W, D = a.D;
     AutoBuffer<ushort> fBuf(D), costBuf(W), indexBuf(W);
@@ -355,7 +358,8 @@ void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& 
         for (int x = 0; x < W; x++)
         {
             memcpy(fBuf.data(), sum.ptr<ushort>(y) + (size_t)x * D, D * sizeof(ushort));
-            selectPixel(fBuf.data(), x, W, a.p, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x], rv);
+            selectPixel(fBuf.data(), x, W, a.p, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x],
+                        nonUnique16.ptr<short>(y) + x, rv);
         }
         short* dr = dispRight.ptr<short>(y);
         for (int xr = 0; xr < W; xr++)

@@ -3,7 +3,7 @@
 
 // Stereo-LiDAR consistency check (paper Sec. IV-C, Eq. 6), fused with the conversion to the output format. The LiDAR
 // view uses the original sparse map, not the semidense one: propagated values need not obey the sensors' geometry
-// (the paper's note under Eq. 6).
+// (the paper's note under Eq. 6). With ring interpolation the LiDAR test includes the ring check (pipeline.hpp).
 
 #include "precomp.hpp"
 #include "cpu_stages.hpp"
@@ -33,11 +33,22 @@ void encodeRow(const short* d16, int W, const PipelineParams& p, Mat& out, int y
 } // namespace
 
 void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
-                      const PipelineParams& p, OutputArray _out)
+                      const Mat& nonUnique16, const RingMaps& rings, const PipelineParams& p, OutputArray _out)
 {
     const int W = disp16.cols, H = disp16.rows;
     const bool useStereo = p.stereoCheck, useLidar = p.lidarCheck;
     CV_Assert(!useLidar || (sparse16.type() == CV_16SC1 && sparse16.size() == disp16.size()));
+    const bool useRings = ringCheckOn(p) && rings.valid;
+    CV_Assert(!useRings || (nonUnique16.type() == CV_16SC1 && nonUnique16.size() == disp16.size() &&
+                            rings.above16.size() == disp16.size() && rings.below16.size() == disp16.size() &&
+                            rings.above16.step1() == rings.below16.step1()));
+    const short* above = useRings ? rings.above16.ptr<short>() : nullptr;
+    const short* below = useRings ? rings.below16.ptr<short>() : nullptr;
+    const size_t ringStep = useRings ? rings.above16.step1() : 0, sparseStep = sparse16.step1();
+    const auto ringSupports = [&](int v, int x, int y) {
+        return ringLineSupports(v, above, below, ringStep, sparse16.ptr<short>(), sparseStep, x, y, W, rings.gap,
+                                p.checkThreshold16);
+    };
     _out.create(disp16.size(), p.floatOutput ? CV_32FC1 : CV_16SC1);
     Mat out = _out.getMat();
     const SparseColumns cols(useLidar ? sparse16 : Mat(1, 1, CV_16SC1, Scalar::all(NO_DISP)));
@@ -54,9 +65,12 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
             const short* d16 = disp16.ptr<short>(y);
             const short* di = dispInt.ptr<short>(y);
             const short* dr = dispRight.ptr<short>(y);
+            const short* nu = useRings ? nonUnique16.ptr<short>(y) : nullptr;
             for (int x = 0; x < W; x++)
             {
                 res[x] = d16[x];
+                if (d16[x] == NO_DISP && nu && nu[x] != NO_DISP && ringSupports(nu[x], x, y))
+                    res[x] = nu[x];
                 if (d16[x] == NO_DISP || (!useStereo && !useLidar))
                     continue;
                 bool ok = false;
@@ -77,6 +91,7 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
                                 ok = true;
                                 break;
                             }
+                    ok = ok || (useRings && ringSupports(v, x, y));
                 }
                 if (!ok)
                     res[x] = NO_DISP;

@@ -28,8 +28,10 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     if (semidenseOnly || p.semidense)
     {
         semidensify(censusL_, censusR_, sparse16_, p, semidense16_);
-        interpolateRings(censusL_, censusR_, sparse16_, p, semidense16_, above16_, below16_);
+        interpolateRings(censusL_, censusR_, sparse16_, p, semidense16_, rings_);
     }
+    else
+        rings_.valid = false;
     if (semidenseOnly)
     {
         encodeOutput(semidense16_, p, out);
@@ -37,16 +39,17 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     }
 
     const Mat prior = p.semidense ? semidense16_ : p.ddc ? sparse16_ : Mat();
-    aggregateCosts(censusL_, censusR_, prior, left, p, disp16_, dispInt_, dispRight_, noArray(), &aggregation_);
+    aggregateCosts(censusL_, censusR_, prior, left, p, disp16_, dispInt_, dispRight_, nonUnique16_, noArray(),
+                   &aggregation_);
     if (p.medianSize == 3)
     {
         medianFilter(disp16_, med16_);
         medianFilter(dispInt_, medInt_);
         medianFilter(dispRight_, medRight_);
-        consistencyCheck(med16_, medInt_, medRight_, sparse16_, p, out);
+        consistencyCheck(med16_, medInt_, medRight_, sparse16_, nonUnique16_, rings_, p, out);
     }
     else
-        consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, p, out);
+        consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, nonUnique16_, rings_, p, out);
 }
 
 }}} // namespace cv::lidarsgm::detail

@@ -37,9 +37,9 @@ CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& s
                             Mat& semidense16);
 
 /** Ring interpolation (pipeline.hpp; off where p.ringGapFactor16 is 0): fills the pixels of semidense16 that have no
-value. above16 and below16 are work maps (the rows of each column's nearest sparse point above and below a pixel). */
+value. rings receives the maps and gap limit that the ring check reuses (valid false where the rule is off). */
 CV_EXPORTS void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
-                                 Mat& semidense16, Mat& above16, Mat& below16);
+                                 Mat& semidense16, RingMaps& rings);
 
 /** Semi-global aggregation (paper Eq. 2) over 4 or 8 paths and the winner-takes-all, fused: the matching cost
 (matchingCost with the prior index round(prior16) - minD where prior16 has a value; prior16 may be empty for plain
@@ -48,13 +48,15 @@ The left image gives the jump penalty's intensity steps (read only when p.edgeTh
 disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;
 dispInt: the integer left disparity (NO_DISP where not unique);
 dispRight: the integer right-view disparity (lowest aggregated cost along the diagonal x + d);
+nonUnique16 (only when ringCheckOn(p)): the winner x16 where the uniqueness check fails, NO_DISP elsewhere;
 finalSum (tests; only when asked for): the aggregated costs, rows = image rows, cols = width * numDisparities.
 work: the call's buffers (the 16-bit volume of partial sums, rows of costs and path costs, the right view), kept
 between calls by the caller, so that repeated calls at one size neither allocate nor fault in 2 W H D bytes and more;
 nullptr: temporaries. */
 CV_EXPORTS void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
                                const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight,
-                               OutputArray finalSum = noArray(), Ptr<AggregationState>* work = nullptr);
+                               Mat& nonUnique16, OutputArray finalSum = noArray(),
+                               Ptr<AggregationState>* work = nullptr);
 
 /** The matching cost volume that aggregateCosts computes as it goes (for the tests): rows = image rows,
 cols = width * numDisparities, CV_16UC1, d fastest. The right pixel x - minD - d is clamped to the image. */
@@ -63,7 +65,7 @@ CV_EXPORTS void computeMatchingCost(const Mat& censusL, const Mat& censusR, cons
 
 //! The winner-takes-all of aggregateCosts on a given volume of aggregated costs (for the tests).
 CV_EXPORTS void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& disp16, Mat& dispInt,
-                               Mat& dispRight);
+                               Mat& dispRight, Mat& nonUnique16);
 
 /** 3x3 median of a CV_16SC1 disparity map (1/16 or whole pixels), "no disparity" ranked above every value,
 coordinates clamped at the border (medianKey, medianOfColumns). src and dst must differ. */
@@ -71,9 +73,12 @@ CV_EXPORTS void medianFilter(const Mat& src, Mat& dst);
 
 /** Consistency check (paper Eq. 6) and output encoding: a disparity of disp16 survives the left-right test
 (|dL - dR(x - dL)| <= lrMaxDiff, dispInt against dispRight) and/or the LiDAR test (some sparse16 value within the
-(2 rc + 1)^2 window is within checkThreshold16 of it), as p says; out receives the encoded result (encodeOutput). */
+(2 rc + 1)^2 window is within checkThreshold16 of it), as p says; out receives the encoded result (encodeOutput).
+With ringCheckOn(p) and valid rings, the LiDAR test includes the ring check (pipeline.hpp), which may also keep the
+value of nonUnique16 where disp16 has none. */
 CV_EXPORTS void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
-                                 const PipelineParams& p, OutputArray out);
+                                 const Mat& nonUnique16, const RingMaps& rings, const PipelineParams& p,
+                                 OutputArray out);
 
 //! A 1/16-pixel map in the output format without any check (the semidense map of semidensify()).
 CV_EXPORTS void encodeOutput(const Mat& disp16, const PipelineParams& p, OutputArray out);

@@ -278,6 +278,24 @@ static LIDARSGM_HD int ringCandidate16(const short* above, const short* below, s
     return ringLine16(sparse[(size_t)ya * sparseStep + xa], ya, sparse[(size_t)yb * sparseStep + xb], yb, y);
 }
 
+/* The ring check, with ring interpolation in SDSGM where the LiDAR test runs (ringCheckOn): the LiDAR test also
+passes a disparity within checkThreshold16 of the ring line at the pixel itself (ringCandidate16), and a winner that
+failed the uniqueness check (and that the median left without a value) is kept when it passes this test. Between
+rings farther apart than the check's threshold allows for a slanted surface (the road), no sparse value of the
+window agrees with the pixel, but the line through the rings above and below is that surface at the pixel. */
+static LIDARSGM_HD bool ringCheckOn(const PipelineParams& p)
+{
+    return p.ringGapFactor16 > 0 && p.semidense && p.lidarCheck;
+}
+
+//! The ring check's test of disparity v16 at (x, y): the arguments of ringCandidate16, then the threshold.
+static LIDARSGM_HD bool ringLineSupports(int v16, const short* above, const short* below, size_t step,
+                                         const short* sparse, size_t sparseStep, int x, int y, int W, int gap, int tc)
+{
+    const int line = ringCandidate16(above, below, step, sparse, sparseStep, x, y, W, gap);
+    return line != NO_DISP && (v16 > line ? v16 - line : line - v16) <= tc;
+}
+
 /* The 3x3 median of a disparity map: "no disparity" ranks above every value (so a pixel with 5 or more invalid
 neighbours stays invalid, as in the paper's public code), coordinates outside the image are clamped (the census'
 border rule). The median of 9 is taken as med3(max3(lows), med3(mids), min3(highs)) over the three columns of the
@@ -372,6 +390,15 @@ static LIDARSGM_HD float projectDisparity(double focalBaseline, double z)
 
 struct AggregationState;   // the CPU aggregation's buffers (src/aggregation.simd.hpp)
 
+//! Ring interpolation's maps (interpolateRings), kept for the ring check: for each pixel the rows of its column's
+//! nearest sparse point above and below (-1: none), and the gap limit; valid false where the rule did not run.
+struct RingMaps
+{
+    Mat above16, below16;
+    int gap = 0;
+    bool valid = false;
+};
+
 /** The CPU pipeline (src/cpu_pipeline.cpp): its work buffers and the order of the stage calls. Inputs are checked by
 the front class. semidenseOnly stops after semidensification and writes the semidense map. */
 class CpuPipeline
@@ -380,7 +407,8 @@ public:
     void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
              OutputArray out);
 private:
-    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, above16_, below16_, disp16_, dispInt_, dispRight_;
+    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, disp16_, dispInt_, dispRight_, nonUnique16_;
+    RingMaps rings_;
     Ptr<AggregationState> aggregation_;
     Mat med16_, medInt_, medRight_;
 };

@@ -16,13 +16,16 @@
 namespace cv { namespace lidarsgm { namespace detail {
 
 void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
-                      Mat& semidense16, Mat& above16, Mat& below16)
+                      Mat& semidense16, RingMaps& rings)
 {
+    rings.valid = false;
     if (p.ringGapFactor16 <= 0 || sparse16.empty())
         return;
     CV_Assert(sparse16.type() == CV_16SC1 && semidense16.type() == CV_16SC1 && sparse16.size() == censusL.size() &&
               semidense16.size() == censusL.size());
     const int W = censusL.cols, H = censusL.rows;
+    Mat& above16 = rings.above16;
+    Mat& below16 = rings.below16;
     above16.create(H, W, CV_16SC1);
     below16.create(H, W, CV_16SC1);
     // Row y's maps from row y - 1's (above) and row y + 1's (below): one pass each way, row by row.
@@ -55,6 +58,8 @@ void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse1
         }
     }
     const int gap = ringGapLimit(p.ringGapFactor16, histogramLowerMedian(hist, RING_GAP_BINS));
+    rings.gap = gap;
+    rings.valid = true;
     const int Ts = p.semidenseThreshold, lo = p.minDisparity, hi = p.minDisparity + p.numDisparities - 1;
     const short *above = above16.ptr<short>(), *below = below16.ptr<short>(), *sparse = sparse16.ptr<short>();
     const size_t step = above16.step1(), sparseStep = sparse16.step1();

@@ -2,7 +2,8 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Winner-takes-all of one pixel (paper Eq. 3) from its aggregated costs, with
-//  - the uniqueness check: best * 1024 <= uniqueness1024 * (lowest cost more than one disparity away), else invalid;
+//  - the uniqueness check: best * 1024 <= uniqueness1024 * (lowest cost more than one disparity away), else invalid
+//    (the winner goes to nonUnique where given: the ring check may keep it);
 //  - the parabola fit through the costs at d - 1, d, d + 1 (subpixelOffset16, pipeline.hpp);
 //  - the right view: the pixel offers its cost at d to the right pixel x - minD - d; each right pixel keeps the lowest
 //    cost (the first of equal ones, see RightView), so its disparity is the lowest cost along its diagonal x + d.
@@ -10,7 +11,17 @@
 // Included by aggregation.simd.hpp, inside its CPU-dispatch namespace: compiled once per instruction set.
 // (RightView is defined in aggregation.simd.hpp, outside that namespace.)
 
-static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p, short& d16, short& dInt, RightView rv)
+//! The winner's disparity x16: with the parabola's offset where enabled and both neighbours exist.
+static inline int winner16(const ushort* s, int best, const PipelineParams& p)
+{
+    int v16 = (best + p.minDisparity) * 16;
+    if (p.subpixel && best > 0 && best < p.numDisparities - 1)
+        v16 += subpixelOffset16(s[best - 1], s[best], s[best + 1]);
+    return v16;
+}
+
+static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p, short& d16, short& dInt,
+                               short* nonUnique, RightView rv)
 {
     const int D = p.numDisparities, minD = p.minDisparity;
     int d = 0;
@@ -104,14 +115,15 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
                 second = std::min(second, s[d]);
         if ((int)minv * 1024 > p.uniqueness1024 * (int)second)
         {
+            if (nonUnique)
+                *nonUnique = (short)winner16(s, best, p);
             d16 = NO_DISP;
             dInt = NO_DISP;
             return;
         }
     }
-    int v16 = (best + minD) * 16;
-    if (p.subpixel && best > 0 && best < D - 1)
-        v16 += subpixelOffset16(s[best - 1], s[best], s[best + 1]);
-    d16 = (short)v16;
+    if (nonUnique)
+        *nonUnique = NO_DISP;
+    d16 = (short)winner16(s, best, p);
     dInt = (short)(best + minD);
 }

@@ -2,7 +2,8 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Stereo-LiDAR consistency check fused with the conversion to the output format, CUDA twin of
-// src/consistency_check.cpp; encodeOutput converts without checking (semidensify).
+// src/consistency_check.cpp (with the ring check of pipeline.hpp); encodeOutput converts without checking
+// (semidensify).
 // Tile coordinates are packed in 16 bits each (images below 32768 pixels a side).
 
 #include "sparse_window.cuh"
@@ -25,7 +26,7 @@ __device__ __forceinline__ void store(PtrStepSz<float>& out, int x, int y, int d
  (sparse_window.cuh). The test is "does any point qualify", so the list's order cannot change the result. */
 template <typename T>
 __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                            PtrStepSz<short> sparse16, PipelineParams p, PtrStepSz<T> out)
+                            PtrStepSz<short> sparse16, RingCheckMaps rings, PipelineParams p, PtrStepSz<T> out)
 {
     extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
     __shared__ int count;
@@ -36,6 +37,20 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
     if (x >= W || y >= H)
         return;
     int v = disp16(y, x);
+    const bool useRings = rings.gap != nullptr;
+    const auto ringSupports = [&](int v16) {
+        return ringLineSupports(v16, rings.above.data, rings.below.data, rings.above.step / sizeof(short),
+                                sparse16.data, sparse16.step / sizeof(short), x, y, W, *rings.gap, tc);
+    };
+    if (v == NO_DISP && useRings)
+    {
+        const int nu = rings.nonUnique16(y, x);
+        if (nu != NO_DISP && ringSupports(nu))
+        {
+            store(out, x, y, nu, p.minDisparity);
+            return;
+        }
+    }
     if (v != NO_DISP && (p.stereoCheck || p.lidarCheck))
     {
         bool ok = false;
@@ -62,6 +77,7 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
                     break;
                 }
             }
+            ok = ok || (useRings && ringSupports(v));
         }
         if (!ok)
             v = NO_DISP;
@@ -86,11 +102,15 @@ static dim3 gridFor(int cols, int rows)
 
 template <typename T>
 void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-              PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<T> out, cudaStream_t stream)
+              PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p, PtrStepSz<T> out,
+              cudaStream_t stream)
 {
     const size_t smem = p.lidarCheck ? tileKernelSmem(checkKernel<T>, BLOCK, p.checkRadius) : 0;
+    RingCheckMaps r = rings;
+    if (!ringCheckOn(p))
+        r.gap = nullptr;
     checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
-                                                                                p, out);
+                                                                                r, p, out);
     cudaSafeCall(cudaGetLastError());
 }
 
@@ -104,15 +124,17 @@ void runEncode(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out, cudaStream_t
 } // namespace
 
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> out, cudaStream_t stream)
+                      PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
+                      PtrStepSz<short> out, cudaStream_t stream)
 {
-    runCheck(disp16, dispInt, dispRight, sparse16, p, out, stream);
+    runCheck(disp16, dispInt, dispRight, sparse16, rings, p, out, stream);
 }
 
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<float> out, cudaStream_t stream)
+                      PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
+                      PtrStepSz<float> out, cudaStream_t stream)
 {
-    runCheck(disp16, dispInt, dispRight, sparse16, p, out, stream);
+    runCheck(disp16, dispInt, dispRight, sparse16, rings, p, out, stream);
 }
 
 void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<short> out, cudaStream_t stream)

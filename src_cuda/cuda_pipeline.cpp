@@ -38,11 +38,12 @@ struct CudaPipeline::Buffers
     /* The only allocations. Maps whose lifetimes do not overlap share memory (the stages run in stream order): the
     converted sparse map before the visibility filter lives in censusL's memory (the census transform runs after the
     filter); after the aggregation the census strings are dead, so the winner-takes-all's right-view keys take
-    censusL's memory and its disparity maps censusRPadded's; after the winner-takes-all the sum volume is dead, so
-    the right-view disparities and the median's outputs take its memory. */
+    censusL's memory and its disparity maps censusRPadded's, its non-unique winners (for the ring check) the memory of
+    the semidense prior; after the winner-takes-all the sum volume is dead, so the right-view disparities and the
+    median's outputs take its memory. */
     cuda::GpuMat censusL, censusR, sparse16, semidense16, sum;
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
-    cuda::GpuMat ring, ringStats;    //!< ring interpolation's work maps (above, then below) and gap statistics
+    cuda::GpuMat ring, ringStats;    //!< ring interpolation's maps (above, then below) and gap statistics
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
 
@@ -116,11 +117,12 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     else
         ci::censusTransform(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), b.censusL, b.censusR, padBefore,
                             padAfter, st);
+    const bool rings = (semidenseOnly || p.semidense) && p.ringGapFactor16 > 0 && !Sp.empty();
     if (semidenseOnly || p.semidense)
     {
         b.semidense16.create(sz, CV_16SC1);
         ci::semidensify(b.censusL, b.censusR, b.sparse16, p, b.semidense16, st);
-        if (p.ringGapFactor16 > 0 && !Sp.empty())
+        if (rings)
         {
             b.ring.create(2 * sz.height, sz.width, CV_16SC1);
             b.ringStats.create(1, RING_GAP_BINS + 1, CV_32SC1);
@@ -150,7 +152,11 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
-    ci::winnerTakesAll(b.sum, sz.width, p, disp16, dispInt, rightKey, dispRight, st);
+    ci::RingCheckMaps ringCheck = {};
+    if (rings && ringCheckOn(p))
+        ringCheck = { b.ring.rowRange(0, sz.height), b.ring.rowRange(sz.height, 2 * sz.height), b.semidense16,
+                      b.ringStats.ptr<int>() + RING_GAP_BINS };
+    ci::winnerTakesAll(b.sum, sz.width, p, disp16, dispInt, rightKey, dispRight, ringCheck.nonUnique16, st);
     cuda::GpuMat d16 = disp16, dInt = dispInt, dRight = dispRight;
     if (p.medianSize == 3)
     {
@@ -165,9 +171,9 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const cuda::PtrStepSz<short> sparse = b.sparse16.empty() || Sp.empty() ? cuda::PtrStepSz<short>()
                                                                            : cuda::PtrStepSz<short>(b.sparse16);
     if (p.floatOutput)
-        ci::consistencyCheck(d16, dInt, dRight, sparse, p, cuda::PtrStepSz<float>(o), st);
+        ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<float>(o), st);
     else
-        ci::consistencyCheck(d16, dInt, dRight, sparse, p, cuda::PtrStepSz<short>(o), st);
+        ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<short>(o), st);
     b.markCallEnd(st, capturing);
 }
 

@@ -48,8 +48,9 @@ void censusTransform(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
-/** Ring interpolation (pipeline.hpp) into semidense16's empty pixels; above and below are work maps of the image's
-size, stats RING_GAP_BINS + 1 ints of device memory (the gap histogram and the gap limit). */
+/** Ring interpolation (pipeline.hpp) into semidense16's empty pixels; above and below are maps of the image's size,
+stats RING_GAP_BINS + 1 ints of device memory (the gap histogram, then the gap limit): the ring check reads the maps
+and stats[RING_GAP_BINS]. */
 void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                       const PipelineParams& p, PtrStepSz<short> semidense16, PtrStepSz<short> above,
                       PtrStepSz<short> below, int* stats, cudaStream_t stream);
@@ -63,10 +64,11 @@ void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<sh
                     const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
-right-view disparity as on the CPU. */
+right-view disparity as on the CPU; nonUnique16 (may be empty) the winners that fail the uniqueness check, NO_DISP
+elsewhere. */
 void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
                     PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
-                    cudaStream_t stream);
+                    PtrStepSz<short> nonUnique16, cudaStream_t stream);
 
 //! Up to three maps of one size filtered in one launch: dst[i] = median3x3(src[i]).
 struct MedianMaps
@@ -75,11 +77,21 @@ struct MedianMaps
 };
 void medianFilter(const MedianMaps& maps, int count, cudaStream_t stream);
 
+//! The ring check's inputs (pipeline.hpp): interpolateRings' maps and gap limit (device memory), the winner-takes-all's
+//! non-unique winners; gap == nullptr: off.
+struct RingCheckMaps
+{
+    PtrStepSz<short> above, below, nonUnique16;
+    const int* gap;
+};
+
 //! The check and the conversion to the output format, in one pass (one overload per output type).
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> out, cudaStream_t stream);
+                      PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
+                      PtrStepSz<short> out, cudaStream_t stream);
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<float> out, cudaStream_t stream);
+                      PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
+                      PtrStepSz<float> out, cudaStream_t stream);
 
 //! A 1/16-pixel map in the output format without any check (the semidense map of semidensify()).
 void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<short> out, cudaStream_t stream);

@@ -44,7 +44,7 @@ template <int PPT> __device__ __forceinline__ unsigned costOf(const unsigned (&v
  disparity among equal costs (winnerTakesAll on the CPU). */
 template <int PPT>
 __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrStepSz<short> disp16,
-                          PtrStepSz<short> dispInt, PtrStepSz<int> rightKey)
+                          PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> nonUnique16)
 {
     const int DPT = 2 * PPT;
     __shared__ unsigned rkey[SEG + MAX_D + (SEG + MAX_D) / 32];
@@ -110,9 +110,10 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
             second = __reduce_min_sync(0xFFFFFFFFu, second);
             valid = second == 0xFFFFFFFFu || minv * 1024 <= p.uniqueness1024 * (int)second;
         }
-        // The parabola's neighbour costs from the lanes that hold them (warp-uniform: bd and valid are).
+        // The parabola's neighbour costs from the lanes that hold them (warp-uniform: bd and valid are); a non-unique
+        // winner needs them only for nonUnique16.
         int cm = 0, cp = 0;
-        const bool parabola = valid && p.subpixel && bd > 0 && bd < D - 1;
+        const bool parabola = (valid || nonUnique16.data) && p.subpixel && bd > 0 && bd < D - 1;
         if (parabola)
         {
             const int dm = bd - 1, dp = bd + 1;
@@ -130,6 +131,8 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         const int d16 = (mine.bd + minD) * 16 + (mine.parabola ? subpixelOffset16(mine.cm, mine.c0, mine.cp) : 0);
         disp16(y, mine.x) = mine.valid ? (short)d16 : NO_DISP;
         dispInt(y, mine.x) = mine.valid ? (short)(mine.bd + minD) : NO_DISP;
+        if (nonUnique16.data)
+            nonUnique16(y, mine.x) = mine.valid ? NO_DISP : (short)d16;
     }
     __syncthreads();
     unsigned* rk = (unsigned*)rightKey.ptr(y);
@@ -155,17 +158,21 @@ __global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz
 
 void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
                     PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
-                    cudaStream_t stream)
+                    PtrStepSz<short> nonUnique16, cudaStream_t stream)
 {
     cudaSafeCall(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
                                    stream));
     const dim3 grid((width + SEG - 1) / SEG, sum.rows);
+    const auto launch = [&](void (*kernel)(PtrStepSz<ushort>, int, PipelineParams, PtrStepSz<short>, PtrStepSz<short>,
+                                           PtrStepSz<int>, PtrStepSz<short>)) {
+        kernel<<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey, nonUnique16);
+    };
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: wtaKernel<1><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
-    case 2: wtaKernel<2><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
-    case 3: wtaKernel<3><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
-    default: wtaKernel<4><<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey); break;
+    case 1: launch(wtaKernel<1>); break;
+    case 2: launch(wtaKernel<2>); break;
+    case 3: launch(wtaKernel<3>); break;
+    default: launch(wtaKernel<4>); break;
     }
     cudaSafeCall(cudaGetLastError());
     const dim3 block(32, 8);

@@ -79,8 +79,8 @@ TEST(Lidarsgm_Aggregation, one_step_by_hand)
     p.w.census256 = 256;
     p.w.p1 = 3;
     p.w.p2 = 20;
-    Mat d16, di, dr, sum;
-    aggregateCosts(cl, cr, Mat(), Mat(), p, d16, di, dr, sum);
+    Mat d16, di, dr, nu, sum;
+    aggregateCosts(cl, cr, Mat(), Mat(), p, d16, di, dr, nu, sum);
     // Pixel 1: left-to-right = C(1) + L(0) step with L(0) = C(0) = 0 everywhere: 1 + min(0, 3, 3, 20) - 0 = 1;
     // right-to-left starts at pixel 1 (= C = 1); vertical paths = C = 1. Sum = 4 at every d.
     for (int d = 0; d < D; d++)
@@ -113,15 +113,19 @@ TEST_P(Lidarsgm_AggregationRandom, matches_reference)
     p.uniqueness1024 = 970;
     p.edgeThreshold = thr;
     p.w = computeCostWeights(10, 120, 5, 160, 0.7, numPaths, true, 0.75);
-    Mat cost, ref, sum, d16, di, dr, e16, ei, er;
+    // With the ring check on, the winner-takes-all also keeps the non-unique winners.
+    p.ringGapFactor16 = 32;
+    p.semidense = p.lidarCheck = true;
+    Mat cost, ref, sum, d16, di, dr, nu, e16, ei, er, enu;
     computeMatchingCost(cl, cr, prior, p, cost);
     referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref, image, thr, p.w.p2Edge);
-    aggregateCosts(cl, cr, prior, image, p, d16, di, dr, sum);
+    aggregateCosts(cl, cr, prior, image, p, d16, di, dr, nu, sum);
     EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
-    winnerTakesAll(ref, sz.width, p, e16, ei, er);
+    winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
     EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
     EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF));
     EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(nu, enu, NORM_INF));
 }
 INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationRandom,
     testing::Combine(testing::Values(4, 8), testing::Values(16, 48),
@@ -147,19 +151,22 @@ TEST_P(Lidarsgm_AggregationThreads, same_as_reference)
     p.subpixel = true;
     p.uniqueness1024 = 970;
     p.w = computeCostWeights(10, 120, 5, 160, 0.7, numPaths, true);
-    Mat cost, ref, e16, ei, er;
+    p.ringGapFactor16 = 32;
+    p.semidense = p.lidarCheck = true;
+    Mat cost, ref, e16, ei, er, enu;
     computeMatchingCost(cl, cr, prior, p, cost);
     referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref);
-    winnerTakesAll(ref, sz.width, p, e16, ei, er);
+    winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
     const int saved = getNumThreads();
     setNumThreads(threads);
-    Mat sum, d16, di, dr;
+    Mat sum, d16, di, dr, nu;
     // Twice: the second call reuses the buffers the first one left.
     Ptr<AggregationState> kept;
     for (int call = 0; call < 2; call++)
     {
-        aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, sum, &kept);
+        aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, nu, sum, &kept);
         EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF)) << "call " << call;
+        EXPECT_EQ(0, cvtest::norm(nu, enu, NORM_INF)) << "call " << call;
         EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF)) << "call " << call;
         EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF)) << "call " << call;
         EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF)) << "call " << call;

@@ -31,7 +31,7 @@ static Mat runCheck(int check, int dx, int sparseValue16, int rc = 20, int tc16 
     p.checkThreshold16 = tc16;
     // Output in CV_16S x16 with minDisparity 0: "none" is written as -16.
     Mat out;
-    consistencyCheck(d16, di, dr, sparse, p, out);
+    consistencyCheck(d16, di, dr, sparse, Mat(), RingMaps(), p, out);
     out.setTo(NO_DISP, out == encodeOutput16(NO_DISP, 0));
     return out;
 }

@@ -41,13 +41,14 @@ protected:
     Mat run(double factor, const Mat& left)
     {
         p.ringGapFactor16 = cvRound(factor * 16);
-        Mat out = sparse.clone(), above, below;
-        interpolateRings(left, cr, sparse, p, out, above, below);
+        Mat out = sparse.clone();
+        interpolateRings(left, cr, sparse, p, out, rings);
         return out;
     }
     int W, H;
     Mat cl, cr, sparse;
     PipelineParams p;
+    RingMaps rings;
 };
 
 TEST_F(Lidarsgm_RingInterpolation, fills_the_plane_between_and_beyond_rings)
@@ -81,6 +82,43 @@ TEST_F(Lidarsgm_RingInterpolation, gap_limit_off_and_census_test)
         for (int x = 0; x < W; x++)
             other.at<int>(y, x) = (int)rng.next();
     EXPECT_EQ(0, cvtest::norm(run(1.0, other), sparse, NORM_INF));
+}
+
+/* The ring check on the same plane: a pixel between the rings whose left-right test fails and whose check window
+ (rc = 2) holds no sparse value survives when it is within Tc of the line through the rings; a non-unique winner is
+ kept on the same test where the median left the pixel empty. */
+TEST_F(Lidarsgm_RingInterpolation, ring_check)
+{
+    run(1.0, cl);
+    ASSERT_TRUE(rings.valid);
+    p.semidense = p.stereoCheck = p.lidarCheck = true;
+    p.lrMaxDiff = 1;
+    p.checkRadius = 2;
+    p.checkThreshold16 = 32;
+    enum { y = 15 };
+    const auto check = [&](int v16, int nonUnique16, const RingMaps& r, int x = 20, int yy = y) {
+        Mat d16(H, W, CV_16SC1, Scalar::all(NO_DISP)), di(H, W, CV_16SC1, Scalar::all(NO_DISP));
+        Mat dr(H, W, CV_16SC1, Scalar::all(NO_DISP)), nu(H, W, CV_16SC1, Scalar::all(NO_DISP)), out;
+        d16.at<short>(yy, x) = (short)v16;
+        di.at<short>(yy, x) = v16 == NO_DISP ? NO_DISP : (short)(v16 / 16);   // no right view: left-right fails
+        nu.at<short>(yy, x) = (short)nonUnique16;
+        consistencyCheck(d16, di, dr, sparse, nu, r, p, out);
+        const short o = out.at<short>(yy, x);
+        return o == encodeOutput16(NO_DISP, 0) ? (int)NO_DISP : (int)o;
+    };
+    EXPECT_EQ(plane16(y) + 32, check(plane16(y) + 32, NO_DISP, rings));           // |d - line| = Tc: kept
+    EXPECT_EQ(NO_DISP, check(plane16(y) + 33, NO_DISP, rings));                   // 1/16 px over
+    EXPECT_EQ(NO_DISP, check(plane16(y) + 32, NO_DISP, RingMaps()));              // no ring maps: the paper's check
+    EXPECT_EQ(plane16(y) - 20, check(NO_DISP, plane16(y) - 20, rings));           // a non-unique winner on the line
+    EXPECT_EQ(NO_DISP, check(NO_DISP, plane16(y) - 40, rings));                   // off the line
+    EXPECT_EQ(NO_DISP, check(NO_DISP, plane16(47), rings, 20, 47));               // 22 rows below the last ring
+    EXPECT_EQ(NO_DISP, check(NO_DISP, plane16(y), rings, 40));                    // no ring within 2 columns
+    p.semidense = false;                                                          // not SDSGM: off
+    EXPECT_EQ(NO_DISP, check(plane16(y), NO_DISP, rings));
+    EXPECT_EQ(NO_DISP, check(NO_DISP, plane16(y), rings));
+    p.semidense = true;
+    p.stereoCheck = p.lidarCheck = false;                                         // no check: nothing rescued
+    EXPECT_EQ(NO_DISP, check(NO_DISP, plane16(y), rings));
 }
 
 TEST(Lidarsgm_RingInterpolationRules, arithmetic)

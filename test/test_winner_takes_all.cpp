@@ -23,23 +23,25 @@ TEST(Lidarsgm_WTA, subpixel_parabola_and_uniqueness)
     sum.at<ushort>(0, 4) = 30;
     sum.at<ushort>(0, 5) = 10;   // best
     sum.at<ushort>(0, 6) = 20;
-    Mat d16, di, dr;
+    Mat d16, di, dr, nu;
     // offset = round(8 * (30 - 20) / (30 + 20 - 20)) = round(80 / 30) = 3 (2.67)
-    winnerTakesAll(sum, W, wtaParams(3, D, true, 0.95), d16, di, dr);
+    winnerTakesAll(sum, W, wtaParams(3, D, true, 0.95), d16, di, dr, nu);
     EXPECT_EQ((5 + 3) * 16 + 3, d16.at<short>(0, 0));
     EXPECT_EQ(8, di.at<short>(0, 0));
-    winnerTakesAll(sum, W, wtaParams(3, D, false, 0.95), d16, di, dr);
+    winnerTakesAll(sum, W, wtaParams(3, D, false, 0.95), d16, di, dr, nu);
     EXPECT_EQ(8 * 16, d16.at<short>(0, 0));
 
     // Uniqueness: the best must be at most ratio x the lowest cost more than one disparity away.
     sum.at<ushort>(0, 12) = 11;  // 10 <= 0.95 * 11 = 10.45: unique
-    winnerTakesAll(sum, W, wtaParams(0, D, true, 0.95), d16, di, dr);
+    winnerTakesAll(sum, W, wtaParams(0, D, true, 0.95), d16, di, dr, nu);
     EXPECT_NE(NO_DISP, d16.at<short>(0, 0));
+    EXPECT_EQ(NO_DISP, nu.at<short>(0, 0));
     sum.at<ushort>(0, 12) = 10;  // tie with a far disparity: the best is the first (d = 5), not unique
-    winnerTakesAll(sum, W, wtaParams(0, D, true, 0.95), d16, di, dr);
+    winnerTakesAll(sum, W, wtaParams(0, D, true, 0.95), d16, di, dr, nu);
     EXPECT_EQ(NO_DISP, d16.at<short>(0, 0));
     EXPECT_EQ(NO_DISP, di.at<short>(0, 0));
-    winnerTakesAll(sum, W, wtaParams(0, D, true, 1.0), d16, di, dr);  // 1 disables the check
+    EXPECT_EQ(5 * 16 + 3, nu.at<short>(0, 0));   // the rejected winner, for the ring check
+    winnerTakesAll(sum, W, wtaParams(0, D, true, 1.0), d16, di, dr, nu);  // 1 disables the check
     EXPECT_EQ(5 * 16 + 3, d16.at<short>(0, 0));
 }
 
@@ -52,8 +54,8 @@ TEST(Lidarsgm_WTA, right_view_disparity)
     sum.at<ushort>(0, 0 * D + 0) = 40;
     sum.at<ushort>(0, 1 * D + 1) = 5;
     sum.at<ushort>(0, 2 * D + 2) = 30;
-    Mat d16, di, dr;
-    winnerTakesAll(sum, W, wtaParams(0, D, false, 1.0), d16, di, dr);
+    Mat d16, di, dr, nu;
+    winnerTakesAll(sum, W, wtaParams(0, D, false, 1.0), d16, di, dr, nu);
     EXPECT_EQ(1, dr.at<short>(0, 0));
     // Right pixel 2 is seen only by (x=2,k=0).
     EXPECT_EQ(0, dr.at<short>(0, 2));
