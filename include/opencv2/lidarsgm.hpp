@@ -52,13 +52,13 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 | medianSize | median filter before the check: 1 (off) or 3 | 1, 3 | 3 (the public code's) |
 | visibilityRadiusX, visibilityRadiusY | visibility filter of the sparse input (beyond the paper) | [0, 16] each | 0, 0 (off) |
 | edgeThreshold, edgeP2Ratio | P2 x ratio across left-image steps above the threshold (beyond the paper) | [0, 65535], (0, 1] | 0 (off), 0.5 |
-| ringGapFactor | interpolation between LiDAR rings after semidensification, longest gap in measured ring spacings (beyond the paper) | [0, 16] | 0 (off) |
+| ringGapFactor | interpolation between LiDAR rings after semidensification and the ring check, longest gap in measured ring spacings (beyond the paper) | [0, 16] | 0 (off) |
 | outputType | CV_16S (disparity x 16) or CV_32F (pixels) | | CV_16S |
 
 Beyond the paper: `doc/params/kitti_best.yml` (StereoLidarSGM::load) switches on the visibility filter with the
 HDL-64E's footprint (2 x 4), the edge rule (32 grey levels, P2 halved) and ring interpolation (factor 2): on the 20
-KITTI development frames SDSGM's total D1 falls from 2.01 % to 1.68 % (64 lines), 2.63 % to 2.39 % (32) and 4.44 % to
-3.90 % (16), DSGM's from 2.53 % to 1.85 %, and the Middlebury sums improve too
+KITTI development frames SDSGM's total D1 falls from 2.01 % to 1.68 % (64 lines), 2.63 % to 2.37 % (32) and 4.44 % to
+3.75 % (16), DSGM's from 2.53 % to 1.85 %, and the Middlebury sums improve too
 (doc/accuracy.md).
 
 Inputs: rectified 8- or 16-bit single-channel images of one size; a sparse disparity map of the left view of that
@@ -260,10 +260,12 @@ public:
     points are at most ringGapFactor x the ring spacing apart; below the last ring (above the first) the line through
     the two nearest rings above (below) is extended, each step at most that far. The ring spacing is measured on each
     sparse map (the median vertical distance from a point to the next one below it), so one setting serves 64, 32 and
-    16 lines. A
-    LiDAR's rings leave bands of rows without points (about 20 px at 16 lines on KITTI); the surfaces seen from both
-    neighbouring rings (road, walls, vehicle sides) are locally planar and a plane's disparity is linear in the image.
-    In [0, 16]; 0: off. doc/params/kitti_best.yml: 2 (a ring's neighbours, one missing return bridged). */
+    16 lines. A LiDAR's rings leave bands of rows without points (about 20 px at 16 lines on KITTI); the surfaces seen
+    from both neighbouring rings (road, walls, vehicle sides) are locally planar and a plane's disparity is linear in
+    the image. With it, where the LiDAR test runs, the consistency check also keeps a disparity within Tc of that
+    line at the pixel (census test aside), and a winner that failed the uniqueness check and that the median left
+    empty when it passes the same test: the ring check. In [0, 16]; 0: off. doc/params/kitti_best.yml: 2 (a ring's
+    neighbours, one missing return bridged). */
     CV_WRAP virtual double getRingGapFactor() const = 0;
     CV_WRAP virtual void setRingGapFactor(double factor) = 0;
     //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
