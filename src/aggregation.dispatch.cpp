@@ -78,8 +78,12 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.disp16 = disp16;
     a.dispInt = dispInt;
     if (ringCheckOn(p))
+    {
         nonUnique16.create(H, W, CV_16SC1);
-    a.nonUnique16 = ringCheckOn(p) ? nonUnique16 : Mat();
+        a.nonUnique16 = nonUnique16;
+    }
+    else
+        a.nonUnique16.release();
     if (finalSum.needed())
     {
         finalSum.create(H, W * D, CV_16UC1);

@@ -106,11 +106,8 @@ void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short
               cudaStream_t stream)
 {
     const size_t smem = p.lidarCheck ? tileKernelSmem(checkKernel<T>, BLOCK, p.checkRadius) : 0;
-    RingCheckMaps r = rings;
-    if (!ringCheckOn(p))
-        r.gap = nullptr;
     checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
-                                                                                r, p, out);
+                                                                                rings, p, out);
     cudaSafeCall(cudaGetLastError());
 }
 

@@ -118,6 +118,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         ci::censusTransform(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), b.censusL, b.censusR, padBefore,
                             padAfter, st);
     const bool rings = (semidenseOnly || p.semidense) && p.ringGapFactor16 > 0 && !Sp.empty();
+    cuda::GpuMat ringAbove, ringBelow;
     if (semidenseOnly || p.semidense)
     {
         b.semidense16.create(sz, CV_16SC1);
@@ -126,8 +127,10 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         {
             b.ring.create(2 * sz.height, sz.width, CV_16SC1);
             b.ringStats.create(1, RING_GAP_BINS + 1, CV_32SC1);
-            ci::interpolateRings(b.censusL, b.censusR, b.sparse16, p, b.semidense16, b.ring.rowRange(0, sz.height),
-                                 b.ring.rowRange(sz.height, 2 * sz.height), b.ringStats.ptr<int>(), st);
+            ringAbove = b.ring.rowRange(0, sz.height);
+            ringBelow = b.ring.rowRange(sz.height, 2 * sz.height);
+            ci::interpolateRings(b.censusL, b.censusR, b.sparse16, p, b.semidense16, ringAbove, ringBelow,
+                                 b.ringStats.ptr<int>(), st);
         }
     }
 
@@ -154,8 +157,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
     ci::RingCheckMaps ringCheck = {};
     if (rings && ringCheckOn(p))
-        ringCheck = { b.ring.rowRange(0, sz.height), b.ring.rowRange(sz.height, 2 * sz.height), b.semidense16,
-                      b.ringStats.ptr<int>() + RING_GAP_BINS };
+        ringCheck = { ringAbove, ringBelow, b.semidense16, b.ringStats.ptr<int>() + RING_GAP_BINS };
     ci::winnerTakesAll(b.sum, sz.width, p, disp16, dispInt, rightKey, dispRight, ringCheck.nonUnique16, st);
     cuda::GpuMat d16 = disp16, dInt = dispInt, dRight = dispRight;
     if (p.medianSize == 3)

@@ -78,7 +78,7 @@ struct MedianMaps
 void medianFilter(const MedianMaps& maps, int count, cudaStream_t stream);
 
 //! The ring check's inputs (pipeline.hpp): interpolateRings' maps and gap limit (device memory), the winner-takes-all's
-//! non-unique winners; gap == nullptr: off.
+//! non-unique winners; gap == nullptr: off (the pipeline passes them only where ringCheckOn holds).
 struct RingCheckMaps
 {
     PtrStepSz<short> above, below, nonUnique16;
