@@ -128,11 +128,12 @@ inline ushort pathStart(const ushort* C, ushort* Lout, int D)
 /** The vertical paths of one pixel in one pass over the disparities: for each direction k < ND, pathStep(C, Lp[k],
 minPrev[k], Lout[k], D, P1, P2[k]) (a path's first pixel passes a row of sentinels, minPrev 0 and P2 0, which gives
 Lout = C), and S = A + Lout[0] + ... + Lout[ND - 1] + B (A, B may be null). The same operations in the same order as
-pathStep and sumInto, so the same results; C and the outputs are loaded once instead of once per direction. */
+pathStep and sumInto, so the same results; C and the outputs are loaded once instead of once per direction. stream: S
+is written with streaming stores (aligned). */
 template <int ND>
 inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const ushort* minPrev, ushort* const* Lout,
                             ushort* minOut, const ushort* P2, const ushort* A, const ushort* B, ushort* S, int D,
-                            ushort P1)
+                            ushort P1, bool stream = false)
 {
     int d = 0;
     ushort m[ND];
@@ -166,7 +167,10 @@ inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const usho
         }
         if (B)
             sum = v_add(sum, vx_load(B + d));
-        v_store(S + d, sum);
+        if (stream)
+            v_store_aligned_nocache(S + d, sum);
+        else
+            v_store(S + d, sum);
     }
     for (int k = 0; k < ND; k++)
         m[k] = (ushort)v_reduce_min(vmin[k]);
@@ -234,6 +238,13 @@ void horizontalRow(AggregationState& a, int y, ushort* lr)
     ushort* S = a.sum.ptr<ushort>(y);
     for (int x = 0; x < W; x++)
         lr[(size_t)x * st - 1] = lr[(size_t)x * st + D] = SENTINEL;
+    // The volume row is read again only by the up sweep, after the whole image: streaming stores write it without
+    // first reading each cache line in (aligned vectors only; a pixel's costs are D * 2 bytes).
+#if (CV_SIMD || CV_SIMD_SCALABLE)
+    const bool stream = ((size_t)S % (size_t)CV_SIMD_WIDTH) == 0 && (D * sizeof(ushort)) % CV_SIMD_WIDTH == 0;
+#else
+    const bool stream = false;
+#endif
     ushort m = pathStart(C, lr, D);
     for (int x = 1; x < W; x++)
         m = pathStep(C + (size_t)x * D, lr + (size_t)(x - 1) * st, m, lr + (size_t)x * st, D, P1, jump(a, I, x, x - 1));
@@ -245,9 +256,13 @@ void horizontalRow(AggregationState& a, int y, ushort* lr)
         const ushort* lp = u;
         const ushort p2 = jump(a, I, x, x + 1);
         pathStepsAndSum<1>(C + (size_t)x * D, &lp, &m, &v, &m, &p2, V + (size_t)x * D, lr + (size_t)x * st,
-                           S + (size_t)x * D, D, P1);
+                           S + (size_t)x * D, D, P1, stream);
         std::swap(u, v);
     }
+#if CV_SSE2
+    if (stream)
+        _mm_sfence();   // the streamed stores are weakly ordered: the row is complete before the item says so
+#endif
 }
 
 void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down)
