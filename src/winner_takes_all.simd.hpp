@@ -24,20 +24,64 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
                                short* nonUnique, RightView rv)
 {
     const int D = p.numDisparities, minD = p.minDisparity;
-    int d = 0;
+    // Right view, before the uniqueness check may reject this pixel (it does not affect the right view). In the
+    // reversed index u = W - 1 - xr this pixel's candidates are contiguous: u = u0 + d.
+    const int u0 = W - 1 - x + minD;
+    const int k0 = std::max(0, -u0), n = std::min(D, W - u0) - k0;
+    // rc[j], ri[j]: the candidate at u = u0 + k0 + j (disparity index k0 + j); pointers formed only inside the view.
+    ushort* rc = n > 0 ? rv.cost + (u0 + k0 - rv.lo) : nullptr;
+    ushort* ri = n > 0 ? rv.index + (u0 + k0 - rv.lo) : nullptr;
+    const ushort* sk = s + k0;
+    // Where the pixel offers all its costs (away from the left border), the minimum is taken in the same pass.
+    const bool whole = k0 == 0 && n == D;
     ushort minv = 0xFFFF;
-    int best = -1;
+    int j = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
     const int n16 = VTraits<v_uint16>::vlanes();
     {
+        static const ushort iota[128] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
+            21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46,
+            47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64, 65, 66, 67, 68, 69, 70, 71, 72,
+            73, 74, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97, 98,
+            99, 100, 101, 102, 103, 104, 105, 106, 107, 108, 109, 110, 111, 112, 113, 114, 115, 116, 117, 118, 119,
+            120, 121, 122, 123, 124, 125, 126, 127 };
+        const v_uint16 vi = vx_load(iota), vnone = vx_setall_u16(RightView::NONE);
+        v_uint16 vmin = vx_setall_u16(0xFFFF);
+        for (; n16 <= 128 && j <= n - n16; j += n16)
+        {
+            const v_uint16 c = vx_load(sk + j), oc = vx_load(rc + j), oi = vx_load(ri + j);
+            const v_uint16 take = v_or(v_lt(c, oc), v_eq(oi, vnone));
+            v_store(rc + j, v_select(take, c, oc));
+            v_store(ri + j, v_select(take, v_add(vi, vx_setall_u16((ushort)(k0 + j))), oi));
+            vmin = v_min(vmin, c);
+        }
+        if (whole)
+            minv = (ushort)v_reduce_min(vmin);
+    }
+#endif
+    for (; j < n; j++)
+    {
+        if (sk[j] < rc[j] || ri[j] == RightView::NONE)
+        {
+            rc[j] = sk[j];
+            ri[j] = (ushort)(k0 + j);
+        }
+        minv = std::min(minv, sk[j]);
+    }
+    int d = 0;
+    if (!whole)
+    {
+        minv = 0xFFFF;
+#if (CV_SIMD || CV_SIMD_SCALABLE)
         v_uint16 vmin = vx_setall_u16(0xFFFF);
         for (; d <= D - n16; d += n16)
             vmin = v_min(vmin, vx_load(s + d));
         minv = (ushort)v_reduce_min(vmin);
-    }
 #endif
-    for (; d < D; d++)
-        minv = std::min(minv, s[d]);
+        for (; d < D; d++)
+            minv = std::min(minv, s[d]);
+    }
+    int best = -1;
     d = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
     {
@@ -49,40 +93,6 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
     for (; best < 0; d++)
         if (s[d] == minv)
             best = d;
-
-    // Right view, before the uniqueness check may reject this pixel (it does not affect the right view). In the
-    // reversed index u = W - 1 - xr this pixel's candidates are contiguous: u = u0 + d.
-    const int u0 = W - 1 - x + minD;
-    const int k0 = std::max(0, -u0), n = std::min(D, W - u0) - k0;
-    // rc[j], ri[j]: the candidate at u = u0 + k0 + j (disparity index k0 + j); pointers formed only inside the view.
-    ushort* rc = n > 0 ? rv.cost + (u0 + k0 - rv.lo) : nullptr;
-    ushort* ri = n > 0 ? rv.index + (u0 + k0 - rv.lo) : nullptr;
-    const ushort* sk = s + k0;
-    int j = 0;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-    {
-        static const ushort iota[128] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
-            21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46,
-            47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64, 65, 66, 67, 68, 69, 70, 71, 72,
-            73, 74, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97, 98,
-            99, 100, 101, 102, 103, 104, 105, 106, 107, 108, 109, 110, 111, 112, 113, 114, 115, 116, 117, 118, 119,
-            120, 121, 122, 123, 124, 125, 126, 127 };
-        const v_uint16 vi = vx_load(iota), vnone = vx_setall_u16(RightView::NONE);
-        for (; n16 <= 128 && j <= n - n16; j += n16)
-        {
-            const v_uint16 c = vx_load(sk + j), oc = vx_load(rc + j), oi = vx_load(ri + j);
-            const v_uint16 take = v_or(v_lt(c, oc), v_eq(oi, vnone));
-            v_store(rc + j, v_select(take, c, oc));
-            v_store(ri + j, v_select(take, v_add(vi, vx_setall_u16((ushort)(k0 + j))), oi));
-        }
-    }
-#endif
-    for (; j < n; j++)
-        if (sk[j] < rc[j] || ri[j] == RightView::NONE)
-        {
-            rc[j] = sk[j];
-            ri[j] = (ushort)(k0 + j);
-        }
 
     if (p.uniqueness1024 < 1024)
     {
