@@ -64,6 +64,37 @@ TEST(Lidarsgm_Census, sixteen_bit_matches_eight_bit_order)
     EXPECT_EQ(0, cvtest::norm(c8, c16, NORM_INF));
 }
 
+// Every pixel against censusString read through clamped coordinates: the vector kernels (a byte lane per pixel for
+// 8-bit images, 16-bit lanes otherwise), their scalar tails and the padded borders. Few grey levels, so that equal
+// pairs (bit 0) are common, and both sides of 128, where signed and unsigned byte order differ.
+TEST(Lidarsgm_Census, every_pixel_matches_the_rule)
+{
+    RNG rng(11);
+    for (const Size size : { Size(101, 37), Size(64, 9), Size(7, 5), Size(200, 3) })
+        for (const int depth : { CV_8U, CV_16U })
+        {
+            Mat levels(size, CV_8UC1), img;
+            rng.fill(levels, RNG::UNIFORM, 0, 6);
+            // Levels around 128 (8-bit) or around 32768 and above 255 (16-bit).
+            levels.convertTo(img, depth, depth == CV_8U ? 1.0 : 300.0, depth == CV_8U ? 125.0 : 32000.0);
+            Mat census;
+            censusTransform(img, census);
+            ASSERT_EQ(size, census.size());
+            int wrong = 0;
+            for (int y = 0; y < img.rows; y++)
+                for (int x = 0; x < img.cols; x++)
+                {
+                    const auto at = [&](int dx, int dy) {
+                        const int u = std::min(std::max(x + dx, 0), img.cols - 1);
+                        const int v = std::min(std::max(y + dy, 0), img.rows - 1);
+                        return depth == CV_8U ? (int)img.at<uchar>(v, u) : (int)img.at<ushort>(v, u);
+                    };
+                    wrong += (unsigned)census.at<int>(y, x) != censusString(at);
+                }
+            EXPECT_EQ(0, wrong) << size << " depth " << depth;
+        }
+}
+
 TEST(Lidarsgm_Census, tiny_images)
 {
     for (int h = 1; h <= 3; h++)
