@@ -73,6 +73,19 @@ void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& 
 
 #ifndef CV_CPU_OPTIMIZATION_DECLARATIONS_ONLY
 
+//! The lowest lane: SSE4.1's minimum-position instruction on a 128-bit half, instead of a ladder of shifts and minima.
+static inline ushort minLane(const v_uint16& v)
+{
+#if CV_AVX2 && CV_SIMD_WIDTH == 32
+    const __m128i m = _mm_min_epu16(_mm256_castsi256_si128(v.val), _mm256_extracti128_si256(v.val, 1));
+    return (ushort)_mm_cvtsi128_si32(_mm_minpos_epu16(m));
+#elif CV_SSE4_1 && CV_SIMD_WIDTH == 16
+    return (ushort)_mm_cvtsi128_si32(_mm_minpos_epu16(v.val));
+#else
+    return (ushort)v_reduce_min(v);
+#endif
+}
+
 #include "matching_cost.simd.hpp"
 #include "winner_takes_all.simd.hpp"
 
@@ -101,7 +114,7 @@ inline ushort pathStep(const ushort* C, const ushort* Lp, ushort minPrev, ushort
         v_store(Lout + d, l);
         vmin = v_min(vmin, l);
     }
-    m = (ushort)v_reduce_min(vmin);
+    m = minLane(vmin);
 #endif
     for (; d < D; d++)
     {
@@ -173,7 +186,7 @@ inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const usho
             v_store(S + d, sum);
     }
     for (int k = 0; k < ND; k++)
-        m[k] = (ushort)v_reduce_min(vmin[k]);
+        m[k] = minLane(vmin[k]);
 #endif
     for (; d < D; d++)
     {

@@ -56,7 +56,7 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
             vmin = v_min(vmin, c);
         }
         if (whole)
-            minv = (ushort)v_reduce_min(vmin);
+            minv = minLane(vmin);
     }
 #endif
     for (; j < n; j++)
@@ -76,7 +76,7 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
         v_uint16 vmin = vx_setall_u16(0xFFFF);
         for (; d <= D - n16; d += n16)
             vmin = v_min(vmin, vx_load(s + d));
-        minv = (ushort)v_reduce_min(vmin);
+        minv = minLane(vmin);
 #endif
         for (; d < D; d++)
             minv = std::min(minv, s[d]);
@@ -118,7 +118,7 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
             }
             vmin = v_min(vmin, v);
         }
-        second = (ushort)v_reduce_min(vmin);
+        second = minLane(vmin);
 #endif
         for (; d < D; d++)
             if (d < lo || d > hi)
