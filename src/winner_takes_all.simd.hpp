@@ -86,8 +86,15 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
 #if (CV_SIMD || CV_SIMD_SCALABLE)
     {
         const v_uint16 vm = vx_setall_u16(minv);
-        while (d <= D - n16 && !v_check_any(v_eq(vx_load(s + d), vm)))
-            d += n16;
+        for (; d <= D - n16; d += n16)
+        {
+            const v_uint16 eq = v_eq(vx_load(s + d), vm);
+            if (v_check_any(eq))
+            {
+                best = d + v_scan_forward(eq);   // the first lane that holds the minimum
+                break;
+            }
+        }
     }
 #endif
     for (; best < 0; d++)
