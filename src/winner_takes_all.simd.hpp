@@ -45,14 +45,15 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
             73, 74, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97, 98,
             99, 100, 101, 102, 103, 104, 105, 106, 107, 108, 109, 110, 111, 112, 113, 114, 115, 116, 117, 118, 119,
             120, 121, 122, 123, 124, 125, 126, 127 };
-        const v_uint16 vi = vx_load(iota), vnone = vx_setall_u16(RightView::NONE);
+        const v_uint16 vnone = vx_setall_u16(RightView::NONE), vstep = vx_setall_u16((ushort)n16);
         v_uint16 vmin = vx_setall_u16(0xFFFF);
-        for (; n16 <= 128 && j <= n - n16; j += n16)
+        v_uint16 vi = v_add(vx_load(iota), vx_setall_u16((ushort)k0));   // disparity indices of lanes j ..
+        for (; n16 <= 128 && j <= n - n16; j += n16, vi = v_add(vi, vstep))
         {
             const v_uint16 c = vx_load(sk + j), oc = vx_load(rc + j), oi = vx_load(ri + j);
             const v_uint16 take = v_or(v_lt(c, oc), v_eq(oi, vnone));
             v_store(rc + j, v_select(take, c, oc));
-            v_store(ri + j, v_select(take, v_add(vi, vx_setall_u16((ushort)(k0 + j))), oi));
+            v_store(ri + j, v_select(take, vi, oi));
             vmin = v_min(vmin, c);
         }
         if (whole)
