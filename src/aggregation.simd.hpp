@@ -106,10 +106,11 @@ inline ushort pathStep(const ushort* C, const ushort* Lp, ushort minPrev, ushort
     v_uint16 vmin = vx_setall_u16(SENTINEL);
     for (; d <= D - n; d += n)
     {
+        // min(Lp(d-1) + P1, Lp(d+1) + P1) as min(Lp(d-1), Lp(d+1)) + P1: the saturating add is monotonic (and
+        // SENTINEL + P1 stays SENTINEL), so one add does for both.
         v_uint16 a = vx_load(Lp + d);
-        v_uint16 b = v_add(vx_load(Lp + d - 1), vp1);   // saturating: SENTINEL stays SENTINEL
-        v_uint16 c = v_add(vx_load(Lp + d + 1), vp1);
-        v_uint16 best = v_min(v_min(a, b), v_min(c, vjump));
+        v_uint16 b = v_add(v_min(vx_load(Lp + d - 1), vx_load(Lp + d + 1)), vp1);
+        v_uint16 best = v_min(v_min(a, b), vjump);
         v_uint16 l = v_sub(v_add(vx_load(C + d), best), vmp);
         v_store(Lout + d, l);
         vmin = v_min(vmin, l);
@@ -170,9 +171,8 @@ inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const usho
         {
             const ushort* lp = Lp[k];
             const v_uint16 a = vx_load(lp + d);
-            const v_uint16 b = v_add(vx_load(lp + d - 1), vp1);   // saturating: SENTINEL stays SENTINEL
-            const v_uint16 e = v_add(vx_load(lp + d + 1), vp1);
-            const v_uint16 best = v_min(v_min(a, b), v_min(e, vjump[k]));
+            const v_uint16 b = v_add(v_min(vx_load(lp + d - 1), vx_load(lp + d + 1)), vp1);   // as in pathStep
+            const v_uint16 best = v_min(v_min(a, b), vjump[k]);
             const v_uint16 l = v_sub(v_add(c, best), vmp[k]);
             v_store(Lout[k] + d, l);
             vmin[k] = v_min(vmin[k], l);
