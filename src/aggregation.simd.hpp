@@ -284,10 +284,10 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const ushort P1 = (ushort)a.p.w.p1;
     const bool first = down ? y == 0 : y == a.H - 1;
     const int yq = down ? y - 1 : y + 1;
-    // The right strings of the strip's pixels: rv[W - 1 - x + d].
+    // The right strings of the strip's pixels: rv[W - 1 - x + d] (only the strip's span is written).
     AutoBuffer<ushort> rvBuf(2 * (W + D)), cBuf(D), fBuf(D);
     ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
-    reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, rvLo, rvHi);
+    reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, x0, x1, rvLo, rvHi);
     const unsigned* L = a.censusL.ptr<unsigned>(y);
     const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
     ushort* S = a.sum.ptr<ushort>(y);
@@ -366,7 +366,7 @@ void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
     ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
     for (int y = y0; y < y1; y++)
     {
-        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvLo, rvHi);
+        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, 0, W, rvLo, rvHi);
         const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
         for (int x = 0; x < W; x++)
             costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), a.censusL.ptr<unsigned>(y)[x],

@@ -5,12 +5,14 @@
 // disparity-matching cost (DDC) where a prior (sparse or semidense) disparity exists (matchingCost, pipeline.hpp).
 // Included by aggregation.simd.hpp, inside its CPU-dispatch namespace: compiled once per instruction set.
 
-/** The reversed, clamped right census row, split into 16-bit halves: rv[j] = R[clamp(W - 1 - minD - j)], j in
-[0, W + D - 1), low halves in rvLo, high halves in rvHi. The right pixels x - minD - d of left pixel x are then at
-j = W - 1 - x + d: contiguous and increasing in d. 16-bit halves keep the Hamming distances in 16-bit lanes. */
-static inline void reversedRightRow(const unsigned* R, int W, int minD, int D, ushort* rvLo, ushort* rvHi)
+/** The reversed, clamped right census row, split into 16-bit halves: rv[j] = R[clamp(W - 1 - minD - j)], low halves
+in rvLo, high halves in rvHi, for the left pixels [x0, x1), i.e. j in [W - x1, W - x0 + D - 1) (the rest is not
+written). The right pixels x - minD - d of left pixel x are at j = W - 1 - x + d: contiguous and increasing in d.
+16-bit halves keep the Hamming distances in 16-bit lanes. */
+static inline void reversedRightRow(const unsigned* R, int W, int minD, int D, int x0, int x1, ushort* rvLo,
+                                    ushort* rvHi)
 {
-    for (int j = 0; j < W + D - 1; j++)
+    for (int j = W - x1; j < W - x0 + D - 1; j++)
     {
         const unsigned r = R[std::min(std::max(W - 1 - minD - j, 0), W - 1)];
         rvLo[j] = (ushort)(r & 0xFFFF);
