@@ -34,8 +34,9 @@ template <> struct Stored<uchar> { typedef schar type; static schar put(uchar v)
 #if (CV_SIMD || CV_SIMD_SCALABLE)
 inline v_uint16 load16(const ushort* p) { return vx_load(p); }
 
-/** Pixels [x, x + n16) of a row of 16-bit images: the bits of censusString in 16-bit lanes, the first
-CENSUS_BITS - 16 pairs in the high half, the last 16 in the low half, joined into 32-bit strings at the end. */
+/** The strings of a row of a 16-bit image from pixel x on, in whole vectors of pixels; returns the first pixel left
+for the scalar tail. The bits of censusString in 16-bit lanes, the first CENSUS_BITS - 16 pairs in the high half, the
+last 16 in the low half, joined into 32-bit strings at the end. */
 inline int censusVectors(const ushort* const* padded, int x, int W, unsigned* out)
 {
     const int rx = CENSUS_WIDTH / 2, ry = CENSUS_HEIGHT / 2;
