@@ -17,7 +17,7 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     if (!sparse.empty())
     {
         convertSparse(sparse, p.minDisparity, p.numDisparities, sparse16_);
-        if (p.visibilityRadiusX > 0 || p.visibilityRadiusY > 0)
+        if (visibilityFilterOn(p))
         {
             filterHiddenPoints(sparse16_, p, visible16_);
             std::swap(sparse16_, visible16_);

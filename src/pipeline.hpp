@@ -60,6 +60,7 @@ struct PipelineParams
     int medianSize;        //!< 1 (off) or 3: the median filter before the check
     int visibilityRadiusX; //!< half width of the visibility filter's window (0 and visibilityRadiusY 0: off)
     int visibilityRadiusY; //!< half height
+    int visibilityParallax256; //!< round(visibilityParallax * 256): the window's growth per pixel of disparity step
     int edgeThreshold;     //!< left-image step above which a disparity jump costs w.p2Edge (0: off)
     int ringGapFactor16;   //!< round(ringGapFactor * 16): ring interpolation's longest gap in ring spacings (0: off)
     bool semidense;        //!< SDSGM: the prior is the semidense map
@@ -161,8 +162,35 @@ static LIDARSGM_HD int subpixelOffset16(int sm, int s0, int sp)
 }
 
 /** The visibility filter: a sparse value d16 is hidden (a LiDAR point the camera cannot see, projected onto the
-surface in front of it) when another value within its window is nearer, i.e. larger, by more than tc16 (Tc). */
-static LIDARSGM_HD bool hiddenBy(int other16, int d16, int tc16) { return other16 != NO_DISP && other16 - d16 > tc16; }
+surface in front of it) by a value other16 at offset (dx, dy) when other16 is nearer, i.e. larger, by more than Tc and
+the offset lies within the (2 rx + 1) x (2 ry + 1) window grown on every side by visibilityParallax pixels per pixel
+of their difference: the band beside a near object in which a LiDAR apart from the camera sees background that the
+camera cannot see widens in proportion to the disparity step, by the LiDAR's offset across the line of sight over the
+stereo baseline. In integers: a growth of k pixels needs k * 16 * 256 <= parallax256 * (other16 - d16), and k is at
+most VISIBILITY_MAX_GROWTH. */
+enum { VISIBILITY_MAX_GROWTH = 32 };
+static LIDARSGM_HD bool hiddenBy(int other16, int d16, int dx, int dy, const PipelineParams& p)
+{
+    if (other16 == NO_DISP || other16 - d16 <= p.checkThreshold16)
+        return false;
+    const int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
+    const int kx = ax - p.visibilityRadiusX, ky = ay - p.visibilityRadiusY;
+    const int k = kx > ky ? kx : ky;
+    return k <= 0 || (k <= (int)VISIBILITY_MAX_GROWTH && k * 4096 <= p.visibilityParallax256 * (other16 - d16));
+}
+
+//! The most the visibility window grows on each side (sparse values differ by less than numDisparities pixels).
+static LIDARSGM_HD int visibilityGrowth(const PipelineParams& p)
+{
+    const int g = p.visibilityParallax256 * p.numDisparities / 256;
+    return g < (int)VISIBILITY_MAX_GROWTH ? g : (int)VISIBILITY_MAX_GROWTH;
+}
+
+//! Whether the visibility filter runs.
+static inline bool visibilityFilterOn(const PipelineParams& p)
+{
+    return p.visibilityRadiusX > 0 || p.visibilityRadiusY > 0 || p.visibilityParallax256 > 0;
+}
 
 /** Semidensification's candidate order (paper Eq. 5 is an argmin; most winners cost 0, so ties are common): the
 lowest census cost, then the nearest (squared distance), then the first row, then the first column, packed into one

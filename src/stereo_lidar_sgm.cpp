@@ -39,6 +39,8 @@ table makes the members, getters, setters, write() and read(); the public header
       "the visibility filter's half width") \
     X(int, VisibilityRadiusY, visibilityRadiusY, 0, v >= 0 && v <= 16, "in [0, 16]", \
       "the visibility filter's half height") \
+    X(double, VisibilityParallax, visibilityParallax, 0.0, v >= 0.0 && v <= 1.0, "in [0, 1] (and not NaN)", \
+      "the visibility window's growth per pixel of disparity step") \
     X(int, EdgeThreshold, edgeThreshold, 0, v >= 0 && v <= 65535, "in [0, 65535] (0: off)", \
       "the left-image step that makes a disparity jump cheaper") \
     X(double, EdgeP2Ratio, edgeP2Ratio, 0.5, v > 0.0 && v <= 1.0, "in (0, 1]", "P2's factor across an image edge") \
@@ -214,6 +216,7 @@ private:
         p.medianSize = medianSize_;
         p.visibilityRadiusX = visibilityRadiusX_;
         p.visibilityRadiusY = visibilityRadiusY_;
+        p.visibilityParallax256 = cvRound(visibilityParallax_ * 256);
         p.semidense = mode_ == MODE_SDSGM;
         p.ddc = mode_ != MODE_SGM;
         p.stereoCheck = consistencyCheck_ == CHECK_STEREO || consistencyCheck_ == CHECK_STEREO_LIDAR;

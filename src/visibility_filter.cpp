@@ -3,24 +3,29 @@
 
 // Visibility filter of the sparse input. The LiDAR sits apart from the camera and sees past the edges of near objects,
 // so background points land on the near object in the image: wrong priors for semidensification, DDC and the LiDAR
-// check. The near object's own points lie around them, within one sample spacing; a point with a nearer point (by
-// more than Tc) within its window is dropped. The window is the sensor's sample footprint: about half the spacing of
-// neighbouring samples, plus the half pixel of rounding (doc/design.md derives it for KITTI's HDL-64E).
+// check. The near object's own points lie around them, within one sample spacing plus the parallax band that widens
+// with the depth step; a point with a nearer point (by more than Tc) within that window is dropped (hiddenBy). The base
+// window is the sensor's sample footprint: about half the spacing of neighbouring samples, plus the half pixel of
+// rounding (doc/design.md derives it for KITTI's HDL-64E).
 
 #include "precomp.hpp"
 #include "cpu_stages.hpp"
+#include "sparse_window.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 
 void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visible16)
 {
     CV_Assert(sparse16.type() == CV_16SC1 && sparse16.data != visible16.data);
-    const int W = sparse16.cols, H = sparse16.rows, rx = p.visibilityRadiusX, ry = p.visibilityRadiusY;
-    const int tc = p.checkThreshold16;
+    const int W = sparse16.cols, H = sparse16.rows, g = visibilityGrowth(p);
+    const int rx = p.visibilityRadiusX + g, ry = p.visibilityRadiusY + g;   // the largest window
+    const SparseColumns cols(sparse16);
     visible16.create(sparse16.size(), CV_16SC1);
     parallel_for_(Range(0, H), [&](const Range& r) {
+        WindowCursor win(cols, ry, r.start);
         for (int y = r.start; y < r.end; y++)
         {
+            win.moveTo(y);
             const short* s = sparse16.ptr<short>(y);
             short* out = visible16.ptr<short>(y);
             for (int x = 0; x < W; x++)
@@ -29,16 +34,13 @@ void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visib
                 if (s[x] == NO_DISP)
                     continue;
                 bool hidden = false;
-                for (int v = std::max(y - ry, 0); v <= std::min(y + ry, H - 1) && !hidden; v++)
-                {
-                    const short* row = sparse16.ptr<short>(v);
-                    for (int u = std::max(x - rx, 0); u <= std::min(x + rx, W - 1); u++)
-                        if (hiddenBy(row[u], s[x], tc))
+                for (int u = std::max(x - rx, 0); u <= std::min(x + rx, W - 1) && !hidden; u++)
+                    for (int i = win.lo[u]; i < win.hi[u]; i++)
+                        if (hiddenBy(cols.value[i], s[x], u - x, cols.row[i] - y, p))
                         {
                             hidden = true;
                             break;
                         }
-                }
                 if (hidden)
                     out[x] = NO_DISP;
             }

@@ -102,7 +102,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     if (!Sp.empty())
     {
         b.sparse16.create(sz, CV_16SC1);
-        const bool filter = p.visibilityRadiusX > 0 || p.visibilityRadiusY > 0;
+        const bool filter = visibilityFilterOn(p);
         const cuda::GpuMat converted = filter ? shortMap(b.censusL, sz, 0) : b.sparse16;
         if (Sp.depth() == CV_16U)
             ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, converted, st);

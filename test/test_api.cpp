@@ -180,6 +180,8 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     m->setSemidenseThreshold(5);
     m->setCheckRadius(11);
     m->setCheckThreshold(1.5);
+    m->setVisibilityRadiusY(3);
+    m->setVisibilityParallax(0.3);
     m->setOutputType(CV_32F);
     const std::string file = cv::tempfile(".yml");
     m->save(file);
@@ -200,6 +202,8 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     EXPECT_EQ(5, n->getSemidenseThreshold());
     EXPECT_EQ(11, n->getCheckRadius());
     EXPECT_DOUBLE_EQ(1.5, n->getCheckThreshold());
+    EXPECT_EQ(3, n->getVisibilityRadiusY());
+    EXPECT_DOUBLE_EQ(0.3, n->getVisibilityParallax());
     EXPECT_EQ((int)StereoLidarSGM::MODE_DSGM, n->getMode());
     EXPECT_EQ((int)StereoLidarSGM::CHECK_CAMERA_LIDAR, n->getConsistencyCheck());
     EXPECT_EQ(CV_32F, n->getOutputType());

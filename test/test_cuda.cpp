@@ -103,6 +103,7 @@ TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
                 Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode);
                 m->setVisibilityRadiusX(2);
                 m->setVisibilityRadiusY(4);
+                m->setVisibilityParallax(0.18);
                 m->setEdgeThreshold(32);
                 m->setRingGapFactor(2);
                 m->setNumPaths(paths);
@@ -143,6 +144,7 @@ TEST_P(Lidarsgm_CUDA_Random, bit_exact)
                 m->setMedianSize((k + mode) % 2 ? 1 : 3);
                 m->setVisibilityRadiusX(k == 1 ? mode : 0);   // mode 0: a vertical window only
                 m->setVisibilityRadiusY(k == 1 ? 3 : 0);
+                m->setVisibilityParallax(k == 1 || k == 3 ? 0.125 * (mode + 1) : 0.0);   // k 3: growth alone
                 m->setEdgeThreshold(k == 2 || mode == 2 ? (depth ? 4000 : 16) : 0);
                 m->setRingGapFactor(k == 0 || k == 1 ? 1.5 * (k + 1) : 0.0);
                 compareCpuGpu(m, l, r, sparses[k], format("size %dx%d depth %d sparse %d mode %d", sz.width, sz.height, depth, k, mode));

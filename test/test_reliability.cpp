@@ -293,6 +293,12 @@ TEST(Lidarsgm_Reliability, fuzz)
         m->setCheckRadius(rng.uniform(0, 65));
         m->setCheckThreshold(rng.uniform(0.0, 64.0));
         m->setLRMaxDiff(rng.uniform(0, 4));
+        if (rng.uniform(0, 3) == 0)
+        {
+            m->setVisibilityRadiusX(rng.uniform(0, 17));
+            m->setVisibilityRadiusY(rng.uniform(0, 17));
+            m->setVisibilityParallax(rng.uniform(0.0, 1.0));
+        }
         const std::string what = format("case %d: %dx%d depth %d minD %d numD %d mode %d check %d", cases,
                                         sz.width, sz.height, depth, minD, numD, m->getMode(), m->getConsistencyCheck());
         const int broken = rng.uniform(0, 12);

@@ -46,6 +46,43 @@ TEST(Lidarsgm_Visibility, nearer_points_hide_farther_ones_in_the_window)
     EXPECT_EQ(10 * 16, out.at<short>(10, 10));
 }
 
+TEST(Lidarsgm_Visibility, window_grows_with_the_disparity_step)
+{
+    // Parallax 0.25: the window grows by 1 px per 4 px of disparity step, at most VISIBILITY_MAX_GROWTH.
+    PipelineParams p = visibilityParams(2, 4, 32);
+    p.numDisparities = 256;
+    p.visibilityParallax256 = 64;
+    Mat s(80, 90, CV_16SC1, Scalar::all(NO_DISP)), out;
+    s.at<short>(10, 10) = 10 * 16;   // 3 px right of a point nearer by 4 px (growth 1): hidden
+    s.at<short>(10, 13) = 14 * 16;
+    s.at<short>(10, 60) = 10 * 16;   // 3 px right of a point nearer by 3.9375 px (growth 0.98): stays
+    s.at<short>(10, 63) = 14 * 16 - 1;
+    s.at<short>(50, 10) = 10 * 16;   // 12 px below a point nearer by 32 px (growth 8 reaches ry + 8): hidden
+    s.at<short>(38, 10) = 42 * 16;
+    s.at<short>(50, 40) = 10 * 16;   // 13 px below the same step: stays
+    s.at<short>(37, 40) = 42 * 16;
+    filterHiddenPoints(s, p, out);
+    EXPECT_EQ(NO_DISP, out.at<short>(10, 10));
+    EXPECT_EQ(10 * 16, out.at<short>(10, 60));
+    EXPECT_EQ(NO_DISP, out.at<short>(50, 10));
+    EXPECT_EQ(10 * 16, out.at<short>(50, 40));
+    EXPECT_EQ(6, countNonZero(out != NO_DISP));
+    // Without the parallax growth only the base window counts.
+    p.visibilityParallax256 = 0;
+    filterHiddenPoints(s, p, out);
+    EXPECT_EQ(8, countNonZero(out != NO_DISP));
+    // The growth stops at VISIBILITY_MAX_GROWTH: a step of 200 px would grow the window by 50 px at parallax 0.25.
+    p.visibilityParallax256 = 64;
+    s.setTo(NO_DISP);
+    s.at<short>(0, 60) = 5 * 16;
+    s.at<short>(0, 60 - 2 - VISIBILITY_MAX_GROWTH) = 205 * 16;       // at the largest growth: hidden
+    s.at<short>(79, 60) = 5 * 16;
+    s.at<short>(79, 60 - 2 - VISIBILITY_MAX_GROWTH - 1) = 205 * 16;   // one further: stays
+    filterHiddenPoints(s, p, out);
+    EXPECT_EQ(NO_DISP, out.at<short>(0, 60));
+    EXPECT_EQ(5 * 16, out.at<short>(79, 60));
+}
+
 TEST(Lidarsgm_Visibility, matcher_drops_hidden_points_before_every_stage)
 {
     // With the filter on, the matcher behaves as if the hidden points were not in the input.
@@ -60,9 +97,15 @@ TEST(Lidarsgm_Visibility, matcher_drops_hidden_points_before_every_stage)
     Ptr<cv::lidarsgm::StereoLidarSGM> m = cv::lidarsgm::StereoLidarSGM::create(0, 32);
     m->setVisibilityRadiusX(2);
     m->setVisibilityRadiusY(4);
+    m->setVisibilityParallax(0.25);
+    EXPECT_THROW(m->setVisibilityParallax(1.5), cv::Exception);
+    EXPECT_THROW(m->setVisibilityParallax(std::numeric_limits<double>::quiet_NaN()), cv::Exception);
+    EXPECT_DOUBLE_EQ(0.25, m->getVisibilityParallax());
     Mat s16, visible16, withFilter, byHand;
     convertSparse(s, 0, 32, s16);
     PipelineParams p = visibilityParams(2, 4, 32);
+    p.numDisparities = 32;
+    p.visibilityParallax256 = 64;
     filterHiddenPoints(s16, p, visible16);
     ASSERT_LT(countNonZero(visible16 != NO_DISP), countNonZero(s16 != NO_DISP));
     Mat visible(s.size(), CV_32FC1, Scalar::all(0));
@@ -70,6 +113,7 @@ TEST(Lidarsgm_Visibility, matcher_drops_hidden_points_before_every_stage)
     m->compute(l, r, s, withFilter);
     m->setVisibilityRadiusX(0);
     m->setVisibilityRadiusY(0);
+    m->setVisibilityParallax(0);
     m->compute(l, r, visible, byHand);
     EXPECT_EQ(0, cvtest::norm(withFilter, byHand, NORM_INF));
 }

@@ -51,6 +51,7 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 | consistencyCheck | CHECK_NONE, CHECK_STEREO, CHECK_CAMERA_LIDAR, CHECK_STEREO_LIDAR | | CHECK_STEREO_LIDAR |
 | medianSize | median filter before the check: 1 (off) or 3 | 1, 3 | 3 (the public code's) |
 | visibilityRadiusX, visibilityRadiusY | visibility filter of the sparse input (beyond the paper) | [0, 16] each | 0, 0 (off) |
+| visibilityParallax | growth of the visibility window per pixel of disparity step: the LiDAR's offset across the line of sight over the baseline (beyond the paper) | [0, 1] | 0 (off) |
 | edgeThreshold, edgeP2Ratio | P2 x ratio across left-image steps above the threshold (beyond the paper) | [0, 65535], (0, 1] | 0 (off), 0.5 |
 | ringGapFactor | interpolation between LiDAR rings after semidensification and the ring check, longest gap in measured ring spacings (beyond the paper) | [0, 16] | 0 (off) |
 | outputType | CV_16S (disparity x 16) or CV_32F (pixels) | | CV_16S |
@@ -245,6 +246,15 @@ public:
     //! See getVisibilityRadiusX.
     CV_WRAP virtual int getVisibilityRadiusY() const = 0;
     CV_WRAP virtual void setVisibilityRadiusY(int radiusY) = 0;
+    /** Parallax growth of the visibility window (off by default): the window grows on every side by this many pixels
+    per pixel by which the nearer value exceeds the farther one (at most 32 pixels). Beside a near object the LiDAR
+    sees background that the camera cannot see in a band whose width is the disparity step times the LiDAR's offset
+    from the left camera across the line of sight, divided by the stereo baseline. Set it to that ratio: KITTI's
+    HDL-64E sits 0.095 m from the left colour camera across the line of sight (0.057 m sideways, 0.075 m up;
+    Tr_velo_to_cam and P2), with a 0.533 m baseline: 0.18 (doc/params/kitti_best.yml). In [0, 1]; 0: the fixed
+    window of visibilityRadiusX/Y. */
+    CV_WRAP virtual double getVisibilityParallax() const = 0;
+    CV_WRAP virtual void setVisibilityParallax(double ratio) = 0;
     /** Edge-aware jump penalty (off by default: the paper has none): on every aggregation path, a disparity jump between
     neighbours whose left-image intensities differ by more than this threshold (in the images' grey levels) costs
     edgeP2Ratio x P2 instead of P2 (at least P1), as intensity edges are likely depth edges (Hirschmueller's SGM

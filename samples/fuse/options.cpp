@@ -97,6 +97,7 @@ const OptionSpec kOptions[] = {
     { "median-size", 'i', "1|3", "medianSize", "medianSize" },
     { "visibility-rx", 'i', "N", "visibilityRadiusX", "visibilityRadiusX" },
     { "visibility-ry", 'i', "N", "visibilityRadiusY", "visibilityRadiusY" },
+    { "visibility-parallax", 'd', "R", "visibilityParallax", "visibilityParallax" },
     { "edge-threshold", 'i', "N", "edgeThreshold", "edgeThreshold" },
     { "edge-p2-ratio", 'd', "R", "edgeP2Ratio", "edgeP2Ratio" },
     { "ring-gap-factor", 'd', "F", "ringGapFactor", "ringGapFactor" },
