@@ -166,8 +166,9 @@ surface in front of it) by a value other16 at offset (dx, dy) when other16 is ne
 the offset lies within the (2 rx + 1) x (2 ry + 1) window grown on every side by visibilityParallax pixels per pixel
 of their difference: the band beside a near object in which a LiDAR apart from the camera sees background that the
 camera cannot see widens in proportion to the disparity step, by the LiDAR's offset across the line of sight over the
-stereo baseline. In integers: a growth of k pixels needs k * 16 * 256 <= parallax256 * (other16 - d16), and k is at
-most VISIBILITY_MAX_GROWTH. */
+stereo baseline (the stage sets parallax256 to 0 where the sparse map is no scan: visibilityGrowthApplies). In
+integers: a growth of k pixels needs k * 16 * 256 <= parallax256 * (other16 - d16), and k is at most
+VISIBILITY_MAX_GROWTH. */
 enum { VISIBILITY_MAX_GROWTH = 32 };
 static LIDARSGM_HD bool hiddenBy(int other16, int d16, int dx, int dy, const PipelineParams& p)
 {
@@ -231,6 +232,47 @@ static LIDARSGM_HD int histogramLowerMedian(const int* hist, int bins)
         if ((c += hist[i]) > (n - 1) / 2)
             return i;
     return bins - 1;
+}
+
+/* The visibility window's parallax growth applies to LiDAR scans only (visibilityGrowthApplies): a scan's points are
+closer along its rows (the shots of a ring) than across them (the rings), while a scattered sample, such as
+Middlebury's protocol of ground-truth pixels drawn from the camera's own view, has no scan lines and no sensor apart
+from the camera. Per sparse point, the distance to the next point to its right in its row (rowPointGap) and to the
+next point below it within RING_COLUMNS columns (columnPointGap), both capped to the last of RING_GAP_BINS bins (-1:
+the image ends first); the map is a scan when the lower median of the first is below that of the second. */
+static LIDARSGM_HD int rowPointGap(const short* row, int x, int W)
+{
+    for (int u = x + 1; u < W; u++)
+    {
+        if (u - x >= RING_GAP_BINS - 1)
+            return RING_GAP_BINS - 1;
+        if (row[u] != NO_DISP)
+            return u - x;
+    }
+    return -1;
+}
+
+//! See rowPointGap: sparse16 with `step` elements per row.
+static LIDARSGM_HD int columnPointGap(const short* sparse16, size_t step, int x, int y, int W, int H)
+{
+    const int c0 = x - RING_COLUMNS > 0 ? x - RING_COLUMNS : 0;
+    const int c1 = x + RING_COLUMNS < W - 1 ? x + RING_COLUMNS : W - 1;
+    for (int v = y + 1; v < H; v++)
+    {
+        if (v - y >= RING_GAP_BINS - 1)
+            return RING_GAP_BINS - 1;
+        const short* row = sparse16 + (size_t)v * step;
+        for (int c = c0; c <= c1; c++)
+            if (row[c] != NO_DISP)
+                return v - y;
+    }
+    return -1;
+}
+
+//! From the histograms of rowPointGap and columnPointGap (RING_GAP_BINS bins each): whether the map is a scan.
+static LIDARSGM_HD bool visibilityGrowthApplies(const int* rowGaps, const int* columnGaps)
+{
+    return histogramLowerMedian(rowGaps, RING_GAP_BINS) < histogramLowerMedian(columnGaps, RING_GAP_BINS);
 }
 
 /** va + (vb - va) (y - ya) / (yb - ya) in 1/16 pixel, rounded to nearest (halves up), for ya < yb: the disparity at

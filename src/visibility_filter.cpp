@@ -14,9 +14,34 @@
 
 namespace cv { namespace lidarsgm { namespace detail {
 
-void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visible16)
+//! Whether the parallax growth applies to this map (visibilityGrowthApplies, pipeline.hpp).
+static bool isScan(const Mat& sparse16)
+{
+    const int W = sparse16.cols, H = sparse16.rows;
+    int rowGaps[RING_GAP_BINS] = {}, columnGaps[RING_GAP_BINS] = {};
+    for (int y = 0; y < H; y++)
+    {
+        const short* s = sparse16.ptr<short>(y);
+        for (int x = 0; x < W; x++)
+            if (s[x] != NO_DISP)
+            {
+                const int gr = rowPointGap(s, x, W);
+                const int gc = columnPointGap(sparse16.ptr<short>(), sparse16.step1(), x, y, W, H);
+                if (gr >= 0)
+                    rowGaps[gr]++;
+                if (gc >= 0)
+                    columnGaps[gc]++;
+            }
+    }
+    return visibilityGrowthApplies(rowGaps, columnGaps);
+}
+
+void filterHiddenPoints(const Mat& sparse16, const PipelineParams& params, Mat& visible16)
 {
     CV_Assert(sparse16.type() == CV_16SC1 && sparse16.data != visible16.data);
+    PipelineParams p = params;
+    if (p.visibilityParallax256 > 0 && !isScan(sparse16))
+        p.visibilityParallax256 = 0;
     const int W = sparse16.cols, H = sparse16.rows, g = visibilityGrowth(p);
     const int rx = p.visibilityRadiusX + g, ry = p.visibilityRadiusY + g;   // the largest window
     const SparseColumns cols(sparse16);

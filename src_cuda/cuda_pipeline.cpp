@@ -44,6 +44,7 @@ struct CudaPipeline::Buffers
     cuda::GpuMat censusL, censusR, sparse16, semidense16, sum;
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
     cuda::GpuMat ring, ringStats;    //!< ring interpolation's maps (above, then below) and gap statistics
+    cuda::GpuMat scanStats;          //!< the visibility filter's scan test (gap histograms and result)
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
 
@@ -109,7 +110,15 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         else
             ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, converted, st);
         if (filter)
-            ci::filterHiddenPoints(converted, p, b.sparse16, st);
+        {
+            int* scanStats = nullptr;
+            if (p.visibilityParallax256 > 0)
+            {
+                b.scanStats.create(1, 2 * RING_GAP_BINS + 1, CV_32SC1);
+                scanStats = b.scanStats.ptr<int>();
+            }
+            ci::filterHiddenPoints(converted, p, b.sparse16, scanStats, st);
+        }
     }
     if (L.depth() == CV_8U)
         ci::censusTransform(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), b.censusL, b.censusR, padBefore,

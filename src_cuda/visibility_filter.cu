@@ -10,10 +10,32 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
-__global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, int reach, PtrStepSz<short> out)
+__global__ void scanGapHistogramKernel(PtrStepSz<short> sparse16, int* stats)
+{
+    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x >= sparse16.cols || y >= sparse16.rows || sparse16(y, x) == NO_DISP)
+        return;
+    const int gr = rowPointGap(sparse16.ptr(y), x, sparse16.cols);
+    const int gc = columnPointGap(sparse16.data, sparse16.step / sizeof(short), x, y, sparse16.cols, sparse16.rows);
+    if (gr >= 0)
+        atomicAdd(stats + gr, 1);
+    if (gc >= 0)
+        atomicAdd(stats + RING_GAP_BINS + gc, 1);
+}
+
+__global__ void scanTestKernel(int* stats)
+{
+    stats[2 * RING_GAP_BINS] = visibilityGrowthApplies(stats, stats + RING_GAP_BINS) ? 1 : 0;
+}
+
+// stats: null, or the scan test's result at stats[2 RING_GAP_BINS] (0: no parallax growth).
+__global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, int reach, const int* stats,
+                                 PtrStepSz<short> out)
 {
     extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
     __shared__ int count;
+    if (stats && stats[2 * RING_GAP_BINS] == 0)
+        p.visibilityParallax256 = 0;
     const int n = listTilePoints(sparse16, reach, points, &count);
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     if (x >= sparse16.cols || y >= sparse16.rows)
@@ -31,15 +53,24 @@ __global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, in
 
 } // namespace
 
-void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16,
+void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16, int* stats,
                         cudaStream_t stream)
 {
     const dim3 block(32, 8);
     const dim3 grid(cv::cuda::device::divUp(sparse16.cols, block.x), cv::cuda::device::divUp(sparse16.rows, block.y));
+    const bool growth = p.visibilityParallax256 > 0;
+    if (growth)
+    {
+        cudaSafeCall(cudaMemsetAsync(stats, 0, 2 * RING_GAP_BINS * sizeof(int), stream));
+        scanGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, stats);
+        cudaSafeCall(cudaGetLastError());
+        scanTestKernel<<<1, 1, 0, stream>>>(stats);
+        cudaSafeCall(cudaGetLastError());
+    }
     // The tile's margin: the larger half-size of the base window grown by the largest parallax growth.
     const int reach = std::max(p.visibilityRadiusX, p.visibilityRadiusY) + visibilityGrowth(p);
     const size_t smem = tileKernelSmem(visibilityKernel, block, reach);
-    visibilityKernel<<<grid, block, smem, stream>>>(sparse16, p, reach, visible16);
+    visibilityKernel<<<grid, block, smem, stream>>>(sparse16, p, reach, growth ? stats : nullptr, visible16);
     cudaSafeCall(cudaGetLastError());
 }
 

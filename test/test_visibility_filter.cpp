@@ -48,39 +48,62 @@ TEST(Lidarsgm_Visibility, nearer_points_hide_farther_ones_in_the_window)
 
 TEST(Lidarsgm_Visibility, window_grows_with_the_disparity_step)
 {
-    // Parallax 0.25: the window grows by 1 px per 4 px of disparity step, at most VISIBILITY_MAX_GROWTH.
+    // hiddenBy at parallax 0.25: the window (2 x 4) grows by 1 px per 4 px of disparity step, at most
+    // VISIBILITY_MAX_GROWTH.
     PipelineParams p = visibilityParams(2, 4, 32);
-    p.numDisparities = 256;
     p.visibilityParallax256 = 64;
-    Mat s(80, 90, CV_16SC1, Scalar::all(NO_DISP)), out;
-    s.at<short>(10, 10) = 10 * 16;   // 3 px right of a point nearer by 4 px (growth 1): hidden
-    s.at<short>(10, 13) = 14 * 16;
-    s.at<short>(10, 60) = 10 * 16;   // 3 px right of a point nearer by 3.9375 px (growth 0.98): stays
-    s.at<short>(10, 63) = 14 * 16 - 1;
-    s.at<short>(50, 10) = 10 * 16;   // 12 px below a point nearer by 32 px (growth 8 reaches ry + 8): hidden
-    s.at<short>(38, 10) = 42 * 16;
-    s.at<short>(50, 40) = 10 * 16;   // 13 px below the same step: stays
-    s.at<short>(37, 40) = 42 * 16;
-    filterHiddenPoints(s, p, out);
-    EXPECT_EQ(NO_DISP, out.at<short>(10, 10));
-    EXPECT_EQ(10 * 16, out.at<short>(10, 60));
-    EXPECT_EQ(NO_DISP, out.at<short>(50, 10));
-    EXPECT_EQ(10 * 16, out.at<short>(50, 40));
-    EXPECT_EQ(6, countNonZero(out != NO_DISP));
-    // Without the parallax growth only the base window counts.
-    p.visibilityParallax256 = 0;
-    filterHiddenPoints(s, p, out);
-    EXPECT_EQ(8, countNonZero(out != NO_DISP));
-    // The growth stops at VISIBILITY_MAX_GROWTH: a step of 200 px would grow the window by 50 px at parallax 0.25.
-    p.visibilityParallax256 = 64;
-    s.setTo(NO_DISP);
-    s.at<short>(0, 60) = 5 * 16;
-    s.at<short>(0, 60 - 2 - VISIBILITY_MAX_GROWTH) = 205 * 16;       // at the largest growth: hidden
-    s.at<short>(79, 60) = 5 * 16;
-    s.at<short>(79, 60 - 2 - VISIBILITY_MAX_GROWTH - 1) = 205 * 16;   // one further: stays
-    filterHiddenPoints(s, p, out);
-    EXPECT_EQ(NO_DISP, out.at<short>(0, 60));
-    EXPECT_EQ(5 * 16, out.at<short>(79, 60));
+    EXPECT_TRUE(hiddenBy(14 * 16, 10 * 16, 3, 0, p));        // 3 px right, 4 px nearer: growth 1
+    EXPECT_FALSE(hiddenBy(14 * 16 - 1, 10 * 16, 3, 0, p));   // 3.9375 px nearer: growth 0.98
+    EXPECT_TRUE(hiddenBy(42 * 16, 10 * 16, 0, -12, p));      // 12 px above, 32 px nearer: growth 8 reaches ry + 8
+    EXPECT_FALSE(hiddenBy(42 * 16, 10 * 16, 0, -13, p));
+    EXPECT_TRUE(hiddenBy(42 * 16, 10 * 16, -10, 12, p));     // both sides grow by the same 8 px
+    EXPECT_FALSE(hiddenBy(10 * 16 + 32, 10 * 16, 0, 0, p)); // nearer by Tc only: never
+    EXPECT_FALSE(hiddenBy(NO_DISP, 10 * 16, 0, 0, p));
+    const int far = 2 + VISIBILITY_MAX_GROWTH;               // a 200 px step would grow the window by 50 px
+    EXPECT_TRUE(hiddenBy(205 * 16, 5 * 16, far, 0, p));
+    EXPECT_FALSE(hiddenBy(205 * 16, 5 * 16, far + 1, 0, p));
+    p.visibilityParallax256 = 0;                             // without growth only the base window counts
+    EXPECT_TRUE(hiddenBy(42 * 16, 10 * 16, -2, 4, p));
+    EXPECT_FALSE(hiddenBy(42 * 16, 10 * 16, 3, 0, p));
+}
+
+/* A synthetic LiDAR scan: rings every 5 rows with a shot every 2 columns, background at 10 px, and a near object at
+40 px on the rings of rows 20 and 25 (columns 40 to 60); the background point (30, 50) sits 5 rows below the object,
+beyond the 4 x 4 base window but within the growth (30 px step x 0.25). transposed: the same with rows and columns
+exchanged, so that the points are closer across the lines than along them. */
+static Mat syntheticScan(bool transposed)
+{
+    Mat s(80, 100, CV_16SC1, Scalar::all(NO_DISP));
+    for (int y = 0; y < 80; y += 5)
+        for (int x = 0; x < 80; x += 2)
+            s.at<short>(y, x) = (short)((y == 20 || y == 25) && x >= 40 && x <= 60 ? 40 * 16 : 10 * 16);
+    if (transposed)
+    {
+        Mat t(100, 80, CV_16SC1, Scalar::all(NO_DISP));
+        Mat square = t(Rect(0, 0, 80, 80));
+        cv::transpose(s(Rect(0, 0, 80, 80)), square);
+        return t;
+    }
+    return s;
+}
+
+TEST(Lidarsgm_Visibility, growth_applies_to_scans_only)
+{
+    PipelineParams p = visibilityParams(4, 4, 32);
+    p.numDisparities = 64;
+    Mat out;
+    for (int transposed = 0; transposed < 2; transposed++)
+    {
+        const Mat s = syntheticScan(transposed != 0);
+        const Point target = transposed ? Point(30, 50) : Point(50, 30);
+        p.visibilityParallax256 = 0;
+        filterHiddenPoints(s, p, out);
+        EXPECT_EQ(10 * 16, out.at<short>(target)) << transposed;
+        p.visibilityParallax256 = 64;
+        filterHiddenPoints(s, p, out);
+        // A scan: the window grows and hides the point; a map whose lines run across: no scan, no growth.
+        EXPECT_EQ(transposed ? 10 * 16 : (int)NO_DISP, out.at<short>(target)) << transposed;
+    }
 }
 
 TEST(Lidarsgm_Visibility, matcher_drops_hidden_points_before_every_stage)

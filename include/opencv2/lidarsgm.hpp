@@ -246,13 +246,16 @@ public:
     //! See getVisibilityRadiusX.
     CV_WRAP virtual int getVisibilityRadiusY() const = 0;
     CV_WRAP virtual void setVisibilityRadiusY(int radiusY) = 0;
-    /** Parallax growth of the visibility window (off by default): the window grows on every side by this many pixels
-    per pixel by which the nearer value exceeds the farther one (at most 32 pixels). Beside a near object the LiDAR
-    sees background that the camera cannot see in a band whose width is the disparity step times the LiDAR's offset
-    from the left camera across the line of sight, divided by the stereo baseline. Set it to that ratio: KITTI's
-    HDL-64E sits 0.095 m from the left colour camera across the line of sight (0.057 m sideways, 0.075 m up;
-    Tr_velo_to_cam and P2), with a 0.533 m baseline: 0.18 (doc/params/kitti_best.yml). In [0, 1]; 0: the fixed
-    window of visibilityRadiusX/Y. */
+    /** Parallax growth of the visibility window (off by default): on a LiDAR scan the window grows on every side by
+    this many pixels per pixel by which the nearer value exceeds the farther one (at most 32 pixels). Beside a near
+    object the LiDAR sees background that the camera cannot see, in a band whose width is the disparity step times the
+    LiDAR's offset from the left camera across the line of sight, divided by the stereo baseline: set it to that
+    ratio. KITTI's HDL-64E sits 0.095 m from the left colour camera across the line of sight (0.057 m sideways,
+    0.075 m up; Tr_velo_to_cam and P2), with a 0.533 m baseline: 0.18 (doc/params/kitti_best.yml). The growth applies
+    only where the sparse map is a scan, its points closer along the rows than across them (the lower medians of the
+    distance to the next point to the right and to the next point below within 2 columns): a scattered sample, such
+    as ground-truth pixels drawn from the camera's own view, has no sensor apart from the camera. In [0, 1]; 0: the
+    fixed window of visibilityRadiusX/Y. */
     CV_WRAP virtual double getVisibilityParallax() const = 0;
     CV_WRAP virtual void setVisibilityParallax(double ratio) = 0;
     /** Edge-aware jump penalty (off by default: the paper has none): on every aggregation path, a disparity jump between
