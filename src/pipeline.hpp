@@ -238,14 +238,16 @@ static LIDARSGM_HD int histogramLowerMedian(const int* hist, int bins)
 closer along its rows (the shots of a ring) than across them (the rings), while a scattered sample, such as
 Middlebury's protocol of ground-truth pixels drawn from the camera's own view, has no scan lines and no sensor apart
 from the camera. Per sparse point, the distance to the next point to its right in its row (rowPointGap) and to the
-next point below it within RING_COLUMNS columns (columnPointGap), both capped to the last of RING_GAP_BINS bins (-1:
-the image ends first); the map is a scan when the lower median of the first is below that of the second. */
+next point below it within RING_COLUMNS columns (columnPointGap), both capped to the last of SCAN_GAP_BINS bins (-1:
+the image ends first); the map is a scan when the lower median of the first is below that of the second. The cap
+keeps each point's search short (on the GPU one thread searches); where both medians reach it, there is no growth. */
+enum { SCAN_GAP_BINS = 32 };
 static LIDARSGM_HD int rowPointGap(const short* row, int x, int W)
 {
     for (int u = x + 1; u < W; u++)
     {
-        if (u - x >= RING_GAP_BINS - 1)
-            return RING_GAP_BINS - 1;
+        if (u - x >= SCAN_GAP_BINS - 1)
+            return SCAN_GAP_BINS - 1;
         if (row[u] != NO_DISP)
             return u - x;
     }
@@ -259,8 +261,8 @@ static LIDARSGM_HD int columnPointGap(const short* sparse16, size_t step, int x,
     const int c1 = x + RING_COLUMNS < W - 1 ? x + RING_COLUMNS : W - 1;
     for (int v = y + 1; v < H; v++)
     {
-        if (v - y >= RING_GAP_BINS - 1)
-            return RING_GAP_BINS - 1;
+        if (v - y >= SCAN_GAP_BINS - 1)
+            return SCAN_GAP_BINS - 1;
         const short* row = sparse16 + (size_t)v * step;
         for (int c = c0; c <= c1; c++)
             if (row[c] != NO_DISP)
@@ -269,10 +271,10 @@ static LIDARSGM_HD int columnPointGap(const short* sparse16, size_t step, int x,
     return -1;
 }
 
-//! From the histograms of rowPointGap and columnPointGap (RING_GAP_BINS bins each): whether the map is a scan.
+//! From the histograms of rowPointGap and columnPointGap (SCAN_GAP_BINS bins each): whether the map is a scan.
 static LIDARSGM_HD bool visibilityGrowthApplies(const int* rowGaps, const int* columnGaps)
 {
-    return histogramLowerMedian(rowGaps, RING_GAP_BINS) < histogramLowerMedian(columnGaps, RING_GAP_BINS);
+    return histogramLowerMedian(rowGaps, SCAN_GAP_BINS) < histogramLowerMedian(columnGaps, SCAN_GAP_BINS);
 }
 
 /** va + (vb - va) (y - ya) / (yb - ya) in 1/16 pixel, rounded to nearest (halves up), for ya < yb: the disparity at

@@ -18,7 +18,7 @@ namespace cv { namespace lidarsgm { namespace detail {
 static bool isScan(const Mat& sparse16)
 {
     const int W = sparse16.cols, H = sparse16.rows;
-    int rowGaps[RING_GAP_BINS] = {}, columnGaps[RING_GAP_BINS] = {};
+    int rowGaps[SCAN_GAP_BINS] = {}, columnGaps[SCAN_GAP_BINS] = {};
     for (int y = 0; y < H; y++)
     {
         const short* s = sparse16.ptr<short>(y);

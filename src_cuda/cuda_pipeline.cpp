@@ -114,7 +114,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
             int* scanStats = nullptr;
             if (p.visibilityParallax256 > 0)
             {
-                b.scanStats.create(1, 2 * RING_GAP_BINS + 1, CV_32SC1);
+                b.scanStats.create(1, 2 * SCAN_GAP_BINS + 1, CV_32SC1);
                 scanStats = b.scanStats.ptr<int>();
             }
             ci::filterHiddenPoints(converted, p, b.sparse16, scanStats, st);

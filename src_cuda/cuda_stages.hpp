@@ -23,7 +23,7 @@ void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparitie
 void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
                    cudaStream_t stream);
 
-/** The visibility filter (hiddenBy). stats: 2 RING_GAP_BINS + 1 ints of device memory for the scan test
+/** The visibility filter (hiddenBy). stats: 2 SCAN_GAP_BINS + 1 ints of device memory for the scan test
 (visibilityGrowthApplies) where p.visibilityParallax256 > 0, else unused. */
 void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16, int* stats,
                         cudaStream_t stream);

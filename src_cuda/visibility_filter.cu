@@ -10,31 +10,43 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
+// Most points fall in a few bins: a block counts in shared memory first, so that the global atomics do not all meet on
+// the same addresses.
 __global__ void scanGapHistogramKernel(PtrStepSz<short> sparse16, int* stats)
 {
+    __shared__ int hist[2 * SCAN_GAP_BINS];
+    const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
+    for (int i = tid; i < 2 * SCAN_GAP_BINS; i += nthreads)
+        hist[i] = 0;
+    __syncthreads();
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    if (x >= sparse16.cols || y >= sparse16.rows || sparse16(y, x) == NO_DISP)
-        return;
-    const int gr = rowPointGap(sparse16.ptr(y), x, sparse16.cols);
-    const int gc = columnPointGap(sparse16.data, sparse16.step / sizeof(short), x, y, sparse16.cols, sparse16.rows);
-    if (gr >= 0)
-        atomicAdd(stats + gr, 1);
-    if (gc >= 0)
-        atomicAdd(stats + RING_GAP_BINS + gc, 1);
+    if (x < sparse16.cols && y < sparse16.rows && sparse16(y, x) != NO_DISP)
+    {
+        const int gr = rowPointGap(sparse16.ptr(y), x, sparse16.cols);
+        const int gc = columnPointGap(sparse16.data, sparse16.step / sizeof(short), x, y, sparse16.cols, sparse16.rows);
+        if (gr >= 0)
+            atomicAdd(hist + gr, 1);
+        if (gc >= 0)
+            atomicAdd(hist + SCAN_GAP_BINS + gc, 1);
+    }
+    __syncthreads();
+    for (int i = tid; i < 2 * SCAN_GAP_BINS; i += nthreads)
+        if (hist[i] > 0)
+            atomicAdd(stats + i, hist[i]);
 }
 
 __global__ void scanTestKernel(int* stats)
 {
-    stats[2 * RING_GAP_BINS] = visibilityGrowthApplies(stats, stats + RING_GAP_BINS) ? 1 : 0;
+    stats[2 * SCAN_GAP_BINS] = visibilityGrowthApplies(stats, stats + SCAN_GAP_BINS) ? 1 : 0;
 }
 
-// stats: null, or the scan test's result at stats[2 RING_GAP_BINS] (0: no parallax growth).
+// stats: null, or the scan test's result at stats[2 SCAN_GAP_BINS] (0: no parallax growth).
 __global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, int reach, const int* stats,
                                  PtrStepSz<short> out)
 {
     extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
     __shared__ int count;
-    if (stats && stats[2 * RING_GAP_BINS] == 0)
+    if (stats && stats[2 * SCAN_GAP_BINS] == 0)
         p.visibilityParallax256 = 0;
     const int n = listTilePoints(sparse16, reach, points, &count);
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
@@ -61,7 +73,7 @@ void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrS
     const bool growth = p.visibilityParallax256 > 0;
     if (growth)
     {
-        cudaSafeCall(cudaMemsetAsync(stats, 0, 2 * RING_GAP_BINS * sizeof(int), stream));
+        cudaSafeCall(cudaMemsetAsync(stats, 0, 2 * SCAN_GAP_BINS * sizeof(int), stream));
         scanGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, stats);
         cudaSafeCall(cudaGetLastError());
         scanTestKernel<<<1, 1, 0, stream>>>(stats);

@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """Where SDSGM's KITTI errors come from, and what wrong LiDAR points cost (doc/design.md, "Where the errors are").
 
-  PYTHONPATH=<opencv build>/python_loader python3 tools/analysis/lidar_points.py [--filters] [shared data dir]
+  PYTHONPATH=<opencv build>/python_loader python3 tools/analysis/lidar_points.py [--filters] [--best] [shared data dir]
 
 Prints, over the 20 shared KITTI frames with create()'s defaults: the split of the total D1 into wrong estimates and
 wrongly filled holes, the share of cars (obj_map), how many wrong estimates have a wrong semidense prior, how many
 projected LiDAR points are D1 outliers against the ground truth (and on which side), and SDSGM with exactly those
 points removed (an oracle: it reads the ground truth). With --filters, also the visibility filter's rule (a point
 with a nearer one, by more than a margin, within a window) for a few windows and margins: what each removes and
-SDSGM / DSGM with it.
+SDSGM / DSGM with it. With --best, the breakdown uses doc/params/kitti_best.yml instead of the defaults.
 """
 import os
 import sys
@@ -57,7 +57,8 @@ def d1(d, g):
 
 
 def breakdown(data):
-    m = cv.lidarsgm.StereoLidarSGM.create()
+    best = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "doc", "params", "kitti_best.yml")
+    m = cv.lidarsgm.StereoLidarSGM.load(best) if "--best" in sys.argv else cv.lidarsgm.StereoLidarSGM.create()
     n = dict(gt=0, est_bad=0, hole_bad=0, car_bad=0, car_gt=0, bad_with_prior=0, bad_prior_bad=0,
              pts=0, pts_bad=0, pts_far=0)
     oracle = cv.lidarsgm.DisparityErrors()
