@@ -18,6 +18,7 @@
 
 #include "cpu_stages.hpp"
 #include "opencv2/core/hal/intrin.hpp"
+#include <memory>
 
 #ifndef LIDARSGM_AGGREGATION_STATE
 #define LIDARSGM_AGGREGATION_STATE
@@ -46,6 +47,7 @@ struct AggregationState
     PipelineParams p;
     int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
     Mat sum;                                    // H x (W * D) 16-bit: top-down + horizontal paths
+    std::shared_ptr<void> sumMemory;            // sum's memory where aggregation.dispatch.cpp allocates it itself
     Mat costRows, downRows;                     // rings (down sweep) of rows of costs and of top-down path sums:
                                                 // row y in row y % rows
     Mat leftRight;                              // per task a row of left-right path costs (horizontalRow)
