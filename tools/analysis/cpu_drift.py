@@ -10,32 +10,22 @@ import sys
 import time
 
 import numpy as np
-import cv2 as cv
 
 sys.path.insert(0, os.path.dirname(__file__))
-import lidar_points  # noqa: E402  (reads the KITTI frames)
+import bench_cpu  # noqa: E402  (the frame and the two matchers)
 
 secs = float(sys.argv[1]) if len(sys.argv) > 1 else 40
 window = float(sys.argv[2]) if len(sys.argv) > 2 else 4
 threads = int(sys.argv[3]) if len(sys.argv) > 3 else 2
 paths = int(sys.argv[4]) if len(sys.argv) > 4 else 8
-l, r, sp, _, _ = next(lidar_points.frames())   # the first frame of frames.txt: 000002
-cv.setNumThreads(threads)
-m = cv.lidarsgm.StereoLidarSGM.create()
-m.setNumPaths(paths)
-sgbm = cv.StereoSGBM.create(0, 128, 3, 72, 288, 1, 0, 10, 100, 2, cv.STEREO_SGBM_MODE_SGBM_3WAY)
-m.compute(l, r, sp)
-sgbm.compute(l, r)
+step = bench_cpu.setup(paths, threads)
 start = time.time()
 t_next = start + window
 ours, theirs, out = [], [], []
 while time.time() < start + secs:
-    t0 = time.perf_counter()
-    m.compute(l, r, sp)
-    ours.append(1000 * (time.perf_counter() - t0))
-    t0 = time.perf_counter()
-    sgbm.compute(l, r)
-    theirs.append(1000 * (time.perf_counter() - t0))
+    a, b = step()
+    ours.append(a)
+    theirs.append(b)
     if time.time() >= t_next:
         out.append("%.0f/%.0f" % (np.median(ours), np.median(theirs)))
         ours, theirs = [], []
