@@ -240,7 +240,9 @@ Middlebury's protocol of ground-truth pixels drawn from the camera's own view, h
 from the camera. Per sparse point, the distance to the next point to its right in its row (rowPointGap) and to the
 next point below it within RING_COLUMNS columns (columnPointGap), both capped to the last of SCAN_GAP_BINS bins (-1:
 the image ends first); the map is a scan when the lower median of the first is below that of the second. The cap
-keeps each point's search short (on the GPU one thread searches); where both medians reach it, there is no growth. */
+keeps each point's search short (on the GPU one thread searches); where both medians reach it, there is no growth.
+columnPointGap is ringPointGap's distance found by a direct search: the test runs before the visibility filter, where
+ring interpolation's above / below maps (built later, on the filtered map, and only with ringGapFactor) do not exist. */
 enum { SCAN_GAP_BINS = 32 };
 static LIDARSGM_HD int rowPointGap(const short* row, int x, int W)
 {
