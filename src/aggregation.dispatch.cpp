@@ -43,9 +43,9 @@ void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, cons
 }
 
 // CV_CPU_DISPATCH returns from the function it stands in: one small function per kernel.
-void runHorizontalRow(AggregationState& a, int y, ushort* lr)
+void runRightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip)
 {
-    CV_CPU_DISPATCH(horizontalRow, (a, y, lr), CV_CPU_DISPATCH_MODES_ALL);
+    CV_CPU_DISPATCH(rightLeftStrip, (a, y, x0, x1, strip), CV_CPU_DISPATCH_MODES_ALL);
 }
 void runVerticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down)
 {
@@ -134,13 +134,21 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     const int threads = std::max(1, getNumThreads());
     const int strips = threads == 1 ? 1 : W / 32 < threads ? std::max(1, W / 32)
                                                             : threads * std::min(4, W / 32 / threads);
-    // The rings of cost rows and of top-down sums: the rows whose horizontal paths wait or run, and the rows the
+    // The rings of cost rows and of partial sums: the rows whose right-left paths wait or run, and the rows the
     // strips write meanwhile (two per thread: a strip that waits for a slot holds up the rows after it).
     const int ring = std::min(H, 2 * threads + 4);
+    a.strips = strips;
+    a.ring = ring;
     a.costRows.create(ring, W * D, CV_16UC1);
     a.downRows.create(ring, W * D, CV_16UC1);
-    // A row of left-right path costs per task, each pixel's between sentinels (horizontalRow).
-    a.leftRight.create(threads, W * a.stride, CV_16UC1);
+    // The hand-offs of the horizontal paths between strips, each pixel's costs between sentinels (written only
+    // inside them).
+    a.lrEdge.create(ring, strips * a.stride, CV_16UC1);
+    a.rlEdge.create(ring, strips * a.stride, CV_16UC1);
+    a.lrEdge.setTo(Scalar::all(PATH_SENTINEL));
+    a.rlEdge.setTo(Scalar::all(PATH_SENTINEL));
+    a.lrEdgeMin.assign((size_t)ring * strips, 0);
+    a.rlEdgeMin.assign((size_t)ring * strips, 0);
     // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
     // [W - x1 + minD, W - x0 + minD + D - 1): room for every row. Each strip marks its row empty before the row
     // (verticalStrip), so that nothing here runs alone over the whole.
@@ -162,11 +170,11 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     const auto strip = [&](int s, int y, bool down) {
         runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, down);
     };
-    // 1. Down: the strips compute the costs and the top-down paths, then the row's horizontal paths complete the
-    // partial sums. The row's strips run in order of the rows (neighbours), so that the rows finish in order.
-    Wavefront(strips, H, true, ring).run(threads,
+    // 1. Down: the strips compute the costs, the top-down and left-right paths (forward items), then the right-left
+    // paths, which complete the partial sums (back items).
+    Wavefront(strips, H, a.ndirs > 1, ring).run(threads,
         [&](int s, int i) { strip(s, i, true); },
-        [&](int i, int t) { runHorizontalRow(a, i, a.leftRight.ptr<ushort>(t) + 1); });
+        [&](int s, int i) { runRightLeftStrip(a, i, W * s / strips, W * (s + 1) / strips, s); });
     // 2. Up: the bottom-up paths complete the sums; the winner is taken at once.
     Wavefront(strips, H, a.ndirs > 1, 0).run(threads,
         [&](int s, int i) { strip(s, H - 1 - i, false); }, [](int, int) {});

@@ -4,14 +4,16 @@
 // Semi-global aggregation (paper Eq. 2; the jump penalty is jumpPenalty, pipeline.hpp) over 4 paths (left-right,
 // right-left, top-down, bottom-up) or 8 (plus the four diagonals), with the matching cost computed as the paths go
 // (no cost volume) and the winner-takes-all done as each pixel's sum completes. Two sweeps over one 16-bit volume:
-//  1. down, row by row: verticalStrip (column strips in parallel) computes the row's costs into a cost row and the
-//     top-down paths (1 or 3 directions, previous row at x - dx) and their sum into a ring row; horizontalRow then
-//     stores that plus the row's two horizontal paths (from the same cost row) in the volume, while the strips
-//     already work on the next rows;
-//  2. up, row by row: verticalStrip computes the costs again and the bottom-up paths, completes each pixel's sum,
-//     and selectPixel takes the winner.
-// A row depends only on the row before, so the strips of a row run in parallel, and a strip may start its next row
-// before the other strips finish this one (wavefront.hpp). Path costs stay below the matching cost plus P2, and the
+//  1. down, row by row in column strips: verticalStrip computes the row's costs into a ring row of costs, the
+//     top-down paths (1 or 3 directions, previous row at x - dx) and the left-right path (entering from the strip
+//     on the left) and their sum into a ring row; rightLeftStrip then adds the right-left path (entering from the
+//     strip on the right, from the same cost row) and stores the sum in the volume;
+//  2. up, row by row in the same strips: verticalStrip computes the costs again and the bottom-up paths, completes
+//     each pixel's sum, and selectPixel takes the winner.
+// A strip's row depends on its own row before and on a pixel's path costs at each edge, so the strips run in
+// parallel, each a few rows behind the one before it (wavefront.hpp), and a row's data stays with the thread that
+// has the strip: the horizontal paths pass from strip to strip as one pixel's path costs (the edge slots) instead
+// of the whole row going to one thread. Path costs stay below the matching cost plus P2, and the
 // weights are scaled so that the sum of all paths fits in 16 bits: the saturating adds never saturate on real values,
 // only on the 0xFFFF sentinels that stand for "d - 1 / d + 1 out of range" (so the order of the adds does not
 // matter). Compiled once per instruction set (CPU dispatch, aggregation.dispatch.cpp).
@@ -48,9 +50,14 @@ struct AggregationState
     int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
     Mat sum;                                    // H x (W * D) 16-bit: top-down + horizontal paths
     std::shared_ptr<void> sumMemory;            // sum's memory where aggregation.dispatch.cpp allocates it itself
-    Mat costRows, downRows;                     // rings (down sweep) of rows of costs and of top-down path sums:
-                                                // row y in row y % rows
-    Mat leftRight;                              // per task a row of left-right path costs (horizontalRow)
+    int strips, ring;                           // column strips; rows in each ring below
+    Mat costRows, downRows;                     // rings (down sweep) of rows of costs and of the sums of the
+                                                // top-down and left-right paths: row y in row y % ring
+    // The horizontal paths' hand-offs (down sweep): in row y % ring, at strip * stride + 1, the left-right path
+    // costs at strip's last pixel of row y (lrEdge) and the right-left ones at its first (rlEdge), between
+    // sentinels; their minima at [(y % ring) * strips + strip].
+    Mat lrEdge, rlEdge;
+    std::vector<ushort> lrEdgeMin, rlEdgeMin;
     Mat finalSum;                               // optional (tests): the complete sums
     Mat disp16, dispInt, nonUnique16;           // outputs of the winner-takes-all (nonUnique16 may be empty)
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
@@ -67,7 +74,7 @@ struct AggregationState
 namespace cv { namespace lidarsgm { namespace detail {
 CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 
-void horizontalRow(AggregationState& a, int y, ushort* lr);
+void rightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip);
 void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down);
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
 void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight,
@@ -95,57 +102,12 @@ namespace {
 
 const ushort SENTINEL = PATH_SENTINEL;
 
-/** One step of the recursion for one pixel: Lout(d) = C(d) + min(Lp(d), Lp(d-1) + P1, Lp(d+1) + P1, minPrev + P2)
- - minPrev. Lp[-1] and Lp[D] must hold SENTINEL. Returns min_d Lout(d). */
-inline ushort pathStep(const ushort* C, const ushort* Lp, ushort minPrev, ushort* Lout, int D, ushort P1, ushort P2)
-{
-    int d = 0;
-    ushort m = SENTINEL;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-    const int n = VTraits<v_uint16>::vlanes();
-    const v_uint16 vp1 = vx_setall_u16(P1), vjump = vx_setall_u16((ushort)(minPrev + P2)),
-                   vmp = vx_setall_u16(minPrev);
-    v_uint16 vmin = vx_setall_u16(SENTINEL);
-    for (; d <= D - n; d += n)
-    {
-        // min(Lp(d-1) + P1, Lp(d+1) + P1) as min(Lp(d-1), Lp(d+1)) + P1: the saturating add is monotonic (and
-        // SENTINEL + P1 stays SENTINEL), so one add does for both.
-        v_uint16 a = vx_load(Lp + d);
-        v_uint16 b = v_add(v_min(vx_load(Lp + d - 1), vx_load(Lp + d + 1)), vp1);
-        v_uint16 best = v_min(v_min(a, b), vjump);
-        v_uint16 l = v_sub(v_add(vx_load(C + d), best), vmp);
-        v_store(Lout + d, l);
-        vmin = v_min(vmin, l);
-    }
-    m = minLane(vmin);
-#endif
-    for (; d < D; d++)
-    {
-        int best = std::min(std::min((int)Lp[d], (int)Lp[d - 1] + P1), std::min((int)Lp[d + 1] + P1, minPrev + P2));
-        ushort l = (ushort)(C[d] + best - minPrev);
-        Lout[d] = l;
-        m = std::min(m, l);
-    }
-    return m;
-}
-
-//! First pixel of a path: L = C.
-inline ushort pathStart(const ushort* C, ushort* Lout, int D)
-{
-    ushort m = SENTINEL;
-    for (int d = 0; d < D; d++)
-    {
-        Lout[d] = C[d];
-        m = std::min(m, C[d]);
-    }
-    return m;
-}
-
-/** The vertical paths of one pixel in one pass over the disparities: for each direction k < ND, pathStep(C, Lp[k],
-minPrev[k], Lout[k], D, P1, P2[k]) (a path's first pixel passes a row of sentinels, minPrev 0 and P2 0, which gives
-Lout = C), and S = A + Lout[0] + ... + Lout[ND - 1] + B (A, B may be null). The same operations in the same order as
-pathStep and sumInto, so the same results; C and the outputs are loaded once instead of once per direction. stream: S
-is written with streaming stores (aligned). */
+/** One step of the recursion (paper Eq. 2) for each of ND paths through one pixel, in one pass over the
+disparities: for direction k, Lout[k](d) = C(d) + min(Lp[k](d), Lp[k](d-1) + P1, Lp[k](d+1) + P1, minPrev[k] + P2[k])
+- minPrev[k], minOut[k] = min_d Lout[k](d); and S = A + Lout[0] + ... + Lout[ND - 1] + B (A, B may be null). Lp[k][-1]
+and Lp[k][D] must hold SENTINEL; a path's first pixel passes a row of sentinels, minPrev 0 and P2 0, which gives
+Lout = C. C and the outputs are loaded once instead of once per direction. stream: S is written with streaming stores
+(aligned). */
 template <int ND>
 inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const ushort* minPrev, ushort* const* Lout,
                             ushort* minOut, const ushort* P2, const ushort* A, const ushort* B, ushort* S, int D,
@@ -173,7 +135,9 @@ inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const usho
         {
             const ushort* lp = Lp[k];
             const v_uint16 a = vx_load(lp + d);
-            const v_uint16 b = v_add(v_min(vx_load(lp + d - 1), vx_load(lp + d + 1)), vp1);   // as in pathStep
+            // min(Lp(d-1) + P1, Lp(d+1) + P1) as min(Lp(d-1), Lp(d+1)) + P1: the saturating add is monotonic
+            // (and SENTINEL + P1 stays SENTINEL), so one add does for both.
+            const v_uint16 b = v_add(v_min(vx_load(lp + d - 1), vx_load(lp + d + 1)), vp1);
             const v_uint16 best = v_min(v_min(a, b), vjump[k]);
             const v_uint16 l = v_sub(v_add(c, best), vmp[k]);
             v_store(Lout[k] + d, l);
@@ -209,25 +173,6 @@ inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const usho
         minOut[k] = m[k];
 }
 
-//! S = A + B (B may be null: S = A), and the same with a third and fourth operand where given.
-inline void sumInto(ushort* S, const ushort* A, const ushort* B, const ushort* C, const ushort* E, int D)
-{
-    int d = 0;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-    const int n = VTraits<v_uint16>::vlanes();
-    for (; d <= D - n; d += n)
-    {
-        v_uint16 v = vx_load(A + d);
-        if (B) v = v_add(v, vx_load(B + d));
-        if (C) v = v_add(v, vx_load(C + d));
-        if (E) v = v_add(v, vx_load(E + d));
-        v_store(S + d, v);
-    }
-#endif
-    for (; d < D; d++)
-        S[d] = (ushort)(A[d] + (B ? B[d] : 0) + (C ? C[d] : 0) + (E ? E[d] : 0));
-}
-
 //! The jump penalty from xq to x on an intensity row I (nullptr: no edge rule, always P2).
 inline ushort jump(const AggregationState& a, const ushort* I, int x, int xq)
 {
@@ -236,23 +181,20 @@ inline ushort jump(const AggregationState& a, const ushort* I, int x, int xq)
 
 } // namespace
 
-void horizontalRow(AggregationState& a, int y, ushort* lr)
+void rightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip)
 {
-    const int W = a.W, D = a.D, st = a.stride;
+    const int W = a.W, D = a.D, st = a.stride, slot = y % a.ring;
     const ushort P1 = (ushort)a.p.w.p1;
-    // lr: room for the left-right path costs of the whole row (W * stride from lr - 1), each pixel's between
-    // sentinels, so that the right-left pass writes the sum of the row's paths at once: the volume row is written
-    // once, the ring rows are still in the cache.
     AutoBuffer<ushort> pathBuf(2 * (size_t)st);
     ushort* u = pathBuf.data() + 1;
     ushort* v = u + st;
     u[-1] = u[D] = v[-1] = v[D] = SENTINEL;
-    const ushort* C = a.costRows.ptr<ushort>(y % a.costRows.rows);
+    const ushort* C = a.costRows.ptr<ushort>(slot);
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
-    const ushort* V = a.downRows.ptr<ushort>(y % a.downRows.rows);
+    const ushort* V = a.downRows.ptr<ushort>(slot);
     ushort* S = a.sum.ptr<ushort>(y);
-    for (int x = 0; x < W; x++)
-        lr[(size_t)x * st - 1] = lr[(size_t)x * st + D] = SENTINEL;
+    ushort* edge = a.rlEdge.ptr<ushort>(slot) + 1;
+    ushort* edgeMin = &a.rlEdgeMin[(size_t)slot * a.strips];
     // The volume row is read again only by the up sweep, after the whole image: streaming stores write it without
     // first reading each cache line in (aligned vectors only; a pixel's costs are D * 2 bytes).
 #if (CV_SIMD || CV_SIMD_SCALABLE)
@@ -260,20 +202,24 @@ void horizontalRow(AggregationState& a, int y, ushort* lr)
 #else
     const bool stream = false;
 #endif
-    ushort m = pathStart(C, lr, D);
-    for (int x = 1; x < W; x++)
-        m = pathStep(C + (size_t)x * D, lr + (size_t)(x - 1) * st, m, lr + (size_t)x * st, D, P1, jump(a, I, x, x - 1));
-    // Right-left, each step with the sum of the row's paths: S = top-down + right-left + left-right, in one pass.
-    m = pathStart(C + (size_t)(W - 1) * D, u, D);
-    sumInto(S + (size_t)(W - 1) * D, V + (size_t)(W - 1) * D, u, lr + (size_t)(W - 1) * st, nullptr, D);
-    for (int x = W - 2; x >= 0; x--)
+    // The path enters from strip + 1's first pixel; at the image's right edge it starts (a row of sentinels with
+    // minPrev 0 and P2 0 gives L = C).
+    AutoBuffer<ushort> noPathBuf(D + 2);
+    std::fill(noPathBuf.data(), noPathBuf.data() + D + 2, SENTINEL);
+    const bool enters = x1 < W;
+    const ushort* lp = enters ? edge + (size_t)(strip + 1) * st : noPathBuf.data() + 1;
+    ushort m = enters ? edgeMin[strip + 1] : 0;
+    for (int x = x1 - 1; x >= x0; x--)
     {
-        const ushort* lp = u;
-        const ushort p2 = jump(a, I, x, x + 1);
-        pathStepsAndSum<1>(C + (size_t)x * D, &lp, &m, &v, &m, &p2, V + (size_t)x * D, lr + (size_t)x * st,
-                           S + (size_t)x * D, D, P1, stream);
+        const ushort p2 = x + 1 < W ? jump(a, I, x, x + 1) : 0;
+        ushort* out = x == x0 ? edge + (size_t)strip * st : u;
+        // S = (top-down + left-right) + right-left, each volume row written once.
+        pathStepsAndSum<1>(C + (size_t)x * D, &lp, &m, &out, &m, &p2, V + (size_t)x * D, nullptr, S + (size_t)x * D,
+                           D, P1, stream);
+        lp = out;
         std::swap(u, v);
     }
+    edgeMin[strip] = m;
 #if CV_SSE2
     if (stream)
         _mm_sfence();   // the streamed stores are weakly ordered: the row is complete before the item says so
@@ -293,10 +239,11 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const unsigned* L = a.censusL.ptr<unsigned>(y);
     const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
     ushort* S = a.sum.ptr<ushort>(y);
-    // Down: the costs and the sums of the top-down paths go to the row's ring rows, for horizontalRow. Up: the costs
-    // to a scratch vector.
-    ushort* costRow = down ? a.costRows.ptr<ushort>(y % a.costRows.rows) : nullptr;
-    ushort* downRow = down ? a.downRows.ptr<ushort>(y % a.downRows.rows) : nullptr;
+    // Down: the costs and the sums of the top-down and left-right paths go to the row's ring rows, for
+    // rightLeftStrip. Up: the costs to a scratch vector.
+    const int slot = down ? y % a.ring : 0;
+    ushort* costRow = down ? a.costRows.ptr<ushort>(slot) : nullptr;
+    ushort* downRow = down ? a.downRows.ptr<ushort>(slot) : nullptr;
     const int cur = y & 1, prev = 1 - cur;
     ushort *curL[3] = {}, *prevL[3] = {}, *curMin[3] = {}, *prevMin[3] = {};
     for (int k = 0; k < a.ndirs; k++)
@@ -319,16 +266,26 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     short* d16 = down ? nullptr : a.disp16.ptr<short>(y);
     short* dInt = down ? nullptr : a.dispInt.ptr<short>(y);
     short* nu = down || a.nonUnique16.empty() ? nullptr : a.nonUnique16.ptr<short>(y);
-    // A path's first pixel steps from a row of sentinels with minPrev 0 and P2 0: that gives L = C (pathStart).
+    // A path's first pixel steps from a row of sentinels with minPrev 0 and P2 0: that gives L = C (pathStepsAndSum).
     AutoBuffer<ushort> noPathBuf(D + 2);
     std::fill(noPathBuf.data(), noPathBuf.data() + D + 2, SENTINEL);
     const ushort* noPath = noPathBuf.data() + 1;
+    // Down: the left-right path, as one more direction (index ndirs) of each pixel: it enters from strip - 1's last
+    // pixel (or starts at the image's left edge), steps through lrBuf, and leaves from the strip's last pixel.
+    AutoBuffer<ushort> lrBuf(2 * (size_t)st);
+    ushort *lrU = lrBuf.data() + 1, *lrV = lrU + st;
+    lrU[-1] = lrU[D] = lrV[-1] = lrV[D] = SENTINEL;
+    ushort* lrEdge = down ? a.lrEdge.ptr<ushort>(slot) + 1 : nullptr;
+    ushort* lrEdgeMin = down ? &a.lrEdgeMin[(size_t)slot * a.strips] : nullptr;
+    const ushort* lrPrev = down && x0 > 0 ? lrEdge + (size_t)(strip - 1) * st : noPath;
+    ushort lrMin = down && x0 > 0 ? lrEdgeMin[strip - 1] : 0;
+    const int nd = down ? a.ndirs + 1 : a.ndirs;
     auto pixel = [&](int x) {
         ushort* c = down ? costRow + (size_t)x * D : cBuf.data();
         costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1, a.p.w, D, c);
-        const ushort* lp[3] = {};
-        ushort* out[3] = {};
-        ushort minPrev[3] = {}, p2[3] = {}, mins[3];
+        const ushort* lp[4] = {};
+        ushort* out[4] = {};
+        ushort minPrev[4] = {}, p2[4] = {}, mins[4];
         for (int k = 0; k < a.ndirs; k++)
         {
             const int xp = x - a.dx[k];
@@ -342,23 +299,41 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
                 p2[k] = Iq ? (ushort)jumpPenalty(I[x], Iq[xp], a.p.edgeThreshold, a.p.w) : (ushort)a.p.w.p2;
             }
         }
-        // Down: the sum of the top-down paths to the ring row; up: the pixel's complete sum.
+        if (down)
+        {
+            const int k = a.ndirs;
+            lp[k] = lrPrev;
+            minPrev[k] = lrMin;
+            p2[k] = x > 0 ? jump(a, I, x, x - 1) : 0;
+            out[k] = x == x1 - 1 ? lrEdge + (size_t)strip * st : lrU;
+        }
+        // Down: the sum of the top-down and left-right paths to the ring row; up: the pixel's complete sum.
         ushort* f = down ? downRow + (size_t)x * D : fBuf.data();
         const ushort* base = down ? nullptr : S + (size_t)x * D;
-        if (a.ndirs == 3)
-            pathStepsAndSum<3>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1);
-        else
-            pathStepsAndSum<1>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1);
+        switch (nd)
+        {
+        case 4: pathStepsAndSum<4>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1); break;
+        case 3: pathStepsAndSum<3>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1); break;
+        case 2: pathStepsAndSum<2>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1); break;
+        default: pathStepsAndSum<1>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1);
+        }
         for (int k = 0; k < a.ndirs; k++)
             curMin[k][x] = mins[k];
         if (down)
+        {
+            lrPrev = out[a.ndirs];
+            lrMin = mins[a.ndirs];
+            std::swap(lrU, lrV);
             return;
+        }
         if (finalSum)
             memcpy(finalSum + (size_t)x * D, f, D * sizeof(ushort));
         selectPixel(f, x, W, a.p, d16[x], dInt[x], nu ? nu + x : nullptr, rv);
     };
     for (int x = x0; x < x1; x++)
         pixel(x);
+    if (down && x1 > x0)
+        lrEdgeMin[strip] = lrMin;
 }
 
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost)

@@ -3,77 +3,90 @@
 
 // The CPU aggregation's sweeps as a wavefront: a sweep is rows x strips of work items, and a strip takes its next row
 // as soon as what that row reads is there, instead of every strip waiting for the whole row before (one barrier per
-// row: 2 x 375 at KITTI size, what kept 16 threads at 5 x one thread). What a strip's row reads:
+// row: 2 x 375 at KITTI size, what kept 16 threads at 5 x one thread). A strip's items touch its own columns only,
+// apart from a pixel's path costs at each edge, so a thread that keeps to its own strips keeps their data in its
+// own core's cache: when the two CPUs of a virtual machine sit far apart (a cache line takes 330 instead of 55 ns
+// there and back on the 2-core EPYC), whatever rows pass between threads costs three to four times as much. What a
+// strip's row reads:
 //  - its own row before (the strip runs its rows in order, one thread at a time);
-//  - with diagonal paths, the last pixel of each neighbouring strip's row before: strips beside each other are
-//    at most one row apart, so the path rows kept by row parity (AggregationState::L) are never overwritten early;
-//  - with a ring of cost rows (the down sweep), the slot it writes must be free: the row ring rows before has had its
-//    horizontal paths.
-// The horizontal paths of a row are items too, ready once every strip has done the row; they are the longest items
-// and go first. Any thread takes any ready item and an item never waits inside, so the sweep ends however many of
-// the parallel_for_ tasks run at once (one task alone does everything, as in a nested parallel region).
+//  - with diagonal paths, the last pixel of each neighbouring strip's row before: strips beside each other are at
+//    most one row apart, so the path rows kept by row parity (AggregationState::L) are never overwritten early;
+//  - in the down sweep (ring > 0), the left-right path at the last pixel of strip s - 1 in the same row; and the
+//    ring slot it writes must be free: its own back item of the row `ring` rows before has run. A back item (the
+//    right-left path of the strip's row) reads the strip's forward item of the row and the right-left path at the
+//    first pixel of strip s + 1 in the same row.
+// A task keeps to its own strips while the task they belong to runs: taking a running task's strip when one's own
+// are not ready moves that strip's rows to the other core and back (on the 2-core EPYC that stealing made the calls
+// 2.5 x slower while the two CPUs sat far apart). The strips of a task that has not started are anyone's, and an
+// item never waits inside, so the sweep ends however many of the parallel_for_ tasks run at once (one task alone
+// does everything, as in a nested parallel region).
 
 #ifndef LIDARSGM_WAVEFRONT_HPP
 #define LIDARSGM_WAVEFRONT_HPP
 
 #include <atomic>
 #include <thread>
+#include <vector>
 
 namespace cv { namespace lidarsgm { namespace detail {
 
 class Wavefront
 {
 public:
-    /** strips x rows items (rows in sweep order); neighbours: strip s waits for s - 1 and s + 1 to finish its row
-    before; ringRows > 0: a horizontal item per row, and strip row i waits for horizontal item i - ringRows. */
-    Wavefront(int strips, int rows, bool neighbours, int ringRows)
-        : strips_(strips), rows_(rows), neighbours_(neighbours), ring_(ringRows),
-          state_(strips), rowCount_(ringRows > 0 ? rows : 0), rowDone_(ringRows > 0 ? rows : 0)
+    /** strips x rows forward items (rows in sweep order); diagonal: strip s's row i waits for s - 1 and s + 1 to
+    finish row i - 1; ring > 0: as many back items, and the hand-offs and ring slots above. */
+    Wavefront(int strips, int rows, bool diagonal, int ring)
+        : strips_(strips), rows_(rows), diagonal_(diagonal), ring_(ring), state_(strips), owner_(strips)
     {
         for (Strip& s : state_)
         {
-            s.done.store(0);
+            s.forward.store(0);
+            s.back.store(ring > 0 ? 0 : rows);
             s.busy.store(0);
         }
-        for (int i = 0; i < (int)rowCount_.size(); i++)
-        {
-            rowCount_[i].store(0);
-            rowDone_[i].store(0);
-        }
-        rowsFinished_.store(0);
-        nextRow_.store(0);
         failed_.store(false);
     }
 
-    /** Runs the items on up to `threads` threads: stripRow(s, i) for strip s and row i, horizontal(i, t) for row i on
-    task t < threads (no two tasks share a t: scratch buffers can be per task).
-    Thread t keeps to its own strips [t * strips / threads, (t + 1) * strips / threads) while one of them is ready
-    (their path rows stay in its core's cache) and takes any other ready item otherwise. */
-    template <typename StripRow, typename Horizontal>
-    void run(int threads, const StripRow& stripRow, const Horizontal& horizontal)
+    /** Runs the items on up to `threads` threads: forward(s, i) and back(s, i) for strip s and row i. Thread t keeps
+    to its strips [t * strips / threads, (t + 1) * strips / threads): of them a ready back item first (it frees a
+    ring slot), else the forward item of the one furthest behind, so that the rows and the hand-offs stream in
+    order. */
+    template <typename Forward, typename Back>
+    void run(int threads, const Forward& forward, const Back& back)
     {
+        started_ = std::vector<std::atomic<bool> >(threads);
+        for (int t = 0; t < threads; t++)
+        {
+            started_[t].store(false);
+            for (int s = t * strips_ / threads; s < (t + 1) * strips_ / threads; s++)
+                owner_[s] = t;
+        }
         parallel_for_(Range(0, threads), [&](const Range& r) {
             for (int t = r.start; t < r.end; t++)
-                work(t, t * strips_ / threads, (t + 1) * strips_ / threads, stripRow, horizontal);
+            {
+                started_[t].store(true);
+                work(t * strips_ / threads, (t + 1) * strips_ / threads, forward, back);
+            }
         }, threads);
     }
 
 private:
     struct Strip
     {
-        std::atomic<int> done;   // rows finished
-        std::atomic<int> busy;   // a thread runs its next row
-        char pad[64 - 2 * sizeof(std::atomic<int>)];   // one strip per cache line: their counters change often
+        std::atomic<int> forward;   // forward rows finished
+        std::atomic<int> back;      // back rows finished (rows where there are none)
+        std::atomic<int> busy;      // a thread runs one of its items
+        char pad[64 - 3 * sizeof(std::atomic<int>)];   // one strip per cache line: their counters change often
     };
 
-    template <typename StripRow, typename Horizontal>
-    void work(int task, int home0, int home1, const StripRow& stripRow, const Horizontal& horizontal)
+    template <typename Forward, typename Back>
+    void work(int home0, int home1, const Forward& forward, const Back& back)
     {
         try
         {
             for (int idle = 0; !failed_.load(std::memory_order_relaxed);)
             {
-                if (takeHorizontal(task, horizontal) || takeStrip(home0, home1, stripRow))
+                if (takeOwn(home0, home1, forward, back) || takeUnstarted(home0, home1, forward, back))
                     idle = 0;
                 else if (finished())
                     break;
@@ -90,94 +103,98 @@ private:
 
     bool finished() const
     {
-        if (ring_ > 0)
-            return rowsFinished_.load(std::memory_order_acquire) == rows_;   // a row's horizontal item comes last
         for (const Strip& st : state_)
-            if (st.done.load(std::memory_order_acquire) < rows_)
+            if (st.back.load(std::memory_order_acquire) < rows_ || st.forward.load(std::memory_order_acquire) < rows_)
                 return false;
         return true;
     }
 
-    template <typename Horizontal>
-    bool takeHorizontal(int task, const Horizontal& horizontal)
+    int done(int s, bool back) const
     {
-        if (ring_ == 0)
-            return false;
-        int i = nextRow_.load(std::memory_order_relaxed);
-        if (i >= rows_ || rowCount_[i].load(std::memory_order_acquire) < strips_ ||
-            !nextRow_.compare_exchange_strong(i, i + 1))
-            return false;
-        horizontal(i, task);
-        rowDone_[i].store(1, std::memory_order_release);
-        rowsFinished_.fetch_add(1, std::memory_order_acq_rel);
-        return true;
+        return (back ? state_[s].back : state_[s].forward).load(std::memory_order_acquire);
     }
 
-    bool ready(int s, int i) const
+    bool forwardReady(int s, int i) const
     {
         if (i >= rows_)
             return false;
-        if (neighbours_ && ((s > 0 && state_[s - 1].done.load(std::memory_order_acquire) < i) ||
-                            (s + 1 < strips_ && state_[s + 1].done.load(std::memory_order_acquire) < i)))
+        if (s > 0 && ((ring_ > 0 && done(s - 1, false) <= i) || (diagonal_ && done(s - 1, false) < i)))
             return false;
-        return ring_ == 0 || i < ring_ || rowDone_[i - ring_].load(std::memory_order_acquire) != 0;
+        if (diagonal_ && s + 1 < strips_ && done(s + 1, false) < i)
+            return false;
+        return ring_ == 0 || i < ring_ || done(s, true) > i - ring_;
     }
 
-    /** Runs the next row of a ready strip: among the thread's own the one furthest behind (so that rows complete in
-    order and the horizontal items and ring slots follow), else the first ready one of the others. */
-    template <typename StripRow>
-    bool takeStrip(int home0, int home1, const StripRow& stripRow)
+    bool backReady(int s, int i) const
+    {
+        return ring_ > 0 && i < rows_ && done(s, false) > i && (s + 1 == strips_ || done(s + 1, true) > i);
+    }
+
+    //! Among strips [s0, s1): a ready back item, else the forward item of the strip furthest behind; runs it.
+    template <typename Forward, typename Back>
+    bool takeOwn(int s0, int s1, const Forward& forward, const Back& back)
     {
         int best = -1, bestRow = rows_;
-        for (int s = home0; s < home1; s++)
+        for (int s = s0; s < s1; s++)
         {
             const Strip& st = state_[s];
-            const int i = st.done.load(std::memory_order_relaxed);
-            if (i < bestRow && !st.busy.load(std::memory_order_relaxed) && ready(s, i))
+            if (st.busy.load(std::memory_order_relaxed))
+                continue;
+            if (backReady(s, st.back.load(std::memory_order_relaxed)) && runItem(s, forward, back))
+                return true;
+            const int i = st.forward.load(std::memory_order_relaxed);
+            if (i < bestRow && forwardReady(s, i))
             {
                 best = s;
                 bestRow = i;
             }
         }
-        if (best >= 0 && runStrip(best, stripRow))
-            return true;
+        return best >= 0 && runItem(best, forward, back);
+    }
+
+    template <typename Forward, typename Back>
+    bool takeUnstarted(int home0, int home1, const Forward& forward, const Back& back)
+    {
         for (int k = 0; k < strips_ - (home1 - home0); k++)
-            if (runStrip((home1 + k) % strips_, stripRow))
+        {
+            const int s = (home1 + k) % strips_;
+            if (!started_[owner_[s]].load(std::memory_order_relaxed) && runItem(s, forward, back))
                 return true;
+        }
         return false;
     }
 
-    //! Runs strip s's next row if it is ready and no other thread holds the strip.
-    template <typename StripRow>
-    bool runStrip(int s, const StripRow& stripRow)
+    //! Runs strip s's next back item, else its next forward item, if one is ready and no other thread holds the strip.
+    template <typename Forward, typename Back>
+    bool runItem(int s, const Forward& forward, const Back& back)
     {
         Strip& st = state_[s];
-        if (st.busy.load(std::memory_order_relaxed) || !ready(s, st.done.load(std::memory_order_relaxed)))
+        if (st.busy.load(std::memory_order_relaxed) || st.busy.exchange(1, std::memory_order_acquire))
             return false;
-        if (st.busy.exchange(1, std::memory_order_acquire))
-            return false;
-        const int i = st.done.load(std::memory_order_relaxed);   // only the holder of busy moves it
-        if (!ready(s, i))
+        bool ran = true;
+        const int b = st.back.load(std::memory_order_relaxed), f = st.forward.load(std::memory_order_relaxed);
+        if (backReady(s, b))   // only the holder of busy moves the counters
         {
-            st.busy.store(0, std::memory_order_release);
-            return false;
+            back(s, b);
+            st.back.store(b + 1, std::memory_order_release);
         }
-        stripRow(s, i);
-        st.done.store(i + 1, std::memory_order_release);
+        else if (forwardReady(s, f))
+        {
+            forward(s, f);
+            st.forward.store(f + 1, std::memory_order_release);
+        }
+        else
+            ran = false;
         st.busy.store(0, std::memory_order_release);
-        if (ring_ > 0)
-            rowCount_[i].fetch_add(1, std::memory_order_acq_rel);
-        return true;
+        return ran;
     }
 
     const int strips_, rows_;
-    const bool neighbours_;
+    const bool diagonal_;
     const int ring_;
     std::vector<Strip> state_;
-    std::vector<std::atomic<int>> rowCount_;   // strips done per row (rows with horizontal items)
-    std::vector<std::atomic<int>> rowDone_;    // the row's horizontal item done
-    std::atomic<int> rowsFinished_;            // horizontal items done
-    std::atomic<int> nextRow_;                 // the next horizontal item to take
+    std::vector<int> owner_;                     // the task whose strip it is
+    std::vector<std::atomic<bool> > started_;    // per task
     std::atomic<bool> failed_;
 };
 
