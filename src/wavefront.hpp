@@ -6,8 +6,8 @@
 // row: 2 x 375 at KITTI size, what kept 16 threads at 5 x one thread). A strip's items touch its own columns only,
 // apart from a pixel's path costs at each edge, so a thread that keeps to its own strips keeps their data in its
 // own core's cache: when the two CPUs of a virtual machine sit far apart (a cache line takes 330 instead of 55 ns
-// there and back on the 2-core EPYC), whatever rows pass between threads costs three to four times as much. What a
-// strip's row reads:
+// there and back on the 2-core EPYC, tools/analysis/cpu_drift.py), every row that passes between threads pays for
+// it. What a strip's row reads:
 //  - its own row before (the strip runs its rows in order, one thread at a time);
 //  - with diagonal paths, the last pixel of each neighbouring strip's row before: strips beside each other are at
 //    most one row apart, so the path rows kept by row parity (AggregationState::L) are never overwritten early;
