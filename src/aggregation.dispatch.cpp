@@ -149,6 +149,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.rlEdge.setTo(Scalar::all(PATH_SENTINEL));
     a.lrEdgeMin.assign((size_t)ring * strips, 0);
     a.rlEdgeMin.assign((size_t)ring * strips, 0);
+    a.noPath.assign(D + 2, PATH_SENTINEL);
     // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
     // [W - x1 + minD, W - x0 + minD + D - 1): room for every row. Each strip marks its row empty before the row
     // (verticalStrip), so that nothing here runs alone over the whole.

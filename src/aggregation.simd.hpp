@@ -58,6 +58,8 @@ struct AggregationState
     // sentinels; their minima at [(y % ring) * strips + strip].
     Mat lrEdge, rlEdge;
     std::vector<ushort> lrEdgeMin, rlEdgeMin;
+    // D + 2 sentinels: the predecessor of a path's first pixel (with minPrev 0 and P2 0, pathStepsAndSum gives L = C).
+    std::vector<ushort> noPath;
     Mat finalSum;                               // optional (tests): the complete sums
     Mat disp16, dispInt, nonUnique16;           // outputs of the winner-takes-all (nonUnique16 may be empty)
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
@@ -202,12 +204,9 @@ void rightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip)
 #else
     const bool stream = false;
 #endif
-    // The path enters from strip + 1's first pixel; at the image's right edge it starts (a row of sentinels with
-    // minPrev 0 and P2 0 gives L = C).
-    AutoBuffer<ushort> noPathBuf(D + 2);
-    std::fill(noPathBuf.data(), noPathBuf.data() + D + 2, SENTINEL);
+    // The path enters from strip + 1's first pixel; at the image's right edge it starts.
     const bool enters = x1 < W;
-    const ushort* lp = enters ? edge + (size_t)(strip + 1) * st : noPathBuf.data() + 1;
+    const ushort* lp = enters ? edge + (size_t)(strip + 1) * st : a.noPath.data() + 1;
     ushort m = enters ? edgeMin[strip + 1] : 0;
     for (int x = x1 - 1; x >= x0; x--)
     {
@@ -266,10 +265,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     short* d16 = down ? nullptr : a.disp16.ptr<short>(y);
     short* dInt = down ? nullptr : a.dispInt.ptr<short>(y);
     short* nu = down || a.nonUnique16.empty() ? nullptr : a.nonUnique16.ptr<short>(y);
-    // A path's first pixel steps from a row of sentinels with minPrev 0 and P2 0: that gives L = C (pathStepsAndSum).
-    AutoBuffer<ushort> noPathBuf(D + 2);
-    std::fill(noPathBuf.data(), noPathBuf.data() + D + 2, SENTINEL);
-    const ushort* noPath = noPathBuf.data() + 1;
+    const ushort* noPath = a.noPath.data() + 1;
     // Down: the left-right path, as one more direction (index ndirs) of each pixel: it enters from strip - 1's last
     // pixel (or starts at the image's left edge), steps through lrBuf, and leaves from the strip's last pixel.
     AutoBuffer<ushort> lrBuf(2 * (size_t)st);

@@ -36,7 +36,7 @@ public:
     /** strips x rows forward items (rows in sweep order); diagonal: strip s's row i waits for s - 1 and s + 1 to
     finish row i - 1; ring > 0: as many back items, and the hand-offs and ring slots above. */
     Wavefront(int strips, int rows, bool diagonal, int ring)
-        : strips_(strips), rows_(rows), diagonal_(diagonal), ring_(ring), state_(strips), owner_(strips)
+        : strips_(strips), rows_(rows), diagonal_(diagonal), ring_(ring), state_(strips)
     {
         for (Strip& s : state_)
         {
@@ -55,17 +55,13 @@ public:
     void run(int threads, const Forward& forward, const Back& back)
     {
         started_ = std::vector<std::atomic<bool> >(threads);
-        for (int t = 0; t < threads; t++)
-        {
-            started_[t].store(false);
-            for (int s = t * strips_ / threads; s < (t + 1) * strips_ / threads; s++)
-                owner_[s] = t;
-        }
+        for (std::atomic<bool>& b : started_)
+            b.store(false);
         parallel_for_(Range(0, threads), [&](const Range& r) {
             for (int t = r.start; t < r.end; t++)
             {
                 started_[t].store(true);
-                work(t * strips_ / threads, (t + 1) * strips_ / threads, forward, back);
+                work(t, forward, back);
             }
         }, threads);
     }
@@ -79,14 +75,20 @@ private:
         char pad[64 - 3 * sizeof(std::atomic<int>)];   // one strip per cache line: their counters change often
     };
 
+    //! Task t's strips: [first(t), first(t + 1)).
+    int first(int t) const
+    {
+        return t * strips_ / (int)started_.size();
+    }
+
     template <typename Forward, typename Back>
-    void work(int home0, int home1, const Forward& forward, const Back& back)
+    void work(int task, const Forward& forward, const Back& back)
     {
         try
         {
             for (int idle = 0; !failed_.load(std::memory_order_relaxed);)
             {
-                if (takeOwn(home0, home1, forward, back) || takeUnstarted(home0, home1, forward, back))
+                if (takeOwn(first(task), first(task + 1), forward, back) || takeUnstarted(forward, back))
                     idle = 0;
                 else if (finished())
                     break;
@@ -152,15 +154,15 @@ private:
         return best >= 0 && runItem(best, forward, back);
     }
 
+    //! A ready item of a task that has not started (a task's own have started).
     template <typename Forward, typename Back>
-    bool takeUnstarted(int home0, int home1, const Forward& forward, const Back& back)
+    bool takeUnstarted(const Forward& forward, const Back& back)
     {
-        for (int k = 0; k < strips_ - (home1 - home0); k++)
-        {
-            const int s = (home1 + k) % strips_;
-            if (!started_[owner_[s]].load(std::memory_order_relaxed) && runItem(s, forward, back))
-                return true;
-        }
+        for (int t = 0; t < (int)started_.size(); t++)
+            if (!started_[t].load(std::memory_order_relaxed))
+                for (int s = first(t); s < first(t + 1); s++)
+                    if (runItem(s, forward, back))
+                        return true;
         return false;
     }
 
@@ -193,7 +195,6 @@ private:
     const bool diagonal_;
     const int ring_;
     std::vector<Strip> state_;
-    std::vector<int> owner_;                     // the task whose strip it is
     std::vector<std::atomic<bool> > started_;    // per task
     std::atomic<bool> failed_;
 };

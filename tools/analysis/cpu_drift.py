@@ -31,11 +31,6 @@ def cpu_ticks():
     except (OSError, ValueError, IndexError):
         return None
 
-secs = float(sys.argv[1]) if len(sys.argv) > 1 else 40
-window = float(sys.argv[2]) if len(sys.argv) > 2 else 4
-threads = int(sys.argv[3]) if len(sys.argv) > 3 else 2
-paths = int(sys.argv[4]) if len(sys.argv) > 4 else 8
-
 
 def core_probe():
     """core_probe.cpp built into a temporary folder, or None where that fails (no g++, one CPU)."""
@@ -53,6 +48,10 @@ def core_probe():
     return lib
 
 
+secs = float(sys.argv[1]) if len(sys.argv) > 1 else 40
+window = float(sys.argv[2]) if len(sys.argv) > 2 else 4
+threads = int(sys.argv[3]) if len(sys.argv) > 3 else 2
+paths = int(sys.argv[4]) if len(sys.argv) > 4 else 8
 probe = core_probe()
 step = bench_cpu.setup(paths, threads)
 start = time.time()
