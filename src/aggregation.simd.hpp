@@ -104,6 +104,15 @@ namespace {
 
 const ushort SENTINEL = PATH_SENTINEL;
 
+/* The path loops' scratch rows live on the heap, never on the stack: the main thread's stack starts at a random offset
+in every process (address-space layout randomisation), and where the rows fell against the rows the loops stream
+decided whether the whole process ran 25-35 % slower, one process in four or five, at one thread as at two; with the
+randomisation off (`setarch -R`) no process did (tools/analysis/cpu_pinned.sh, doc/perf.md). A likely mechanism is
+the CPU's false store-to-load dependence between addresses equal in their low 12 bits. The heap's placement is the
+same in every process. */
+template <typename T>
+using ScratchRow = AutoBuffer<T, 1>;
+
 /** One step of the recursion (paper Eq. 2) for each of ND paths through one pixel, in one pass over the
 disparities: for direction k, Lout[k](d) = C(d) + min(Lp[k](d), Lp[k](d-1) + P1, Lp[k](d+1) + P1, minPrev[k] + P2[k])
 - minPrev[k], minOut[k] = min_d Lout[k](d); and S = A + Lout[0] + ... + Lout[ND - 1] + B (A, B may be null). Lp[k][-1]
@@ -187,7 +196,7 @@ void rightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip)
 {
     const int W = a.W, D = a.D, st = a.stride, slot = y % a.ring;
     const ushort P1 = (ushort)a.p.w.p1;
-    AutoBuffer<ushort> pathBuf(2 * (size_t)st);
+    ScratchRow<ushort> pathBuf(2 * (size_t)st);
     ushort* u = pathBuf.data() + 1;
     ushort* v = u + st;
     u[-1] = u[D] = v[-1] = v[D] = SENTINEL;
@@ -232,7 +241,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const bool first = down ? y == 0 : y == a.H - 1;
     const int yq = down ? y - 1 : y + 1;
     // The right strings of the strip's pixels: rv[W - 1 - x + d] (only the strip's span is written).
-    AutoBuffer<ushort> rvBuf(2 * (W + D)), cBuf(D), fBuf(D);
+    ScratchRow<ushort> rvBuf(2 * (W + D)), cBuf(D), fBuf(D);
     ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
     reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, x0, x1, rvLo, rvHi);
     const unsigned* L = a.censusL.ptr<unsigned>(y);
@@ -268,7 +277,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const ushort* noPath = a.noPath.data() + 1;
     // Down: the left-right path, as one more direction (index ndirs) of each pixel: it enters from strip - 1's last
     // pixel (or starts at the image's left edge), steps through lrBuf, and leaves from the strip's last pixel.
-    AutoBuffer<ushort> lrBuf(2 * (size_t)st);
+    ScratchRow<ushort> lrBuf(2 * (size_t)st);
     ushort *lrU = lrBuf.data() + 1, *lrV = lrU + st;
     lrU[-1] = lrU[D] = lrV[-1] = lrV[D] = SENTINEL;
     ushort* lrEdge = down ? a.lrEdge.ptr<ushort>(slot) + 1 : nullptr;
@@ -335,7 +344,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
 {
     const int W = a.W, D = a.D;
-    AutoBuffer<ushort> rvBuf(2 * (W + D));
+    ScratchRow<ushort> rvBuf(2 * (W + D));
     ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
     for (int y = y0; y < y1; y++)
     {
@@ -351,7 +360,7 @@ void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& 
                 Mat& nonUnique16)
 {
     const int W = a.W, D = a.D;
-    AutoBuffer<ushort> fBuf(D), costBuf(W), indexBuf(W);
+    ScratchRow<ushort> fBuf(D), costBuf(W), indexBuf(W);
     RightView rv = { costBuf.data(), indexBuf.data(), 0 };
     for (int y = y0; y < y1; y++)
     {
