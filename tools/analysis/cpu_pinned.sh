@@ -4,10 +4,12 @@
 # two threads (data crossing between CPUs) or shows on one CPU alone, and whether MODE_SGBM_3WAY in the same process
 # shares it. Each process: lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --timing 3 (SDSGM, 8 paths).
 #   tools/analysis/cpu_pinned.sh SECS [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90]
+# ASLR=off in the environment runs every process under `setarch -R` (no address-space randomisation).
 set -eo pipefail
 cd "$(dirname "$0")/../.."
 SECS=${1:?seconds}
 T=${2:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
+NORAND=; [ "${ASLR:-on}" = off ] && NORAND="setarch -R"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cat > "$tmp/main.cpp" <<'EOF'
@@ -17,12 +19,12 @@ int main() { std::printf("%.0f\n", roundTripNs(200000)); }
 EOF
 g++ -O2 tools/analysis/core_probe.cpp "$tmp/main.cpp" -o "$tmp/rtt" -lpthread
 run() {   # prints "SDSGM_ms 3WAY_ms"
-  "$@" "$T" --kitti-frame testdata/kitti --id 000002 --timing 3 --threads "${THREADS:-1}" | awk -F'|' '
+  ${NORAND} "$@" "$T" --kitti-frame testdata/kitti --id 000002 --timing 3 --threads "${THREADS:-1}" | awk -F'|' '
     /lidarsgm SDSGM/ { gsub(/[ ms]/, "", $3); s = $3 } /MODE_SGBM_3WAY/ { gsub(/[ ms]/, "", $3); w = $3 }
     END { print s, w }'
 }
 echo "# $(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown), $(nproc) CPUs ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
-echo "# Command: tools/analysis/cpu_pinned.sh $SECS; columns: round trip (ns), then SDSGM / MODE_SGBM_3WAY medians (ms)"
+echo "# Command: ${NORAND:+ASLR=off }tools/analysis/cpu_pinned.sh $SECS; columns: round trip (ns), then SDSGM / MODE_SGBM_3WAY medians (ms)"
 end=$((SECONDS + SECS))
 while [ $SECONDS -lt $end ]; do
   r=$("$tmp/rtt"); a=$(run taskset -c 0); b=$(run taskset -c 1); c=$(THREADS=2 run env)
