@@ -132,6 +132,19 @@ INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationRandom,
                      testing::Values(Size(1, 1), Size(7, 1), Size(1, 9), Size(13, 11), Size(70, 33), Size(300, 17)),
                      testing::Values(0, 60)));
 
+//! Random census strings of both views and a prior on a fifth of the pixels (1/16-pixel values in the range).
+static void randomCensusAndPrior(RNG& rng, Size sz, int D, Mat& cl, Mat& cr, Mat& prior)
+{
+    cl.create(sz, CV_32SC1);
+    cr.create(sz, CV_32SC1);
+    prior.create(sz, CV_16SC1);
+    prior.setTo(Scalar::all(NO_DISP));
+    rng.fill(cl, RNG::UNIFORM, 0, 1 << 30);
+    rng.fill(cr, RNG::UNIFORM, 0, 1 << 30);
+    for (int k = 0; k < sz.area() / 5; k++)
+        prior.at<short>(rng.uniform(0, sz.height), rng.uniform(0, sz.width)) = (short)rng.uniform(0, D * 16 - 8);
+}
+
 /* The sweeps' scheduling (wavefront.hpp) over 1 to 16 threads, with fewer strips than threads (narrow images) and
  more: every thread count gives the reference sums and the same disparities, whatever order the items ran in. */
 typedef testing::TestWithParam<tuple<int, int, Size> > Lidarsgm_AggregationThreads;
@@ -140,11 +153,8 @@ TEST_P(Lidarsgm_AggregationThreads, same_as_reference)
     const int numPaths = get<0>(GetParam()), threads = get<1>(GetParam()), D = 32;
     const Size sz = get<2>(GetParam());
     RNG rng(numPaths * 100 + threads + sz.width);
-    Mat cl(sz, CV_32SC1), cr(sz, CV_32SC1), prior(sz, CV_16SC1, Scalar::all(NO_DISP));
-    rng.fill(cl, RNG::UNIFORM, 0, 1 << 30);
-    rng.fill(cr, RNG::UNIFORM, 0, 1 << 30);
-    for (int k = 0; k < sz.area() / 5; k++)
-        prior.at<short>(rng.uniform(0, sz.height), rng.uniform(0, sz.width)) = (short)rng.uniform(0, D * 16 - 8);
+    Mat cl, cr, prior;
+    randomCensusAndPrior(rng, sz, D, cl, cr, prior);
     PipelineParams p = PipelineParams();
     p.numDisparities = D;
     p.numPaths = numPaths;
@@ -194,11 +204,8 @@ TEST(Lidarsgm_Aggregation, stack_placement_does_not_change_results)
     const int D = 48;
     const Size sz(211, 19);
     RNG rng(2024);
-    Mat cl(sz, CV_32SC1), cr(sz, CV_32SC1), prior(sz, CV_16SC1, Scalar::all(NO_DISP));
-    rng.fill(cl, RNG::UNIFORM, 0, 1 << 30);
-    rng.fill(cr, RNG::UNIFORM, 0, 1 << 30);
-    for (int k = 0; k < sz.area() / 5; k++)
-        prior.at<short>(rng.uniform(0, sz.height), rng.uniform(0, sz.width)) = (short)rng.uniform(0, D * 16 - 8);
+    Mat cl, cr, prior;
+    randomCensusAndPrior(rng, sz, D, cl, cr, prior);
     PipelineParams p = PipelineParams();
     p.numDisparities = D;
     p.numPaths = 8;
