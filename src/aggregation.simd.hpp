@@ -105,11 +105,11 @@ namespace {
 const ushort SENTINEL = PATH_SENTINEL;
 
 /* The path loops' scratch rows live on the heap, never on the stack: the main thread's stack starts at a random offset
-in every process (address-space layout randomisation), and where the rows fell against the rows the loops stream
-decided whether the whole process ran 25-35 % slower, one process in four or five, at one thread as at two; with the
-randomisation off (`setarch -R`) no process did (tools/analysis/cpu_pinned.sh, doc/perf.md). A likely mechanism is
-the CPU's false store-to-load dependence between addresses equal in their low 12 bits. The heap's placement is the
-same in every process. */
+in every process (address-space layout randomisation), and with the rows there one single-thread process in four or
+five ran about a third slower for its whole life while MODE_SGBM_3WAY beside it did not; with the randomisation off
+(`setarch -R`) no process did (tools/analysis/cpu_pinned.sh, doc/perf.md). A likely mechanism is the CPU's false
+store-to-load dependence between addresses equal in their low 12 bits. The heap's placement is the same in every
+process. */
 template <typename T>
 using ScratchRow = AutoBuffer<T, 1>;
 
