@@ -240,8 +240,9 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const ushort P1 = (ushort)a.p.w.p1;
     const bool first = down ? y == 0 : y == a.H - 1;
     const int yq = down ? y - 1 : y + 1;
-    // The right strings of the strip's pixels: rv[W - 1 - x + d] (only the strip's span is written).
-    ScratchRow<ushort> rvBuf(2 * (W + D)), cBuf(D), fBuf(D);
+    // The right strings of the strip's pixels: rv[W - 1 - x + d] (only the strip's span is written); up: a pixel's
+    // costs and sums (the down sweep writes both to ring rows).
+    ScratchRow<ushort> rvBuf(2 * (W + D)), cBuf(down ? 0 : D), fBuf(down ? 0 : D);
     ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
     reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, x0, x1, rvLo, rvHi);
     const unsigned* L = a.censusL.ptr<unsigned>(y);
@@ -277,9 +278,14 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const ushort* noPath = a.noPath.data() + 1;
     // Down: the left-right path, as one more direction (index ndirs) of each pixel: it enters from strip - 1's last
     // pixel (or starts at the image's left edge), steps through lrBuf, and leaves from the strip's last pixel.
-    ScratchRow<ushort> lrBuf(2 * (size_t)st);
-    ushort *lrU = lrBuf.data() + 1, *lrV = lrU + st;
-    lrU[-1] = lrU[D] = lrV[-1] = lrV[D] = SENTINEL;
+    ScratchRow<ushort> lrBuf(down ? 2 * (size_t)st : 0);
+    ushort *lrU = nullptr, *lrV = nullptr;
+    if (down)
+    {
+        lrU = lrBuf.data() + 1;
+        lrV = lrU + st;
+        lrU[-1] = lrU[D] = lrV[-1] = lrV[D] = SENTINEL;
+    }
     ushort* lrEdge = down ? a.lrEdge.ptr<ushort>(slot) + 1 : nullptr;
     ushort* lrEdgeMin = down ? &a.lrEdgeMin[(size_t)slot * a.strips] : nullptr;
     const ushort* lrPrev = down && x0 > 0 ? lrEdge + (size_t)(strip - 1) * st : noPath;
