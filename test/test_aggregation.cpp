@@ -187,9 +187,9 @@ INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationThreads,
     testing::Combine(testing::Values(4, 8), testing::Values(1, 2, 3, 7, 16),
                      testing::Values(Size(100, 13), Size(1030, 21))));
 
-/* The per-process slow state was where the calling thread's stack started (address-space randomisation gives every
-process another offset; aggregation.simd.hpp keeps its scratch rows off the stack since). Calls at several stack
-offsets, with 1 and 2 threads, give the reference sums and disparities: the placement changes the time only. */
+/* Where the calling thread's stack starts differs in every process (address-space randomisation) and once set the
+speed of the whole process (aggregation.simd.hpp keeps its scratch rows off the stack). Calls at several stack
+offsets, with 1 and 2 threads, give the reference sums and disparities: the placement may change the time only. */
 template <int N, typename F>
 static void withStackShift(const F& f)
 {
@@ -222,12 +222,13 @@ TEST(Lidarsgm_Aggregation, stack_placement_does_not_change_results)
         setNumThreads(threads);
         int shift = 0;
         const auto check = [&]() {
+            SCOPED_TRACE(cv::format("%d threads, stack shift %d", threads, shift));
             Mat sum, d16, di, dr, nu;
             aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, nu, sum);
-            EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF)) << threads << " threads, stack shift " << shift;
-            EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF)) << threads << " threads, stack shift " << shift;
-            EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF)) << threads << " threads, stack shift " << shift;
-            EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF)) << threads << " threads, stack shift " << shift;
+            EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
+            EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
+            EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF));
+            EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
         };
         shift = 16;   withStackShift<16>(check);
         shift = 48;   withStackShift<48>(check);
