@@ -106,7 +106,8 @@ def main():
     maps = ["module semidense map", "the same without its wrong values (oracle)",
             "the same without its wrong copies (oracle)", "copies need 2 agreeing candidates",
             "copies need more agreeing than disagreeing candidates", "nearest candidate below Ts first",
-            "points that lose their own pixel to another surface are no candidates"]
+            "points that lose their own pixel to another surface are no candidates",
+            "copies that stereo alone contradicts dropped", "points that stereo alone contradicts dropped"]
     err = {k: cv.lidarsgm.DisparityErrors() for k in maps}
     n = dict(mismatch=0, gt=0, prior=0, wrong=0, own=0, own_wrong=0, src_nogt=0, src_right=0, src_right_step=0,
              src_wrong=0, points=0, points_wrong=0, points_wrong_car=0, points_wrong_far=0)
@@ -116,6 +117,10 @@ def main():
     dist = np.zeros((2, 2 * rs * rs + 1), np.int64)
     support = np.zeros((2, 3), np.int64)   # right / wrong copies: one agreeing candidate, disagreeing >= agreeing
     lost = np.zeros(2, np.int64)
+    contradicted = np.zeros(2, np.int64)   # right / wrong copies that stereo alone contradicts
+    stereo = cv.lidarsgm.StereoLidarSGM.load(BEST)   # plain SGM, left-right checked: the camera's own answer
+    stereo.setMode(cv.lidarsgm.StereoLidarSGM_MODE_SGM)
+    stereo.setConsistencyCheck(cv.lidarsgm.StereoLidarSGM_CHECK_STEREO)
     for l, r, sp, g16, obj in lp.frames():
         gt, has = g16 / 256.0, g16 > 0
         s = visible(sparse16(sp, m), m)
@@ -182,9 +187,15 @@ def main():
         n["points_wrong_car"] += int((pbad & (obj > 0)).sum())
         n["points_wrong_far"] += int((pbad & (s / 16.0 < gt)).sum())
         copied_all = copied_any & ~((sy == yy) & (sx == xx))
+        d_st = stereo.compute(l, r, sp).astype(np.int64)
+        def contradicts(x):
+            return (d_st >= 0) & (x >= 0) & (np.abs(d_st - x) > tc16)
+        contradicted += [(copied & ~wrong & contradicts(semi)).sum(), (copied & wrong & contradicts(semi)).sum()]
         variants = [semi, np.where(wrong, NONE, semi), np.where(wrong & copied, NONE, semi),
                     np.where(copied_all & (agree < 2), s, semi), np.where(copied_all & (disagree >= agree), s, semi),
-                    semidensify(cl, cr, s, rs, ts, "nearest")[0], semidensify(cl, cr, s, rs, ts, exclude=loses)[0]]
+                    semidensify(cl, cr, s, rs, ts, "nearest")[0], semidensify(cl, cr, s, rs, ts, exclude=loses)[0],
+                    np.where(copied_all & contradicts(semi), s, semi),
+                    semidensify(cl, cr, np.where(contradicts(s), NONE, s), rs, ts)[0]]
         for name, prior in zip(maps, variants):
             f = np.where(prior >= 0, prior / 16.0, 0).astype(np.float32)
             err[name].add(cv.lidarsgm.evaluateDisparity(dsgm.compute(l, r, f), g16))
@@ -203,6 +214,8 @@ def main():
     print("copies with one agreeing candidate: wrong %d, right %d; with as many disagreeing: wrong %d, right %d" % (
         support[1, 1], support[0, 1], support[1, 2], support[0, 2]))
     print("points that lose their own pixel to another surface: wrong %d, right %d" % (lost[1], lost[0]))
+    print("copies that stereo alone (SGM, left-right checked) contradicts by more than Tc: wrong %d, right %d" % (
+        contradicted[1], contradicted[0]))
     print("LiDAR points after the visibility filter %d, D1 outliers %d (%.0f %% on cars, %.0f %% farther than the "
           "ground truth)" % (n["points"], n["points_wrong"], 100.0 * n["points_wrong_car"] / n["points_wrong"],
                              100.0 * n["points_wrong_far"] / n["points_wrong"]))
