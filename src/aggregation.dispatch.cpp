@@ -20,13 +20,15 @@ namespace cv { namespace lidarsgm { namespace detail {
 namespace {
 
 void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
-               const PipelineParams& p)
+               const PipelineParams& p, const Mat& own16 = Mat())
 {
     CV_Assert(censusL.type() == CV_32SC1 && censusR.type() == CV_32SC1 && censusR.size() == censusL.size());
     CV_Assert(prior16.empty() || (prior16.type() == CV_16SC1 && prior16.size() == censusL.size()));
+    CV_Assert(own16.empty() || (!prior16.empty() && own16.type() == CV_16SC1 && own16.size() == censusL.size()));
     a.censusL = censusL;
     a.censusR = censusR;
     a.prior16 = prior16;
+    a.own16 = own16;
     a.p = p;
     a.W = censusL.cols;
     a.H = censusL.rows;
@@ -90,7 +92,7 @@ static void createVolume(AggregationState& a, int rows, int cols)
 void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
                     const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight, Mat& nonUnique16,
                     OutputArray finalSum,
-                    Ptr<AggregationState>* work)
+                    Ptr<AggregationState>* work, const Mat& own16)
 {
     CV_Assert(p.edgeThreshold == 0 || !left.empty());
     Ptr<AggregationState> temporary;
@@ -98,7 +100,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     if (!held)
         held = makePtr<AggregationState>();
     AggregationState& a = *held;
-    initState(a, censusL, censusR, prior16, left, p);
+    initState(a, censusL, censusR, prior16, left, p, own16);
     const int W = a.W, H = a.H, D = a.D;
     createVolume(a, H, W * D);
     disp16.create(H, W, CV_16SC1);

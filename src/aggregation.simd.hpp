@@ -46,6 +46,7 @@ struct RightView
 struct AggregationState
 {
     Mat censusL, censusR, prior16, intensity;   // intensity: CV_16U left image, empty without the edge rule
+    Mat own16;   // the filtered sparse map where copied priors take wCopy (priorWeights), else empty
     PipelineParams p;
     int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
     Mat sum;                                    // H x (W * D) 16-bit: top-down + horizontal paths
@@ -247,6 +248,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, x0, x1, rvLo, rvHi);
     const unsigned* L = a.censusL.ptr<unsigned>(y);
     const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
+    const short* own = a.own16.empty() ? nullptr : a.own16.ptr<short>(y);
     ushort* S = a.sum.ptr<ushort>(y);
     // Down: the costs and the sums of the top-down and left-right paths go to the row's ring rows, for
     // rightLeftStrip. Up: the costs to a scratch vector.
@@ -293,7 +295,8 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const int nd = down ? a.ndirs + 1 : a.ndirs;
     auto pixel = [&](int x) {
         ushort* c = down ? costRow + (size_t)x * D : cBuf.data();
-        costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1, a.p.w, D, c);
+        costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1,
+                   own && copiedPrior(true, prior[x], own[x]) ? a.p.wCopy : a.p.w, D, c);
         const ushort* lp[4] = {};
         ushort* out[4] = {};
         ushort minPrev[4] = {}, p2[4] = {}, mins[4];

@@ -17,6 +17,15 @@ int maxPathSum(const CostWeights& w, int numPaths)
     return numPaths * (censusTerm(w.census256, CENSUS_BITS) + w.q2 + w.p2);
 }
 
+CostWeights scaleDdcWeights(const CostWeights& w, double alpha, int Q1, int Q2, double factor)
+{
+    CV_Assert(factor > 0.0 && factor <= 1.0);
+    CostWeights s = w;
+    s.q1 = cvRound(w.scale * alpha * Q1 * factor);
+    s.q2 = cvRound(w.scale * alpha * Q2 * factor);
+    return s;
+}
+
 CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc,
                                double edgeP2Ratio)
 {

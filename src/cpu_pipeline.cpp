@@ -14,12 +14,15 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
 {
     censusTransform(left, censusL_);
     censusTransform(right, censusR_);
+    bool scan = false;   // the scan test, run once where a stage needs it (on the map as given)
     if (!sparse.empty())
     {
         convertSparse(sparse, p.minDisparity, p.numDisparities, sparse16_);
+        if (p.visibilityParallax256 > 0 || p.weighCopies)
+            scan = isLidarScan(sparse16_);
         if (visibilityFilterOn(p))
         {
-            filterHiddenPoints(sparse16_, p, visible16_);
+            filterHiddenPoints(sparse16_, p, visible16_, scan ? 1 : 0);
             std::swap(sparse16_, visible16_);
         }
     }
@@ -40,7 +43,7 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
 
     const Mat prior = p.semidense ? semidense16_ : p.ddc ? sparse16_ : Mat();
     aggregateCosts(censusL_, censusR_, prior, left, p, disp16_, dispInt_, dispRight_, nonUnique16_, noArray(),
-                   &aggregation_);
+                   &aggregation_, p.weighCopies && scan ? sparse16_ : Mat());
     if (p.medianSize == 3)
     {
         medianFilter(disp16_, med16_);

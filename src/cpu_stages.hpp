@@ -25,7 +25,10 @@ CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDispar
 
 /** The visibility filter (hiddenBy): visible16 is sparse16 without the values that a value within the
 (2 visibilityRadiusX + 1) x (2 visibilityRadiusY + 1) window hides. */
-CV_EXPORTS void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visible16);
+CV_EXPORTS void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visible16, int scan = -1);
+/** The scan test (visibilityGrowthApplies, pipeline.hpp): whether the sparse map's points are closer along the rows
+than across them, as a LiDAR's rings are. Gates the parallax growth and the copied priors' weight. */
+CV_EXPORTS bool isLidarScan(const Mat& sparse16);
 
 //! Census transform (CV_8UC1 or CV_16UC1 in, CV_32SC1 bit strings out); pixels outside the image are clamped.
 CV_EXPORTS void censusTransform(const Mat& image, Mat& census);
@@ -56,7 +59,7 @@ nullptr: temporaries. */
 CV_EXPORTS void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
                                const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight,
                                Mat& nonUnique16, OutputArray finalSum = noArray(),
-                               Ptr<AggregationState>* work = nullptr);
+                               Ptr<AggregationState>* work = nullptr, const Mat& own16 = Mat());
 
 /** The matching cost volume that aggregateCosts computes as it goes (for the tests): rows = image rows,
 cols = width * numDisparities, CV_16UC1, d fastest. The right pixel x - minD - d is clamped to the image. */

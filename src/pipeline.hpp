@@ -39,6 +39,9 @@ struct CostWeights
 
 /** Picks the scale K, the largest whose worst-case sum of path costs, numPaths * (max cost + P2), fits in 16 bits,
 and rounds the weights. With ddc false there is no prior term (plain SGM). */
+/** w with its DDC terms for factor x alpha x Q1 and Q2 (the copied priors' weights, PipelineParams::wCopy); the sums
+stay within 16 bits for factor <= 1. */
+CV_EXPORTS CostWeights scaleDdcWeights(const CostWeights& w, double alpha, int Q1, int Q2, double factor);
 CV_EXPORTS CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc,
                                           double edgeP2Ratio = 1.0);
 //! numPaths * (largest matching cost + P2): the bound on the aggregated cost.
@@ -68,7 +71,9 @@ struct PipelineParams
     bool stereoCheck;      //!< the left-right test
     bool lidarCheck;       //!< the test against the sparse map (alone: camera-LiDAR; with stereoCheck: either passes)
     bool floatOutput;      //!< CV_32F pixels instead of CV_16S x16
+    bool weighCopies;      //!< SDSGM with semidenseWeight < 1: copied priors take wCopy on LiDAR scans (priorWeights)
     CostWeights w;
+    CostWeights wCopy;     //!< w with the DDC terms (q1, q2) scaled by semidenseWeight
 };
 
 // ---- Rules shared by both backends --------------------------------------------------------------------------------
@@ -102,6 +107,15 @@ static LIDARSGM_HD unsigned censusString(const Pixel& at)
             c = (c << 1) | (at(dx, dy) > at(-dx, -dy) ? 1u : 0u);
     }
     return c;
+}
+
+/** Whether the matching cost at a pixel whose prior is prior16 and whose own (filtered) sparse value is own16 takes
+the copied priors' weights (wCopy: the DDC terms scaled by semidenseWeight) instead of w. On a LiDAR scan (scan:
+weighCopies and the scan test, visibilityGrowthApplies, passed) a prior that semidensification or ring interpolation
+brought from elsewhere is an inference, not a measurement. */
+static LIDARSGM_HD bool copiedPrior(bool scan, int prior16, int own16)
+{
+    return scan && prior16 != NO_DISP && prior16 != own16;
 }
 
 //! The census term of the matching cost: census256 * h / 256, rounded to nearest (halves up).

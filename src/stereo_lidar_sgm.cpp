@@ -46,6 +46,8 @@ table makes the members, getters, setters, write() and read(); the public header
     X(double, EdgeP2Ratio, edgeP2Ratio, 0.5, v > 0.0 && v <= 1.0, "in (0, 1]", "P2's factor across an image edge") \
     X(double, RingGapFactor, ringGapFactor, 0.0, v >= 0.0 && v <= 16.0, "in [0, 16] (0: off; and not NaN)", \
       "the ring interpolation's longest gap in ring spacings") \
+    X(double, SemidenseWeight, semidenseWeight, 1.0, v > 0.0 && v <= 1.0, "in (0, 1]", \
+      "the DDC weight of copied priors on LiDAR scans") \
     X(int, Mode, mode, MODE_SDSGM, v == MODE_SGM || v == MODE_DSGM || v == MODE_SDSGM, \
       "MODE_SGM (0), MODE_DSGM (1) or MODE_SDSGM (2)", "the fusion mode") \
     X(int, ConsistencyCheck, consistencyCheck, CHECK_STEREO_LIDAR, v >= CHECK_NONE && v <= CHECK_STEREO_LIDAR, \
@@ -225,6 +227,8 @@ private:
         p.edgeThreshold = edgeThreshold_;
         p.ringGapFactor16 = cvRound(ringGapFactor_ * 16);
         p.w = computeCostWeights(P1_, P2_, Q1_, Q2_, alpha_, numPaths_, p.ddc, edgeP2Ratio_);
+        p.weighCopies = p.semidense && semidenseWeight_ < 1.0;
+        p.wCopy = scaleDdcWeights(p.w, alpha_, Q1_, Q2_, semidenseWeight_);
         return p;
     }
 

@@ -14,8 +14,7 @@
 
 namespace cv { namespace lidarsgm { namespace detail {
 
-//! Whether the parallax growth applies to this map (visibilityGrowthApplies, pipeline.hpp).
-static bool isScan(const Mat& sparse16)
+bool isLidarScan(const Mat& sparse16)
 {
     const int W = sparse16.cols, H = sparse16.rows;
     int rowGaps[SCAN_GAP_BINS] = {}, columnGaps[SCAN_GAP_BINS] = {};
@@ -36,11 +35,11 @@ static bool isScan(const Mat& sparse16)
     return visibilityGrowthApplies(rowGaps, columnGaps);
 }
 
-void filterHiddenPoints(const Mat& sparse16, const PipelineParams& params, Mat& visible16)
+void filterHiddenPoints(const Mat& sparse16, const PipelineParams& params, Mat& visible16, int scan)
 {
     CV_Assert(sparse16.type() == CV_16SC1 && sparse16.data != visible16.data);
     PipelineParams p = params;
-    if (p.visibilityParallax256 > 0 && !isScan(sparse16))
+    if (p.visibilityParallax256 > 0 && !(scan < 0 ? isLidarScan(sparse16) : scan > 0))
         p.visibilityParallax256 = 0;
     const int W = sparse16.cols, H = sparse16.rows, g = visibilityGrowth(p);
     const int rx = p.visibilityRadiusX + g, ry = p.visibilityRadiusY + g;   // the largest window

@@ -29,7 +29,8 @@ using namespace aggregation;
  the edge rule of the jump penalty (jumpPenalty). */
 template <int PPT, int G, typename T>
 __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<ushort> sum)
+                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<short> own16, const int* scan,
+                           PtrStepSz<ushort> sum)
 {
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
     // indexed by blockIdx would live in local memory).
@@ -44,7 +45,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         return;
     // The line's length: steps until it leaves the image.
     const int n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
-    const CostWeights w = p.w;
+    const CostWeights w = p.w, wCopy = p.wCopy;
     // Lane t holds PPT pairs in NG = PPT / G groups of G adjacent pairs: pair i = gG + j covers disparities
     // e_i = 2 (32 G g + G t + j) and e_i + 1. Across the warp the census strings of one pair index then lie 8 G bytes
     // apart: a load spans 2 G cache lines (with one run of 2 PPT disparities per lane it spanned 2 PPT).
@@ -66,6 +67,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     const ptrdiff_t stepL = dy * (ptrdiff_t)censusL.step + dx * (ptrdiff_t)sizeof(int);
     const ptrdiff_t stepR = dy * (ptrdiff_t)censusR.step + dx * (ptrdiff_t)sizeof(int);
     const ptrdiff_t stepP = dy * (ptrdiff_t)prior16.step + dx * (ptrdiff_t)sizeof(short);
+    const ptrdiff_t stepO = dy * (ptrdiff_t)own16.step + dx * (ptrdiff_t)sizeof(short);
     const ptrdiff_t stepI = dy * (ptrdiff_t)image.step + dx * (ptrdiff_t)sizeof(T);
     const ptrdiff_t stepS = dy * (ptrdiff_t)sum.step + dx * (ptrdiff_t)D * (ptrdiff_t)sizeof(ushort);
     int roff[PPT];   // the strings of pair i: pR[-roff[i]] and pR[-roff[i] - 1]
@@ -76,6 +78,9 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     const int* pR = censusR.ptr(y) + x - minD - 2 * G * (active ? lane : 0);
     const bool hasPrior = prior16.data != nullptr, edges = p.edgeThreshold > 0;
     const short* pP = hasPrior ? prior16.ptr(y) + x : nullptr;
+    // Copied priors take wCopy where the scan test (run on the device before this kernel) passed.
+    const bool copies = own16.data != nullptr && *scan != 0;
+    const short* pO = copies ? own16.ptr(y) + x : nullptr;
     const T* pI = edges ? image.ptr(y) + x : nullptr;
     // jumpPenalty's threshold made "never" (not 0) when the edge rule is off: the same penalty, one select a step.
     const int edgeThreshold = edges ? p.edgeThreshold : INT_MAX;
@@ -86,6 +91,7 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     // Values of the current pixel, loaded one step ahead.
     unsigned l = (unsigned)*pL;
     int pr = hasPrior ? *pP : NO_DISP;
+    int own = copies ? *pO : NO_DISP;
     int intensity = edges ? (int)*pI : 0, prevIntensity = intensity;
     unsigned r[2 * PPT];
 #pragma unroll
@@ -101,7 +107,6 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
     // values that no other pair reads and that are neither stored nor in the minimum.
     unsigned P[PPT];
     int minPrev = 0;
-    const unsigned q2Pair = (unsigned)w.q2 * 0x10001u;
     const unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
     for (int step = 0; ; step++)
     {
@@ -111,7 +116,9 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         const int k = hasK ? roundDisp16(pr) - minD : -1024;
         // matchingCost (pipeline.hpp) in pairs: the census term, plus the DDC term, which is one value (0 without a
         // prior, Q2 with one) except within one disparity of the prior, in at most two pairs that add it exactly.
-        const unsigned ddcFar = hasK ? q2Pair : 0u;
+        const bool copied = copiedPrior(copies, pr, own);
+        const CostWeights wk = copied ? wCopy : w;
+        const unsigned ddcFar = hasK ? (unsigned)wk.q2 * 0x10001u : 0u;
         unsigned h[2 * PPT], Cp[PPT];
         bool near = false;
 #pragma unroll
@@ -127,8 +134,8 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         {
 #pragma unroll
             for (int i = 0; i < PPT; i++)
-                Cp[i] = (unsigned)matchingCost((int)h[2 * i], e[i], k, w) |
-                        ((unsigned)matchingCost((int)h[2 * i + 1], e[i] + 1, k, w) << 16);
+                Cp[i] = (unsigned)matchingCost((int)h[2 * i], e[i], k, wk) |
+                        ((unsigned)matchingCost((int)h[2 * i + 1], e[i] + 1, k, wk) << 16);
         }
         const int curIntensity = intensity;
         const bool more = --left > 0;
@@ -142,6 +149,11 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
             {
                 pP = (const short*)((const char*)pP + stepP);
                 pr = *pP;
+            }
+            if (copies)
+            {
+                pO = (const short*)((const char*)pO + stepO);
+                own = *pO;
             }
             if (edges)
             {
@@ -236,42 +248,45 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
  run of eight per lane, made each load span eight lines and kept L1 busy; doc/perf.md). */
 template <int PPT, typename T>
 void run(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-         const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+         const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
     cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
     const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
     pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, T><<<grid, dim3(32 * WARPS_PER_BLOCK), 0, stream>>>(censusL, censusR, prior16,
-                                                                                             image, p, sum);
+                                                                                             image, p, own16, scan, sum);
     cudaSafeCall(cudaGetLastError());
 }
 
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-               const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+               const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
+               cudaStream_t stream)
 {
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: run<1>(censusL, censusR, prior16, image, p, sum, stream); break;
-    case 2: run<2>(censusL, censusR, prior16, image, p, sum, stream); break;
-    case 3: run<3>(censusL, censusR, prior16, image, p, sum, stream); break;
-    default: run<4>(censusL, censusR, prior16, image, p, sum, stream); break;
+    case 1: run<1>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    case 2: run<2>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    case 3: run<3>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    default: run<4>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
     }
 }
 
 } // namespace
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
+                    cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, stream);
+    aggregate(censusL, censusR, prior16, left, p, own16, scan, sum, stream);
 }
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
+                    cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, sum, stream);
+    aggregate(censusL, censusR, prior16, left, p, own16, scan, sum, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

@@ -100,6 +100,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const int padBefore = ci::rightCensusPadBefore(p), padAfter = ci::rightCensusPadAfter(p);
     b.censusRPadded.create(sz.height, padBefore + sz.width + padAfter, CV_32SC1);
     b.censusR = b.censusRPadded.colRange(padBefore, padBefore + sz.width);
+    int* scanStats = nullptr;
     if (!Sp.empty())
     {
         b.sparse16.create(sz, CV_16SC1);
@@ -109,16 +110,15 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
             ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, converted, st);
         else
             ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, converted, st);
-        if (filter)
+        // The scan test, once for the stages that need it (on the map as given), read by them on the device.
+        if (p.visibilityParallax256 > 0 || p.weighCopies)
         {
-            int* scanStats = nullptr;
-            if (p.visibilityParallax256 > 0)
-            {
-                b.scanStats.create(1, 2 * SCAN_GAP_BINS + 1, CV_32SC1);
-                scanStats = b.scanStats.ptr<int>();
-            }
-            ci::filterHiddenPoints(converted, p, b.sparse16, scanStats, st);
+            b.scanStats.create(1, 2 * SCAN_GAP_BINS + 1, CV_32SC1);
+            scanStats = b.scanStats.ptr<int>();
+            ci::testScan(converted, scanStats, st);
         }
+        if (filter)
+            ci::filterHiddenPoints(converted, p, b.sparse16, scanStats, st);
     }
     if (L.depth() == CV_8U)
         ci::censusTransform(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), b.censusL, b.censusR, padBefore,
@@ -158,10 +158,13 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
+    const bool weigh = p.weighCopies && scanStats;
+    const cuda::PtrStepSz<short> own16 = weigh ? cuda::PtrStepSz<short>(b.sparse16) : cuda::PtrStepSz<short>();
+    const int* scan = weigh ? scanStats + 2 * SCAN_GAP_BINS : nullptr;
     if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, b.sum, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, b.sum, st);
     else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, b.sum, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, b.sum, st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
     ci::RingCheckMaps ringCheck = {};

@@ -23,10 +23,14 @@ void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparitie
 void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
                    cudaStream_t stream);
 
-/** The visibility filter (hiddenBy). stats: 2 SCAN_GAP_BINS + 1 ints of device memory for the scan test
-(visibilityGrowthApplies) where p.visibilityParallax256 > 0, else unused. */
-void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16, int* stats,
-                        cudaStream_t stream);
+/** The scan test (visibilityGrowthApplies) on the sparse map: stats, 2 SCAN_GAP_BINS + 1 ints of device memory,
+receives the gap histograms and, at stats[2 SCAN_GAP_BINS], the result (1: a LiDAR scan). */
+void testScan(PtrStepSz<short> sparse16, int* stats, cudaStream_t stream);
+
+/** The visibility filter (hiddenBy). stats: testScan's output where p.visibilityParallax256 > 0 (the growth applies
+to scans only), else unused. */
+void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16,
+                        const int* stats, cudaStream_t stream);
 
 /** The columns the path kernel reads before and after a row of right census strings: the right pixel of disparity
 index d at x is x - minDisparity - d, for x in [0, W) and d in [0, numDisparities). */
@@ -59,11 +63,15 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
 
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
-The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). */
+The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). own16: the filtered
+sparse map where copied priors take p.wCopy (copiedPrior) if the scan test's result at *scan (device memory) is
+non-zero; empty: w everywhere. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
+                    cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
+                    cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
 right-view disparity as on the CPU; nonUnique16 (may be empty) the winners that fail the uniqueness check, NO_DISP

@@ -145,6 +145,65 @@ static void randomCensusAndPrior(RNG& rng, Size sz, int D, Mat& cl, Mat& cr, Mat
         prior.at<short>(rng.uniform(0, sz.height), rng.uniform(0, sz.width)) = (short)rng.uniform(0, D * 16 - 8);
 }
 
+/* Copied priors (copiedPrior): with the filtered sparse map given, a pixel whose prior differs from its own value
+takes wCopy, every other pixel w. The reference builds the cost volume per pixel from the two weightings; half of
+the priors are the pixel's own values, the rest copies, and some own values were replaced by a copy. */
+TEST(Lidarsgm_Aggregation, copied_priors_take_their_weights)
+{
+    const int D = 32;
+    const Size sz(97, 23);
+    RNG rng(77);
+    Mat cl, cr, prior;
+    randomCensusAndPrior(rng, sz, D, cl, cr, prior);
+    Mat own(sz, CV_16SC1, Scalar::all(NO_DISP));
+    for (int y = 0; y < sz.height; y++)
+        for (int x = 0; x < sz.width; x++)
+        {
+            const short v = prior.at<short>(y, x);
+            if (v != NO_DISP && (x + y) % 2 == 0)
+                own.at<short>(y, x) = v;                          // the pixel's own value
+            else if (v != NO_DISP && (x + 2 * y) % 5 == 0)
+                own.at<short>(y, x) = (short)(v < 64 ? v + 48 : v - 48);   // its own value, replaced by a copy
+        }
+    PipelineParams p = PipelineParams();
+    p.numDisparities = D;
+    p.numPaths = 8;
+    p.subpixel = true;
+    p.uniqueness1024 = 970;
+    p.w = computeCostWeights(10, 120, 5, 160, 0.7, 8, true);
+    p.wCopy = scaleDdcWeights(p.w, 0.7, 5, 160, 0.5);
+    p.weighCopies = p.semidense = true;
+    ASSERT_LT(p.wCopy.q2, p.w.q2);
+    PipelineParams pc = p;
+    pc.w = p.wCopy;
+    Mat costOwn, costCopy;
+    computeMatchingCost(cl, cr, prior, p, costOwn);
+    computeMatchingCost(cl, cr, prior, pc, costCopy);
+    Mat cost = costOwn.clone();
+    int copies = 0;
+    for (int y = 0; y < sz.height; y++)
+        for (int x = 0; x < sz.width; x++)
+            if (copiedPrior(true, prior.at<short>(y, x), own.at<short>(y, x)))
+            {
+                copies++;
+                costCopy.row(y).colRange(x * D, (x + 1) * D).copyTo(cost.row(y).colRange(x * D, (x + 1) * D));
+            }
+    ASSERT_GT(copies, 0);
+    ASSERT_GT(cvtest::norm(cost, costOwn, NORM_INF), 0);
+    Mat ref, e16, ei, er, enu, sum, d16, di, dr, nu;
+    referenceAggregation(cost, sz.width, D, 8, p.w.p1, p.w.p2, ref);
+    winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
+    aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, nu, sum, nullptr, own);
+    EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
+    // Without the sparse map every prior takes w.
+    Mat refOwn;
+    referenceAggregation(costOwn, sz.width, D, 8, p.w.p1, p.w.p2, refOwn);
+    aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, nu, sum);
+    EXPECT_EQ(0, cvtest::norm(sum, refOwn, NORM_INF));
+}
+
 /* The sweeps' scheduling (wavefront.hpp) over 1 to 16 threads, with fewer strips than threads (narrow images) and
  more: every thread count gives the reference sums and the same disparities, whatever order the items ran in. */
 typedef testing::TestWithParam<tuple<int, int, Size> > Lidarsgm_AggregationThreads;

@@ -89,7 +89,7 @@ TEST(Lidarsgm_CUDA, kitti_median_off_bit_exact)
 }
 
 // The steps beyond the paper that doc/params/kitti_best.yml switches on (visibility filter, edge-aware P2, ring
-// interpolation), both frames, every mode, 4 and 8 paths.
+// interpolation, the copied priors' weight), both frames, every mode, 4 and 8 paths.
 TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
 {
     requireCudaDevice();
@@ -106,6 +106,7 @@ TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
                 m->setVisibilityParallax(0.18);
                 m->setEdgeThreshold(32);
                 m->setRingGapFactor(2);
+                m->setSemidenseWeight(0.5);
                 m->setNumPaths(paths);
                 compareCpuGpu(m, l, r, s, format("frame %s mode %d paths %d, kitti_best steps", id, mode, paths));
             }
@@ -133,8 +134,13 @@ TEST_P(Lidarsgm_CUDA_Random, bit_exact)
         s32.convertTo(s16, CV_16U, 256);
         Mat full(sz, CV_32FC1);
         rng.fill(full, RNG::UNIFORM, std::max(minD, 1), minD + numD);
-        const Mat sparses[] = { s32, s16, Mat(sz, CV_32FC1, Scalar::all(0)), full };
-        for (int k = 0; k < 4; k++)
+        // Rings: every 5th row, every 2nd pixel (a LiDAR scan by the scan test: the copied priors' weight applies).
+        Mat rings(sz, CV_32FC1, Scalar::all(0));
+        for (int y = 0; y < sz.height; y += 5)
+            for (int x = y % 2; x < sz.width; x += 2)
+                rings.at<float>(y, x) = (float)rng.uniform(minD - 1.0, minD + numD + 1.0);
+        const Mat sparses[] = { s32, s16, Mat(sz, CV_32FC1, Scalar::all(0)), full, rings };
+        for (int k = 0; k < 5; k++)
             for (int mode = 0; mode < 3; mode++)
             {
                 Ptr<StereoLidarSGM> m = StereoLidarSGM::create(minD, numD, 10, 120, 5, 160, 0.7, mode, (mode + k) % 4);
@@ -146,7 +152,8 @@ TEST_P(Lidarsgm_CUDA_Random, bit_exact)
                 m->setVisibilityRadiusY(k == 1 ? 3 : 0);
                 m->setVisibilityParallax(k == 1 || k == 3 ? 0.125 * (mode + 1) : 0.0);   // k 3: growth alone
                 m->setEdgeThreshold(k == 2 || mode == 2 ? (depth ? 4000 : 16) : 0);
-                m->setRingGapFactor(k == 0 || k == 1 ? 1.5 * (k + 1) : 0.0);
+                m->setRingGapFactor(k == 0 || k == 1 || k == 4 ? 1.5 * (k % 3 + 1) : 0.0);
+                m->setSemidenseWeight(k == 0 || k == 4 ? 0.25 + 0.25 * mode : 1.0);
                 compareCpuGpu(m, l, r, sparses[k], format("size %dx%d depth %d sparse %d mode %d", sz.width, sz.height, depth, k, mode));
             }
     }

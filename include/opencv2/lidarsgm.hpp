@@ -54,6 +54,7 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 | visibilityParallax | growth of the visibility window per pixel of disparity step: the LiDAR's offset across the line of sight over the baseline (beyond the paper) | [0, 1] | 0 (off) |
 | edgeThreshold, edgeP2Ratio | P2 x ratio across left-image steps above the threshold (beyond the paper) | [0, 65535], (0, 1] | 0 (off), 0.5 |
 | ringGapFactor | interpolation between LiDAR rings after semidensification and the ring check, longest gap in measured ring spacings (beyond the paper) | [0, 16] | 0 (off) |
+| semidenseWeight | SDSGM on LiDAR scans: the DDC terms of priors copied from other pixels, relative to the LiDAR's own values (beyond the paper) | (0, 1] | 1 (as the paper) |
 | outputType | CV_16S (disparity x 16) or CV_32F (pixels) | | CV_16S |
 
 Beyond the paper: `doc/params/kitti_best.yml` (StereoLidarSGM::load) switches on the visibility filter with the
@@ -281,6 +282,16 @@ public:
     neighbours, one missing return bridged). */
     CV_WRAP virtual double getRingGapFactor() const = 0;
     CV_WRAP virtual void setRingGapFactor(double factor) = 0;
+    /** The weight of copied priors (SDSGM only): at a pixel whose prior semidensification or ring interpolation
+    brought from another pixel (it differs from the pixel's own sparse value), the DDC terms alpha Q1 and alpha Q2
+    are scaled by semidenseWeight; the LiDAR's own values keep them. A copy is an inference from the census test, a
+    LiDAR value a measurement: on KITTI with doc/params/kitti_best.yml 1.95 % of the copies are wrong against 0.44 %
+    of the own values (tools/analysis/semidense_priors.py). It applies to LiDAR scans only, by the scan test of
+    visibilityParallax (points closer along the rows than across them): a sample drawn from the camera's own ground
+    truth (the Middlebury protocol) has copies as good as its values. In (0, 1]; 1: the paper's DDC everywhere.
+    doc/params/kitti_best.yml: 0.5 (a copy counts half a measurement). */
+    CV_WRAP virtual double getSemidenseWeight() const = 0;
+    CV_WRAP virtual void setSemidenseWeight(double weight) = 0;
     //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
     CV_WRAP virtual int getOutputType() const = 0;
     CV_WRAP virtual void setOutputType(int type) = 0;

@@ -101,6 +101,7 @@ const OptionSpec kOptions[] = {
     { "edge-threshold", 'i', "N", "edgeThreshold", "edgeThreshold" },
     { "edge-p2-ratio", 'd', "R", "edgeP2Ratio", "edgeP2Ratio" },
     { "ring-gap-factor", 'd', "F", "ringGapFactor", "ringGapFactor" },
+    { "semidense-weight", 'd', "F", "semidenseWeight", "semidenseWeight" },
 };
 
 const OptionSpec* findOption(const std::string& name)
