@@ -58,10 +58,10 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 | outputType | CV_16S (disparity x 16) or CV_32F (pixels) | | CV_16S |
 
 Beyond the paper: `doc/params/kitti_best.yml` (StereoLidarSGM::load) switches on the visibility filter with the
-HDL-64E's footprint (2 x 4) and its parallax growth (0.18), the edge rule (32 grey levels, P2 halved) and ring
-interpolation (factor 2): on the 20 KITTI development frames SDSGM's total D1 falls from 2.01 % to 1.65 % (64 lines),
-2.63 % to 2.32 % (32) and 4.44 % to 3.70 % (16), DSGM's from 2.53 % to 1.82 %, and the Middlebury sums improve too
-(doc/accuracy.md).
+HDL-64E's footprint (2 x 4) and its parallax growth (0.18), the edge rule (32 grey levels, P2 halved), ring
+interpolation (factor 2) and copied priors at half weight (semidenseWeight 0.5): on the 20 KITTI development frames
+SDSGM's total D1 falls from 2.01 % to 1.62 % (64 lines), 2.63 % to 2.27 % (32) and 4.44 % to 3.67 % (16), DSGM's from
+2.53 % to 1.82 %, and the Middlebury sums improve too (doc/accuracy.md).
 
 Inputs: rectified 8- or 16-bit single-channel images of one size; a sparse disparity map of the left view of that
 size, CV_16UC1 (KITTI encoding, value / 256, 0 = none) or CV_32FC1 (pixels; 0, negative, NaN, infinite = none),
