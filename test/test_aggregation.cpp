@@ -145,6 +145,18 @@ static void randomCensusAndPrior(RNG& rng, Size sz, int D, Mat& cl, Mat& cr, Mat
         prior.at<short>(rng.uniform(0, sz.height), rng.uniform(0, sz.width)) = (short)rng.uniform(0, D * 16 - 8);
 }
 
+//! The tests' aggregation: D disparities from 0, subpixel, uniqueness 0.95 (970 / 1024), the paper's weights.
+static PipelineParams aggregationParams(int D, int numPaths)
+{
+    PipelineParams p = PipelineParams();
+    p.numDisparities = D;
+    p.numPaths = numPaths;
+    p.subpixel = true;
+    p.uniqueness1024 = 970;
+    p.w = computeCostWeights(10, 120, 5, 160, 0.7, numPaths, true);
+    return p;
+}
+
 /* Copied priors (copiedPrior): with the filtered sparse map given, a pixel whose prior differs from its own value
 takes wCopy, every other pixel w. The reference builds the cost volume per pixel from the two weightings; half of
 the priors are the pixel's own values, the rest copies, and some own values were replaced by a copy. */
@@ -165,12 +177,7 @@ TEST(Lidarsgm_Aggregation, copied_priors_take_their_weights)
             else if (v != NO_DISP && (x + 2 * y) % 5 == 0)
                 own.at<short>(y, x) = (short)(v < 64 ? v + 48 : v - 48);   // its own value, replaced by a copy
         }
-    PipelineParams p = PipelineParams();
-    p.numDisparities = D;
-    p.numPaths = 8;
-    p.subpixel = true;
-    p.uniqueness1024 = 970;
-    p.w = computeCostWeights(10, 120, 5, 160, 0.7, 8, true);
+    PipelineParams p = aggregationParams(D, 8);
     p.wCopy = scaleDdcWeights(p.w, 0.7, 5, 160, 0.5);
     p.weighCopies = p.semidense = true;
     ASSERT_LT(p.wCopy.q2, p.w.q2);
@@ -214,12 +221,7 @@ TEST_P(Lidarsgm_AggregationThreads, same_as_reference)
     RNG rng(numPaths * 100 + threads + sz.width);
     Mat cl, cr, prior;
     randomCensusAndPrior(rng, sz, D, cl, cr, prior);
-    PipelineParams p = PipelineParams();
-    p.numDisparities = D;
-    p.numPaths = numPaths;
-    p.subpixel = true;
-    p.uniqueness1024 = 970;
-    p.w = computeCostWeights(10, 120, 5, 160, 0.7, numPaths, true);
+    PipelineParams p = aggregationParams(D, numPaths);
     p.ringGapFactor16 = 32;
     p.semidense = p.lidarCheck = true;
     Mat cost, ref, e16, ei, er, enu;
@@ -265,12 +267,7 @@ TEST(Lidarsgm_Aggregation, stack_placement_does_not_change_results)
     RNG rng(2024);
     Mat cl, cr, prior;
     randomCensusAndPrior(rng, sz, D, cl, cr, prior);
-    PipelineParams p = PipelineParams();
-    p.numDisparities = D;
-    p.numPaths = 8;
-    p.subpixel = true;
-    p.uniqueness1024 = 970;
-    p.w = computeCostWeights(10, 120, 5, 160, 0.7, 8, true);
+    PipelineParams p = aggregationParams(D, 8);
     Mat cost, ref, e16, ei, er, enu;
     computeMatchingCost(cl, cr, prior, p, cost);
     referenceAggregation(cost, sz.width, D, 8, p.w.p1, p.w.p2, ref);
