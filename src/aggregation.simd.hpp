@@ -46,7 +46,7 @@ struct RightView
 struct AggregationState
 {
     Mat censusL, censusR, prior16, intensity;   // intensity: CV_16U left image, empty without the edge rule
-    Mat own16;   // the filtered sparse map where copied priors take wCopy (priorWeights), else empty
+    Mat own16;   // the filtered sparse map where copied priors take wCopy (copiedPrior), else empty
     PipelineParams p;
     int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
     Mat sum;                                    // H x (W * D) 16-bit: top-down + horizontal paths

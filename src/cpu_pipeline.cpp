@@ -22,7 +22,7 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
             scan = isLidarScan(sparse16_);
         if (visibilityFilterOn(p))
         {
-            filterHiddenPoints(sparse16_, p, visible16_, scan ? 1 : 0);
+            filterHiddenPoints(sparse16_, p, visible16_, scan);
             std::swap(sparse16_, visible16_);
         }
     }

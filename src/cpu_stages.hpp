@@ -24,8 +24,9 @@ inline double rowStripes(int rows)
 CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat& sparse16);
 
 /** The visibility filter (hiddenBy): visible16 is sparse16 without the values that a value within the
-(2 visibilityRadiusX + 1) x (2 visibilityRadiusY + 1) window hides. */
-CV_EXPORTS void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visible16, int scan = -1);
+(2 visibilityRadiusX + 1) x (2 visibilityRadiusY + 1) window hides. scan: isLidarScan(sparse16); the window's parallax
+growth applies only where it is true. */
+CV_EXPORTS void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p, Mat& visible16, bool scan);
 /** The scan test (visibilityGrowthApplies, pipeline.hpp): whether the sparse map's points are closer along the rows
 than across them, as a LiDAR's rings are. Gates the parallax growth and the copied priors' weight. */
 CV_EXPORTS bool isLidarScan(const Mat& sparse16);

@@ -39,11 +39,11 @@ struct CostWeights
 
 /** Picks the scale K, the largest whose worst-case sum of path costs, numPaths * (max cost + P2), fits in 16 bits,
 and rounds the weights. With ddc false there is no prior term (plain SGM). */
+CV_EXPORTS CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc,
+                                          double edgeP2Ratio = 1.0);
 /** w with its DDC terms for factor x alpha x Q1 and Q2 (the copied priors' weights, PipelineParams::wCopy); the sums
 stay within 16 bits for factor <= 1. */
 CV_EXPORTS CostWeights scaleDdcWeights(const CostWeights& w, double alpha, int Q1, int Q2, double factor);
-CV_EXPORTS CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int numPaths, bool ddc,
-                                          double edgeP2Ratio = 1.0);
 //! numPaths * (largest matching cost + P2): the bound on the aggregated cost.
 CV_EXPORTS int maxPathSum(const CostWeights& w, int numPaths);
 
@@ -71,7 +71,7 @@ struct PipelineParams
     bool stereoCheck;      //!< the left-right test
     bool lidarCheck;       //!< the test against the sparse map (alone: camera-LiDAR; with stereoCheck: either passes)
     bool floatOutput;      //!< CV_32F pixels instead of CV_16S x16
-    bool weighCopies;      //!< SDSGM with semidenseWeight < 1: copied priors take wCopy on LiDAR scans (priorWeights)
+    bool weighCopies;      //!< SDSGM with semidenseWeight < 1: copied priors take wCopy on LiDAR scans (copiedPrior)
     CostWeights w;
     CostWeights wCopy;     //!< w with the DDC terms (q1, q2) scaled by semidenseWeight
 };

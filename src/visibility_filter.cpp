@@ -35,11 +35,11 @@ bool isLidarScan(const Mat& sparse16)
     return visibilityGrowthApplies(rowGaps, columnGaps);
 }
 
-void filterHiddenPoints(const Mat& sparse16, const PipelineParams& params, Mat& visible16, int scan)
+void filterHiddenPoints(const Mat& sparse16, const PipelineParams& params, Mat& visible16, bool scan)
 {
     CV_Assert(sparse16.type() == CV_16SC1 && sparse16.data != visible16.data);
     PipelineParams p = params;
-    if (p.visibilityParallax256 > 0 && !(scan < 0 ? isLidarScan(sparse16) : scan > 0))
+    if (p.visibilityParallax256 > 0 && !scan)
         p.visibilityParallax256 = 0;
     const int W = sparse16.cols, H = sparse16.rows, g = visibilityGrowth(p);
     const int rx = p.visibilityRadiusX + g, ry = p.visibilityRadiusY + g;   // the largest window

@@ -26,7 +26,7 @@ TEST(Lidarsgm_Visibility, nearer_points_hide_farther_ones_in_the_window)
     s.at<short>(10, 16) = 10 * 16;                  // background, 4 px right of the nearest object point: visible
     s.at<short>(3, 3) = 11 * 16;                    // a neighbour nearer by only 1 px (Tc = 2): both stay
     s.at<short>(4, 4) = 12 * 16;
-    filterHiddenPoints(s, visibilityParams(2, 4, 32), out);
+    filterHiddenPoints(s, visibilityParams(2, 4, 32), out, false);
     EXPECT_EQ(NO_DISP, out.at<short>(10, 10));
     EXPECT_EQ(40 * 16, out.at<short>(10, 12));
     EXPECT_EQ(40 * 16, out.at<short>(6, 10));
@@ -36,13 +36,13 @@ TEST(Lidarsgm_Visibility, nearer_points_hide_farther_ones_in_the_window)
     EXPECT_EQ(5, countNonZero(out != NO_DISP));
     // Exactly Tc nearer does not hide; 1/16 px more does.
     s.at<short>(4, 4) = 11 * 16 + 32;
-    filterHiddenPoints(s, visibilityParams(2, 4, 32), out);
+    filterHiddenPoints(s, visibilityParams(2, 4, 32), out, false);
     EXPECT_EQ(11 * 16, out.at<short>(3, 3));
     s.at<short>(4, 4) = 11 * 16 + 33;
-    filterHiddenPoints(s, visibilityParams(2, 4, 32), out);
+    filterHiddenPoints(s, visibilityParams(2, 4, 32), out, false);
     EXPECT_EQ(NO_DISP, out.at<short>(3, 3));
     // A smaller window no longer reaches the object's points.
-    filterHiddenPoints(s, visibilityParams(1, 3, 32), out);
+    filterHiddenPoints(s, visibilityParams(1, 3, 32), out, false);
     EXPECT_EQ(10 * 16, out.at<short>(10, 10));
 }
 
@@ -97,10 +97,10 @@ TEST(Lidarsgm_Visibility, growth_applies_to_scans_only)
         const Mat s = syntheticScan(transposed != 0);
         const Point target = transposed ? Point(30, 50) : Point(50, 30);
         p.visibilityParallax256 = 0;
-        filterHiddenPoints(s, p, out);
+        filterHiddenPoints(s, p, out, isLidarScan(s));
         EXPECT_EQ(10 * 16, out.at<short>(target)) << transposed;
         p.visibilityParallax256 = 64;
-        filterHiddenPoints(s, p, out);
+        filterHiddenPoints(s, p, out, isLidarScan(s));
         // A scan: the window grows and hides the point; a map whose lines run across: no scan, no growth.
         EXPECT_EQ(transposed ? 10 * 16 : (int)NO_DISP, out.at<short>(target)) << transposed;
     }
@@ -129,7 +129,7 @@ TEST(Lidarsgm_Visibility, matcher_drops_hidden_points_before_every_stage)
     PipelineParams p = visibilityParams(2, 4, 32);
     p.numDisparities = 32;
     p.visibilityParallax256 = 64;
-    filterHiddenPoints(s16, p, visible16);
+    filterHiddenPoints(s16, p, visible16, isLidarScan(s16));
     ASSERT_LT(countNonZero(visible16 != NO_DISP), countNonZero(s16 != NO_DISP));
     Mat visible(s.size(), CV_32FC1, Scalar::all(0));
     s.copyTo(visible, visible16 != NO_DISP);

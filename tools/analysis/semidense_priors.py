@@ -112,7 +112,7 @@ def main():
     n = dict(mismatch=0, gt=0, prior=0, wrong=0, own=0, own_wrong=0, src_nogt=0, src_right=0, src_right_step=0,
              src_wrong=0, points=0, points_wrong=0, points_wrong_car=0, points_wrong_far=0)
     full = cv.lidarsgm.StereoLidarSGM.load(BEST)   # SDSGM as shipped, ring interpolation included
-    est = np.zeros(5, np.int64)   # wrong estimates: all, without a prior, a prior within 2 px, one agreeing
+    est = np.zeros(4, np.int64)   # wrong estimates: all, without a prior, a prior within 2 px, a wrong one followed
     near_first = dict((h, 0) for h in (4, 8, 12, 16, 24, 32, 0))
     dist = np.zeros((2, 2 * rs * rs + 1), np.int64)
     support = np.zeros((2, 3), np.int64)   # right / wrong copies: one agreeing candidate, disagreeing >= agreeing
@@ -181,7 +181,7 @@ def main():
                 q = np.roll(prior, (-dy, -dx), axis=(0, 1))
                 near |= q >= 0
                 agrees |= (q >= 0) & (np.abs(q - d16) <= tc16) & lp.d1(q / 16.0, gt)
-        est += [bad_est.sum(), lone.sum(), (lone & near).sum(), (lone & agrees).sum(), 0]
+        est += [bad_est.sum(), lone.sum(), (lone & near).sum(), (lone & agrees).sum()]
         n["points"] += int(((s >= 0) & has).sum())
         n["points_wrong"] += int(pbad.sum())
         n["points_wrong_car"] += int((pbad & (obj > 0)).sum())
@@ -223,7 +223,7 @@ def main():
           % " / ".join(str(near_first[h]) for h in (4, 8, 12, 16, 24, 32, 0)))
     print("SDSGM's wrong estimates %.2f %% of the ground truth; without a prior of their own %.2f %%, of which a prior "
           "within 2 px %.2f %%, a wrong prior within 2 px that the estimate follows (within Tc) %.2f %%" % tuple(
-              100.0 * est[:4] / g))
+              100.0 * est / g))
     print("DSGM (kitti_best.yml, its filters off) on a prior map: coverage / covered D1 / total D1")
     for name in maps:
         e = err[name]
