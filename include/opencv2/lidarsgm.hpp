@@ -356,5 +356,6 @@ CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray project
 
 #include "opencv2/lidarsgm/evaluation.hpp"
 #include "opencv2/lidarsgm/depth.hpp"
+#include "opencv2/lidarsgm/calibration.hpp"
 
 #endif // OPENCV_LIDARSGM_HPP

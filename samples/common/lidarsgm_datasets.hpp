@@ -257,15 +257,18 @@ inline void projectScan(Frame& f, const std::string& scanPath, const KittiCalib&
 
 /** Frame `id` of a KITTI-layout folder (image_2/ID_10.png, image_3/ID_10.png, velodyne/ID.bin, calib.txt, optional
 disp_occ_0/ID_10.png): the grey pair, the raw scan (every lidarEvery-th ring from ring firstRing, see selectLidarRings)
-projected by cv::lidarsgm::projectPointsToDisparity, and the ground truth where it exists. */
-inline Frame loadKittiFrame(const std::string& dir, const std::string& id, int lidarEvery = 1, int firstRing = 0)
+projected by cv::lidarsgm::projectPointsToDisparity, and the ground truth where it exists. calib, where given,
+replaces calib.txt (a refined calibration). */
+inline Frame loadKittiFrame(const std::string& dir, const std::string& id, int lidarEvery = 1, int firstRing = 0,
+                            const KittiCalib* calib = nullptr)
 {
     Frame f;
     f.name = id;
     f.leftImage = readImage(dir + "/image_2/" + id + "_10.png");
     f.left = toGrey(f.leftImage);
     f.right = readGrey(dir + "/image_3/" + id + "_10.png");
-    projectScan(f, dir + "/velodyne/" + id + ".bin", readKittiCalib(dir + "/calib.txt"), lidarEvery, firstRing);
+    projectScan(f, dir + "/velodyne/" + id + ".bin", calib ? *calib : readKittiCalib(dir + "/calib.txt"), lidarEvery,
+                firstRing);
     const std::string gt = dir + "/disp_occ_0/" + id + "_10.png";
     if (std::ifstream(gt.c_str()).good())
         f.gt = readKittiDisparity(gt);

@@ -50,7 +50,8 @@ std::string optionsKey(const Options& o)
     std::string key;
     for (const auto& kv : o.kv)
         if (kv.first != "out" && kv.first != "quiet" && kv.first != "threads" && kv.first != "resume" &&
-            kv.first != "streams" && kv.first != "cuda")   // CPU and CUDA outputs are the same
+            kv.first != "streams" && kv.first != "cuda" &&   // CPU and CUDA outputs are the same
+            kv.first != "check-calibration")
             key += "--" + kv.first + " " + kv.second + " ";
     return key;
 }
@@ -258,6 +259,52 @@ int runPasses(const Options& o, const FrameSource& src)
     return 1;
 }
 
+/** --check-calibration, --refine-calibration: the LiDAR-to-camera transform measured against the stereo pairs of
+the frames given (cv::lidarsgm::LidarCalibration); prints the residual and, when refining, the correction, and
+returns the calibration the run fuses with (calib itself, or corrected). A frame that cannot be read is left out;
+a refinement the data cannot support stops the run (cv::Exception saying why) rather than fusing with a guess. */
+KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const std::vector<std::string>& ids,
+                               const std::function<void(const std::string&, Mat&, Mat&, Mat&)>& read)
+{
+    if (!o.has("check-calibration") && !o.has("refine-calibration"))
+        return calib;
+    TickMeter tm;
+    tm.start();
+    Ptr<lidarsgm::LidarCalibration> cal = lidarsgm::LidarCalibration::create(calib.P2, calib.focalBaseline);
+    for (const std::string& id : ids)
+    {
+        Mat left, right, points;
+        try
+        {
+            read(id, left, right, points);
+            cal->addFrame(left, right, points);
+        }
+        catch (const cv::Exception& e)
+        {
+            fprintf(stderr, "lidarsgm_fuse: frame %s left out of the calibration: %s\n", id.c_str(), e.err.c_str());
+        }
+    }
+    if (cal->getNumFrames() == 0)
+        CV_Error(Error::StsError, "no frame could be read for the calibration");
+    printf("calibration residual: %.3f px (median |LiDAR - stereo disparity|, %d frames)\n",
+           cal->residual(calib.lidarToCamera), cal->getNumFrames());
+    if (!o.has("refine-calibration"))
+        return calib;
+    const lidarsgm::CalibrationCorrection c = cal->refine(calib.lidarToCamera, o.has("refine-translation"));
+    tm.stop();
+    const double k = 180 / CV_PI;
+    printf("calibration correction (camera frame, degrees): pitch %+.3f +- %.3f, yaw %+.3f +- %.3f, roll %+.3f +- %.3f",
+           c.rotation[0] * k, c.rotationStd[0] * k, c.rotation[1] * k, c.rotationStd[1] * k, c.rotation[2] * k,
+           c.rotationStd[2] * k);
+    if (o.has("refine-translation"))
+        printf(", x %+.3f +- %.3f m", c.translation[0], c.translationStd[0]);
+    printf("\ncalibration residual after the correction: %.3f px (%d points, %d frames, %.2f s)\n", c.residualAfter,
+           c.points, c.frames, tm.getTimeSec());
+    KittiCalib refined = calib;
+    refined.lidarToCamera = c.lidarToCamera;
+    return refined;
+}
+
 } // namespace
 
 int runKittiFolder(const Options& o)
@@ -268,8 +315,14 @@ int runKittiFolder(const Options& o)
     src.ids = kittiFrameIds(dir);
     if (src.ids.empty())
         CV_Error(Error::StsObjectNotFound, dir + "/frames.txt lists no frame");
-    src.load = [dir](const std::string& id, LidarRings rings) {
-        Frame f = loadKittiFrame(dir, id, rings.every, rings.first);
+    const KittiCalib calib = calibrationFromData(o, readKittiCalib(dir + "/calib.txt"), src.ids,
+        [&dir](const std::string& id, Mat& left, Mat& right, Mat& points) {
+            left = readGrey(dir + "/image_2/" + id + "_10.png");
+            right = readGrey(dir + "/image_3/" + id + "_10.png");
+            points = readVelodyne(dir + "/velodyne/" + id + ".bin");
+        });
+    src.load = [dir, calib](const std::string& id, LidarRings rings) {
+        Frame f = loadKittiFrame(dir, id, rings.every, rings.first, &calib);
         if (f.gt.empty())
             CV_Error(Error::StsObjectNotFound, "no ground truth " + dir + "/disp_occ_0/" + id + "_10.png");
         return f;
@@ -281,10 +334,21 @@ int runKittiRaw(const Options& o)
 {
     const std::string drive = o.str("kitti-raw"), calibDir = kittiRawCalibDir(drive), gtDir = o.str("gt-depth");
     // The calibration is the drive's, read once: a missing file or key stops the run before any frame.
-    const KittiCalib calib = readKittiRawCalib(calibDir + "/calib_cam_to_cam.txt", calibDir + "/calib_velo_to_cam.txt");
+    const KittiCalib given = readKittiRawCalib(calibDir + "/calib_cam_to_cam.txt", calibDir + "/calib_velo_to_cam.txt");
     FrameSource src;
     src.label = "KITTI raw " + drive;
     src.ids = kittiRawFrameNames(drive);
+    // A drive pools 20 of its frames, spread evenly over it, for the calibration.
+    std::vector<std::string> pool;
+    const size_t poolSize = std::min<size_t>(20, src.ids.size());
+    for (size_t k = 0; k < poolSize; k++)
+        pool.push_back(src.ids[k * src.ids.size() / poolSize]);
+    const KittiCalib calib = calibrationFromData(o, given, pool,
+        [&drive](const std::string& id, Mat& left, Mat& right, Mat& points) {
+            left = readGrey(drive + "/image_02/data/" + id + ".png");
+            right = readGrey(drive + "/image_03/data/" + id + ".png");
+            points = readVelodyne(drive + "/velodyne_points/data/" + id + ".bin");
+        });
     src.load = [drive, calib, gtDir](const std::string& id, LidarRings rings) {
         Frame f = loadKittiRawFrame(drive, calib, id, rings.every, rings.first);
         if (!gtDir.empty())

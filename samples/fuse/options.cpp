@@ -66,6 +66,13 @@ const OptionSpec kOptions[] = {
       "the 64-line scans (the paper's Table VI); a folder run prints one table per count", nullptr },
     { "lidar-ring-offset", 'i', "K", "with --lidar-lines: the first ring kept, counted from the top, modulo the 2 or 4\n"
       "(default 0: the top ring; 3 keeps the lowest ring at 16 lines)", nullptr },
+    { "check-calibration", 'f', nullptr, "(KITTI folder, raw drive) print the calibration residual: the median\n"
+      "|LiDAR disparity - stereo disparity| over the LiDAR points (cv::lidarsgm::LidarCalibration)", nullptr },
+    { "refine-calibration", 'f', nullptr, "(KITTI folder, raw drive) estimate the LiDAR-to-camera rotation's\n"
+      "correction from the run's frames (a raw drive: 20 frames spread over it), print it with\n"
+      "its standard errors and the residual before and after, and fuse with the corrected transform", nullptr },
+    { "refine-translation", 'f', nullptr, "with --refine-calibration: also estimate the translation along the\n"
+      "camera's x axis", nullptr },
     { "params", 's', "FILE", "matcher parameters saved with StereoLidarSGM::save (e.g. doc/params/kitti_best.yml);\n"
       "the parameter options below override it", nullptr },
     { "seed", 'i', "N", "random seed of the Middlebury sampling (default 1)", nullptr },
@@ -301,6 +308,10 @@ void checkOptions(const Options& o)
         if ((f == "depth" || f == "ply") && o.has("left") && !o.has("calib"))
             CV_Error(Error::StsBadArg, "--format " + f + " needs the calibration: give --calib");
     }
+    if ((o.has("refine-calibration") || o.has("check-calibration")) && !o.has("kitti") && !o.has("kitti-raw"))
+        CV_Error(Error::StsBadArg, "--refine-calibration and --check-calibration go with --kitti or --kitti-raw");
+    if (o.has("refine-translation") && !o.has("refine-calibration"))
+        CV_Error(Error::StsBadArg, "--refine-translation goes with --refine-calibration");
     if (o.has("gt-depth") && !o.has("kitti-raw"))
         CV_Error(Error::StsBadArg, "--gt-depth goes with --kitti-raw");
     if (o.has("table5") && o.has("kitti-raw") && !o.has("gt-depth"))

@@ -1,0 +1,492 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// LiDAR-to-camera calibration from the data: each frame's stereo disparity map (the camera alone) against the
+// disparities the LiDAR points get through the transform (calibration.hpp says what is estimated and why).
+
+#include "precomp.hpp"
+#include "opencv2/imgproc.hpp"
+#include "opencv2/lidarsgm/calibration.hpp"
+#include <mutex>
+
+namespace cv { namespace lidarsgm {
+
+namespace {
+
+//! The coarse-to-fine schedule: the stereo maps smoothed by sigma pixels, the Cauchy loss's scale c (pixels of
+//! disparity). Wide first, so that errors of a degree (13 px at f = 720) fall in the basin.
+struct Level { double sigma, c; };
+const Level kLevels[] = { { 8, 4 }, { 4, 2 }, { 2, 1 }, { 1, 1 }, { 0, 1 } };
+const int kMaxIterations = 20;         // Gauss-Newton steps per level, at most
+const double kStepTolerance = 2e-6;    // radians (and metres): a level ends when every step is below this (1e-4 deg)
+const int kMinPoints = 200;            // fewer points with a stereo disparity: the data cannot tell
+const double kMaxStdDeg = 0.1;         // a larger standard error on any angle: refused as not told by the data
+const double kMaxCorrectionDeg = 5;    // beyond this the linearised steps and the basin do not hold
+const int kJackknifeStrips = 8;        // groups of a jackknife over fewer than four frames
+
+Matx44d toMatx44(InputArray m, const char* name)
+{
+    Mat a = m.getMat();
+    if (a.channels() != 1 || (a.depth() != CV_32F && a.depth() != CV_64F) ||
+        !((a.rows == 3 || a.rows == 4) && a.cols == 4))
+        CV_Error_(Error::StsBadArg, ("lidarsgm: LidarCalibration: %s must be a 3x4 or 4x4 CV_32F or CV_64F matrix", name));
+    Mat d;
+    a.convertTo(d, CV_64F);
+    Matx44d T = Matx44d::eye();
+    for (int i = 0; i < d.rows; i++)
+        for (int j = 0; j < 4; j++)
+            T(i, j) = d.at<double>(i, j);
+    for (int i = 0; i < 16; i++)
+        CV_CheckTrue(std::isfinite(T.val[i]), "lidarsgm: LidarCalibration: the matrices must be finite");
+    return T;
+}
+
+//! A NaN-aware Gaussian smoothing of a disparity map (normalised convolution): a pixel keeps a value where at
+//! least half of the kernel's weight falls on valid pixels.
+Mat smoothDisparity(const Mat& disp, double sigma)
+{
+    if (sigma <= 0)
+        return disp;
+    Mat valid = disp == disp, value = disp.clone(), w, s;
+    value.setTo(0, ~valid);
+    valid.convertTo(w, CV_32F, 1.0 / 255);
+    const int k = 2 * cvCeil(3 * sigma) + 1;
+    GaussianBlur(value, s, Size(k, k), sigma, sigma, BORDER_CONSTANT);
+    GaussianBlur(w, w, Size(k, k), sigma, sigma, BORDER_CONSTANT);
+    Mat out(disp.size(), CV_32F);
+    for (int y = 0; y < disp.rows; y++)
+    {
+        const float* a = s.ptr<float>(y);
+        const float* b = w.ptr<float>(y);
+        float* o = out.ptr<float>(y);
+        for (int x = 0; x < disp.cols; x++)
+            o[x] = b[x] >= 0.5f ? a[x] / b[x] : std::numeric_limits<float>::quiet_NaN();
+    }
+    return out;
+}
+
+//! The map at (u, v), bilinear; NaN where a neighbour has no disparity or (u, v) leaves the image.
+inline double sampleBilinear(const Mat& m, double u, double v)
+{
+    if (!(u >= 0 && v >= 0 && u < m.cols - 1 && v < m.rows - 1))
+        return std::numeric_limits<double>::quiet_NaN();
+    const int x = (int)u, y = (int)v;
+    const double a = u - x, b = v - y;
+    const float* r0 = m.ptr<float>(y) + x;
+    const float* r1 = m.ptr<float>(y + 1) + x;
+    return (r0[0] * (1 - a) + r0[1] * a) * (1 - b) + (r1[0] * (1 - a) + r1[1] * a) * b;
+}
+
+//! The rotation of a rotation vector w (angle |w| about w / |w|), Rodrigues' formula (cv::Rodrigues is in calib3d).
+Matx33d rotationOf(const Vec3d& w)
+{
+    const double a = norm(w);
+    if (a < 1e-300)
+        return Matx33d::eye();
+    const Vec3d k = w * (1 / a);
+    const Matx33d K(0, -k[2], k[1], k[2], 0, -k[0], -k[1], k[0], 0);
+    return Matx33d::eye() + K * std::sin(a) + K * K * (1 - std::cos(a));
+}
+
+//! The parameters: rotation vector (3), then the translation along x where estimated.
+struct Motion
+{
+    Matx33d R;
+    Vec3d t;
+    explicit Motion(const double* p, int n)
+    {
+        R = rotationOf(Vec3d(p[0], p[1], p[2]));
+        t = Vec3d(n > 3 ? p[3] : 0, 0, 0);
+    }
+};
+
+struct FrameData
+{
+    Mat points;   //!< N x 3 CV_64F, in the LiDAR frame
+    Mat disp;     //!< the stereo map, CV_32F pixels, NaN = none
+};
+
+class LidarCalibrationImpl CV_FINAL : public LidarCalibration
+{
+public:
+    LidarCalibrationImpl(InputArray projection, double focalBaseline, int numDisparities)
+        : fB_(focalBaseline), numDisparities_(numDisparities)
+    {
+        CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0,
+                     "lidarsgm: LidarCalibration: focalBaseline must be finite and > 0");
+        CV_CheckTrue(numDisparities >= 16 && numDisparities <= 256 && numDisparities % 16 == 0,
+                     "lidarsgm: LidarCalibration: numDisparities must be a multiple of 16 in [16, 256]");
+        const Matx44d P = toMatx44(projection, "projection");
+        if (projection.rows() != 3)
+            CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration: projection must be 3x4");
+        P_ = P.get_minor<3, 4>(0, 0);
+        matcher_ = StereoLidarSGM::create(0, numDisparities, 10, 120, 5, 160, 0.7, StereoLidarSGM::MODE_SGM,
+                                          StereoLidarSGM::CHECK_STEREO);
+        matcher_->setOutputType(CV_32F);
+    }
+
+    void addFrame(InputArray left, InputArray right, InputArray points) CV_OVERRIDE
+    {
+        CV_INSTRUMENT_REGION();
+        Mat pts = points.getMat();
+        if (pts.empty())
+            CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: the scan has no points");
+        const int n = pts.checkVector(3, CV_32F) > 0 ? pts.checkVector(3, CV_32F) : pts.checkVector(4, CV_32F);
+        int stride = 0;
+        if (pts.channels() == 1 && pts.depth() == CV_32F && (pts.cols == 3 || pts.cols == 4))
+            stride = pts.cols;
+        else if (n > 0)
+            stride = pts.channels();
+        if (stride == 0)
+            CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: points must be N x 3 or N x 4 CV_32F "
+                                       "(or N x 1 with 3 or 4 channels)");
+        pts = pts.reshape(1, (int)(pts.total() * pts.channels() / stride));
+        FrameData f;
+        f.points.create(pts.rows, 3, CV_64F);
+        int kept = 0;
+        for (int i = 0; i < pts.rows; i++)
+        {
+            const float* q = pts.ptr<float>(i);
+            if (std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]))
+            {
+                double* o = f.points.ptr<double>(kept++);
+                o[0] = q[0];
+                o[1] = q[1];
+                o[2] = q[2];
+            }
+        }
+        f.points = f.points.rowRange(0, kept).clone();
+        Mat disp;
+        matcher_->compute(left, right, noArray(), disp);   // checks the images (sizes, types) itself
+        f.disp = disp;
+        f.disp.setTo(std::numeric_limits<float>::quiet_NaN(), disp < 0);
+        std::lock_guard<std::mutex> lock(mutex_);
+        frames_.push_back(f);
+    }
+
+    int getNumFrames() const CV_OVERRIDE { return (int)frames_.size(); }
+    void clear() CV_OVERRIDE { frames_.clear(); }
+
+    double residual(InputArray lidarToCamera) const CV_OVERRIDE
+    {
+        CV_INSTRUMENT_REGION();
+        requireFrames("residual");
+        const Matx44d T = checkedTransform(lidarToCamera);
+        std::vector<float> r;
+        const double zero[4] = { 0, 0, 0, 0 };
+        const std::vector<Mat> pts = cameraPoints(T);
+        for (size_t fi = 0; fi < frames_.size(); fi++)
+            residuals(pts[fi], frames_[fi].disp, Motion(zero, 3), [&](int, double e) { r.push_back((float)std::abs(e)); });
+        if (r.empty())
+            CV_Error(Error::StsError, "lidarsgm: LidarCalibration::residual: no LiDAR point lands on a stereo "
+                                      "disparity (is the transform or the projection wrong?)");
+        std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+        return r[r.size() / 2];
+    }
+
+    CalibrationCorrection refine(InputArray lidarToCamera, bool translation) const CV_OVERRIDE
+    {
+        CV_INSTRUMENT_REGION();
+        requireFrames("refine");
+        const Matx44d T = checkedTransform(lidarToCamera);
+        const int n = translation ? 4 : 3;
+        double p[4] = { 0, 0, 0, 0 };
+        const std::vector<Mat> pts = cameraPoints(T);
+        std::vector<Mat> maps(frames_.size());
+        Matx44d A;
+        Vec4d g;
+        int used = 0;
+        for (const Level& L : kLevels)
+        {
+            for (size_t i = 0; i < frames_.size(); i++)
+                maps[i] = smoothDisparity(frames_[i].disp, L.sigma);
+            for (int it = 0; it < kMaxIterations; it++)
+            {
+                used = normalEquations(pts, maps, p, n, L.c, A, g, nullptr);
+                if (used < kMinPoints)
+                    CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: only %d LiDAR points land on "
+                                                "a stereo disparity (at least %d needed): the data cannot tell the "
+                                                "calibration (textureless or dark images, an empty scan, or a "
+                                                "transform far off)", used, kMinPoints));
+                Vec4d step;
+                if (!solve(A, g, n, step))
+                    CV_Error(Error::StsError, "lidarsgm: LidarCalibration::refine: the points do not constrain every "
+                                              "parameter (degenerate scene)");
+                double largest = 0;
+                for (int k = 0; k < n; k++)
+                {
+                    p[k] -= step[k];
+                    largest = std::max(largest, std::abs(step[k]));
+                }
+                if (std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) > kMaxCorrectionDeg * CV_PI / 180)
+                    CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: the correction grew beyond %g "
+                                                "degrees: the data do not agree with any nearby calibration",
+                                                kMaxCorrectionDeg));
+                if (largest < kStepTolerance)
+                    break;
+            }
+        }
+
+        CalibrationCorrection c;
+        c.rotation = Vec3d(p[0], p[1], p[2]);
+        c.translation = Vec3d(n > 3 ? p[3] : 0, 0, 0);
+        const Vec4d sd = jackknifeStd(pts, maps, p, n, kLevels[sizeof(kLevels) / sizeof(kLevels[0]) - 1].c);
+        c.rotationStd = Vec3d(sd[0], sd[1], sd[2]);
+        c.translationStd = Vec3d(n > 3 ? sd[3] : 0, 0, 0);
+        c.points = used;
+        c.frames = (int)frames_.size();
+        const Motion m(p, n);
+        Matx44d C = Matx44d::eye();
+        for (int i = 0; i < 3; i++)
+        {
+            for (int j = 0; j < 3; j++)
+                C(i, j) = m.R(i, j);
+            C(i, 3) = m.t[i];
+        }
+        c.lidarToCamera = Mat(C * T).clone();
+        c.residualBefore = residual(Mat(T));
+        c.residualAfter = residual(c.lidarToCamera);
+        for (int k = 0; k < 3; k++)
+            if (!(sd[k] * 180 / CV_PI <= kMaxStdDeg))
+                CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: the data cannot tell the rotation: "
+                                            "standard errors %.3f / %.3f / %.3f degrees (pitch / yaw / roll; %g "
+                                            "allowed) from %d points in %d frame(s); add frames with more structure",
+                                            sd[0] * 180 / CV_PI, sd[1] * 180 / CV_PI, sd[2] * 180 / CV_PI,
+                                            kMaxStdDeg, used, c.frames));
+        return c;
+    }
+
+private:
+    void requireFrames(const char* what) const
+    {
+        if (frames_.empty())
+            CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::%s: add frames first (addFrame)", what));
+    }
+
+    static Matx44d checkedTransform(InputArray lidarToCamera)
+    {
+        const Matx44d T = toMatx44(lidarToCamera, "lidarToCamera");
+        const Matx33d R = T.get_minor<3, 3>(0, 0);
+        CV_CheckTrue(norm(R * R.t() - Matx33d::eye(), NORM_INF) < 1e-3 && std::abs(determinant(R) - 1) < 1e-3,
+                     "lidarsgm: LidarCalibration: lidarToCamera must be a rigid transform (its 3x3 block a rotation)");
+        CV_CheckTrue(T(3, 0) == 0 && T(3, 1) == 0 && T(3, 2) == 0 && T(3, 3) == 1,
+                     "lidarsgm: LidarCalibration: the last row of a 4x4 lidarToCamera must be [0 0 0 1]");
+        return T;
+    }
+
+    /** The points of every frame in the camera frame of T (N x 3 CV_64F), keeping those in front of the camera
+    whose pixel lies within kMargin of the image: the others cannot reach a stereo disparity within the correction's
+    range. */
+    std::vector<Mat> cameraPoints(const Matx44d& T) const
+    {
+        const double kMargin = 0.1;   // of the image's width and height
+        std::vector<Mat> out(frames_.size());
+        for (size_t fi = 0; fi < frames_.size(); fi++)
+        {
+            const FrameData& f = frames_[fi];
+            const double W = f.disp.cols, H = f.disp.rows;
+            Mat c(f.points.rows, 3, CV_64F);
+            int kept = 0;
+            for (int i = 0; i < f.points.rows; i++)
+            {
+                const double* q = f.points.ptr<double>(i);
+                const Vec4d Y = T * Vec4d(q[0], q[1], q[2], 1);
+                const double z = P_(2, 0) * Y[0] + P_(2, 1) * Y[1] + P_(2, 2) * Y[2] + P_(2, 3);
+                if (!(z > 1))
+                    continue;
+                const double u = (P_(0, 0) * Y[0] + P_(0, 1) * Y[1] + P_(0, 2) * Y[2] + P_(0, 3)) / z;
+                const double v = (P_(1, 0) * Y[0] + P_(1, 1) * Y[1] + P_(1, 2) * Y[2] + P_(1, 3)) / z;
+                if (u < -kMargin * W || u > (1 + kMargin) * W || v < -kMargin * H || v > (1 + kMargin) * H)
+                    continue;
+                double* o = c.ptr<double>(kept++);
+                o[0] = Y[0];
+                o[1] = Y[1];
+                o[2] = Y[2];
+            }
+            out[fi] = c.rowRange(0, kept);
+        }
+        return out;
+    }
+
+    /** Calls out(point index, LiDAR disparity - stereo disparity) for each camera-frame point of pts that m moves
+    in front of the camera and onto a disparity of map. */
+    template <typename Out>
+    void residuals(const Mat& pts, const Mat& map, const Motion& m, Out out) const
+    {
+        for (int i = 0; i < pts.rows; i++)
+        {
+            const double* q = pts.ptr<double>(i);
+            const Vec3d Y = m.R * Vec3d(q[0], q[1], q[2]) + m.t;
+            const double z = P_(2, 0) * Y[0] + P_(2, 1) * Y[1] + P_(2, 2) * Y[2] + P_(2, 3);
+            if (!(z > 1))   // behind or at the camera: no disparity in the search range
+                continue;
+            const double u = (P_(0, 0) * Y[0] + P_(0, 1) * Y[1] + P_(0, 2) * Y[2] + P_(0, 3)) / z;
+            const double v = (P_(1, 0) * Y[0] + P_(1, 1) * Y[1] + P_(1, 2) * Y[2] + P_(1, 3)) / z;
+            const double s = sampleBilinear(map, u, v);
+            if (s == s)
+                out(i, fB_ / z - s);
+        }
+    }
+
+    /** The Gauss-Newton normal equations of the Cauchy-weighted residuals at p (numerical Jacobian, central
+    differences of about one pixel), summed over the frames, or over the frames and groups where group is given
+    (group sums of A and g into groupA / groupG, one per frame or strip). Returns the points used. */
+    int normalEquations(const std::vector<Mat>& pts, const std::vector<Mat>& maps, const double* p, int n, double c,
+                        Matx44d& A, Vec4d& g, std::vector<std::pair<Matx44d, Vec4d> >* groups) const
+    {
+        const double hRot = 1.0 / std::max(P_(0, 0), 1.0), hT = 0.01;
+        std::vector<Matx44d> As(frames_.size());
+        std::vector<Vec4d> gs(frames_.size());
+        std::vector<int> counts(frames_.size(), 0);
+        const bool strips = groups && frames_.size() < 4;
+        std::vector<std::pair<Matx44d, Vec4d> > stripSums(strips ? frames_.size() * kJackknifeStrips : 0);
+        parallel_for_(Range(0, (int)frames_.size()), [&](const Range& range) {
+            for (int fi = range.start; fi < range.end; fi++)
+            {
+                const Mat& P = pts[fi];
+                const int N = P.rows;
+                // Residual at p and at p +- h e_k; NaN where a point leaves the map.
+                std::vector<double> r0(N, std::numeric_limits<double>::quiet_NaN());
+                std::vector<double> J((size_t)N * n, std::numeric_limits<double>::quiet_NaN());
+                residuals(P, maps[fi], Motion(p, n), [&](int i, double e) { r0[i] = e; });
+                for (int k = 0; k < n; k++)
+                {
+                    const double h = k < 3 ? hRot : hT;
+                    double pp[4], pm[4];
+                    std::copy(p, p + 4, pp);
+                    std::copy(p, p + 4, pm);
+                    pp[k] += h;
+                    pm[k] -= h;
+                    std::vector<double> rp(N, std::numeric_limits<double>::quiet_NaN());
+                    residuals(P, maps[fi], Motion(pp, n), [&](int i, double e) { rp[i] = e; });
+                    residuals(P, maps[fi], Motion(pm, n), [&](int i, double e) {
+                        if (rp[i] == rp[i])
+                            J[(size_t)i * n + k] = (rp[i] - e) / (2 * h);
+                    });
+                }
+                Matx44d Af;
+                Vec4d gf;
+                int count = 0;
+                for (int i = 0; i < N; i++)
+                {
+                    const double* j = &J[(size_t)i * n];
+                    bool ok = r0[i] == r0[i];
+                    for (int k = 0; k < n && ok; k++)
+                        ok = j[k] == j[k];
+                    if (!ok)
+                        continue;
+                    const double w = 1 / (1 + (r0[i] / c) * (r0[i] / c));
+                    Matx44d a;
+                    Vec4d b;
+                    for (int k = 0; k < n; k++)
+                    {
+                        b[k] = w * j[k] * r0[i];
+                        for (int l = 0; l < n; l++)
+                            a(k, l) = w * j[k] * j[l];
+                    }
+                    Af += a;
+                    gf += b;
+                    count++;
+                    if (strips)
+                    {
+                        // The strip of the point's column at p: eight vertical bands of the image.
+                        const double* Y = P.ptr<double>(i);
+                        const double z = P_(2, 0) * Y[0] + P_(2, 1) * Y[1] + P_(2, 2) * Y[2] + P_(2, 3);
+                        const double u = (P_(0, 0) * Y[0] + P_(0, 1) * Y[1] + P_(0, 2) * Y[2] + P_(0, 3)) / z;
+                        const int s = std::min(std::max((int)(u * kJackknifeStrips / maps[fi].cols), 0),
+                                               kJackknifeStrips - 1);
+                        stripSums[fi * kJackknifeStrips + s].first += a;
+                        stripSums[fi * kJackknifeStrips + s].second += b;
+                    }
+                }
+                As[fi] = Af;
+                gs[fi] = gf;
+                counts[fi] = count;
+            }
+        });
+        A = Matx44d();
+        g = Vec4d();
+        int used = 0;
+        for (size_t fi = 0; fi < frames_.size(); fi++)
+        {
+            A += As[fi];
+            g += gs[fi];
+            used += counts[fi];
+        }
+        if (groups)
+        {
+            groups->clear();
+            if (strips)
+                *groups = stripSums;
+            else
+                for (size_t fi = 0; fi < frames_.size(); fi++)
+                    groups->push_back(std::make_pair(As[fi], gs[fi]));
+        }
+        return used;
+    }
+
+    //! The n x n system A step = g; false where A is singular.
+    static bool solve(const Matx44d& A, const Vec4d& g, int n, Vec4d& step)
+    {
+        Mat a(n, n, CV_64F), b(n, 1, CV_64F), x;
+        for (int k = 0; k < n; k++)
+        {
+            b.at<double>(k) = g[k];
+            for (int l = 0; l < n; l++)
+                a.at<double>(k, l) = A(k, l);
+        }
+        if (!cv::solve(a, b, x, DECOMP_CHOLESKY))
+            return false;
+        step = Vec4d();
+        for (int k = 0; k < n; k++)
+            step[k] = x.at<double>(k);
+        return true;
+    }
+
+    /** Jackknife standard errors at the solution p: the estimate without group k is one Gauss-Newton step from p
+    with group k's sums taken out, p_k = p - (A - A_k)^-1 (g - g_k); the variance (K - 1) / K sum (p_k - mean)^2. */
+    Vec4d jackknifeStd(const std::vector<Mat>& pts, const std::vector<Mat>& maps, const double* p, int n, double c) const
+    {
+        Matx44d A;
+        Vec4d g;
+        std::vector<std::pair<Matx44d, Vec4d> > groups;
+        normalEquations(pts, maps, p, n, c, A, g, &groups);
+        std::vector<Vec4d> est;
+        for (const auto& grp : groups)
+        {
+            Vec4d step;
+            if (solve(A - grp.first, g - grp.second, n, step))
+                est.push_back(Vec4d(p[0], p[1], p[2], p[3]) - step);
+        }
+        const double inf = std::numeric_limits<double>::infinity();
+        if (est.size() < 2)
+            return Vec4d(inf, inf, inf, inf);
+        Vec4d mean, var;
+        for (const Vec4d& e : est)
+            mean += e * (1.0 / est.size());
+        for (const Vec4d& e : est)
+            for (int k = 0; k < 4; k++)
+                var[k] += (e[k] - mean[k]) * (e[k] - mean[k]);
+        const double K = (double)est.size();
+        Vec4d sd;
+        for (int k = 0; k < 4; k++)
+            sd[k] = std::sqrt(var[k] * (K - 1) / K);
+        return sd;
+    }
+
+    Matx34d P_;
+    double fB_;
+    int numDisparities_;
+    Ptr<StereoLidarSGM> matcher_;
+    std::vector<FrameData> frames_;
+    std::mutex mutex_;
+};
+
+} // namespace
+
+Ptr<LidarCalibration> LidarCalibration::create(InputArray projection, double focalBaseline, int numDisparities)
+{
+    return makePtr<LidarCalibrationImpl>(projection, focalBaseline, numDisparities);
+}
+
+}} // namespace cv::lidarsgm
