@@ -18,7 +18,7 @@ namespace {
 struct Level { double sigma, c; };
 const Level kLevels[] = { { 8, 4 }, { 4, 2 }, { 2, 1 }, { 1, 1 }, { 0, 1 } };
 const int kMaxIterations = 20;         // Gauss-Newton steps per level, at most
-const double kStepTolerance = 2e-6;    // radians (and metres): a level ends when every step is below this (1e-4 deg)
+const double kStepTolerance = 1e-5;    // radians (and metres): a level ends when every step is below this (6e-4 deg)
 const int kMinPoints = 200;            // fewer points with a stereo disparity: the data cannot tell
 const double kMaxStdDeg = 0.1;         // a larger standard error on any angle: refused as not told by the data
 const double kMaxCorrectionDeg = 5;    // beyond this the linearised steps and the basin do not hold
@@ -158,8 +158,10 @@ public:
         f.points = f.points.rowRange(0, kept).clone();
         Mat disp;
         matcher_->compute(left, right, noArray(), disp);   // checks the images (sizes, types) itself
+        // Only disparities inside the search range are measurements: one at either end may stand for a match
+        // beyond it (and a flat image gives 0 everywhere).
         f.disp = disp;
-        f.disp.setTo(std::numeric_limits<float>::quiet_NaN(), disp < 0);
+        f.disp.setTo(std::numeric_limits<float>::quiet_NaN(), (disp <= 0) | (disp >= numDisparities_ - 1));
         std::lock_guard<std::mutex> lock(mutex_);
         frames_.push_back(f);
     }
@@ -177,9 +179,10 @@ public:
         const std::vector<Mat> pts = cameraPoints(T);
         for (size_t fi = 0; fi < frames_.size(); fi++)
             residuals(pts[fi], frames_[fi].disp, Motion(zero, 3), [&](int, double e) { r.push_back((float)std::abs(e)); });
-        if (r.empty())
-            CV_Error(Error::StsError, "lidarsgm: LidarCalibration::residual: no LiDAR point lands on a stereo "
-                                      "disparity (is the transform or the projection wrong?)");
+        if (r.size() < (size_t)kMinPoints)
+            CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::residual: only %d LiDAR points land on a stereo "
+                                        "disparity (at least %d needed: textureless or dark images, an empty scan, "
+                                        "or a wrong transform or projection)", (int)r.size(), kMinPoints));
         std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
         return r[r.size() / 2];
     }

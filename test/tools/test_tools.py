@@ -232,6 +232,25 @@ class ToolTest(unittest.TestCase):
         self.assertNotEqual(outs[0], outs[1])
         self.assertEqual(outs[0], outs[2])
 
+    def test_calibration_check_and_refinement(self):
+        rc, so, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--quiet", "1", "--refine-calibration"])
+        self.assertEqual(rc, 0, se)
+        self.assertRegex(so, r"calibration residual: [\d.]+ px \(median \|LiDAR - stereo disparity\|, 2 frames\)")
+        m = re.search(r"pitch ([-+\d.]+) \+- ([\d.]+), yaw ([-+\d.]+) \+- ([\d.]+), roll ([-+\d.]+) \+- ([\d.]+)", so)
+        self.assertIsNotNone(m, so)
+        for k in (1, 3, 5):
+            self.assertLessEqual(abs(float(m.group(k))), 0.2, so)   # calib.txt is close to right
+        self.assertRegex(so, r"after the correction: [\d.]+ px \(\d+ points, 2 frames")
+        rc, so, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--quiet", "1", "--check-calibration"])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("calibration residual:", so)
+        self.assertNotIn("calibration correction", so)
+        for args, message in ((["--kitti-frame", KITTI, "--refine-calibration"], "go with --kitti or --kitti-raw"),
+                              (["--kitti", KITTI, "--refine-translation"], "goes with --refine-calibration")):
+            rc, so, se = run([TOOL] + args)
+            self.assertEqual(rc, 1, se)
+            self.assertIn(message, se)
+
     def test_exit_codes_and_messages(self):
         cases = [
             (["--kitti-frame", os.path.join(self.tmp, "missing"), "--id", "000002"], 1, "cannot read image"),

@@ -85,6 +85,30 @@ class lidarsgm_test(NewOpenCVTests):
         semi = m.semidensify(left, right, sparse)
         self.assertGreater(np.count_nonzero(semi > 0), np.count_nonzero(sparse > 0))
 
+    def test_calibration_refinement(self):
+        d = os.path.join(data_dir(), 'kitti')
+        left, right, _, _ = self.load_frame()
+        pts = np.fromfile(os.path.join(d, 'velodyne', '000002.bin'), dtype=np.float32).reshape(-1, 4)
+        p2, l2c, fb = read_calib(os.path.join(d, 'calib.txt'))
+        cal = cv.lidarsgm.LidarCalibration.create(p2, fb)
+        cal.addFrame(left, right, pts)
+        self.assertEqual(cal.getNumFrames(), 1)
+        # A 0.5 degree pitch error: the residual grows, and the correction takes it back out.
+        a = np.radians(0.5)
+        err = np.eye(4)
+        err[1:3, 1:3] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+        self.assertGreater(cal.residual(err @ l2c), 2 * cal.residual(l2c))
+        exact = cal.refine(l2c)
+        c = cal.refine(err @ l2c)
+        self.assertEqual(c.lidarToCamera.shape, (4, 4))
+        self.assertEqual(c.frames, 1)
+        self.assertGreater(c.points, 5000)
+        self.assertAlmostEqual(float(c.rotation[0] - exact.rotation[0]), -a, delta=np.radians(0.01))
+        np.testing.assert_allclose(c.lidarToCamera, exact.lidarToCamera, atol=1e-3)
+        self.assertLess(c.residualAfter, c.residualBefore)
+        with self.assertRaises(cv.error):
+            cv.lidarsgm.LidarCalibration.create(p2, fb).refine(l2c)   # no frames
+
     def test_save_load(self):
         m = cv.lidarsgm.StereoLidarSGM.create(numDisparities=64, P1=12, alpha=0.5)
         fd, path = tempfile.mkstemp(suffix='.yml')

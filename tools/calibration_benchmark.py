@@ -1,0 +1,146 @@
+#!/usr/bin/env python3
+"""The calibration refinement on a KITTI folder with known errors (doc/benchmarks/calibration_kitti20.txt).
+
+For each error of the table (tools/perturb_calibration.py writes the folder), the tool fuses the frames with SDSGM
+without and with --refine-calibration; the table gives total D1 both ways, the correction's remaining error against
+the applied one (degrees per axis) and the refinement's time. Then every frame on its own (cv2.lidarsgm.
+LidarCalibration, one frame per refinement) under rotation errors: how many frames come within 0.15 degree on
+every axis, and how many refuse.
+
+    PYTHONPATH=<build>/python_loader python3 tools/calibration_benchmark.py --tool <build>/bin/lidarsgm_lidarsgm_fuse
+        --data ../shared/data/kitti2015_lidar [--params doc/params/kitti_best.yml] [--threads 2]
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from perturb_calibration import perturbed_calib, read_calib, rotation  # noqa: E402
+
+ERRORS = [('none', {}), ('yaw 0.25', dict(yaw=0.25)), ('yaw 0.5', dict(yaw=0.5)), ('pitch 0.5', dict(pitch=0.5)),
+          ('roll 0.5', dict(roll=0.5)), ('yaw 1', dict(yaw=1)), ('pitch 1', dict(pitch=1)), ('roll 1', dict(roll=1)),
+          ('mix', dict(pitch=0.6, yaw=-0.7, roll=0.5)), ('x 5 cm', dict(t=(0.05, 0, 0))),
+          ('z 10 cm', dict(t=(0, 0, 0.1)))]
+SINGLE = [('yaw 0.5', dict(yaw=0.5)), ('mix', dict(pitch=0.6, yaw=-0.7, roll=0.5))]
+
+
+def rodrigues(w):
+    a = np.linalg.norm(w)
+    if a < 1e-300:
+        return np.eye(3)
+    k = np.asarray(w) / a
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
+
+
+def rotvec(R):
+    a = np.arccos(np.clip((np.trace(R) - 1) / 2, -1, 1))
+    if a < 1e-12:
+        return np.zeros(3)
+    return a / (2 * np.sin(a)) * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+
+
+def remaining(correction_deg, err):
+    """The rotation left after the correction (degrees per axis): rotvec(R(correction) R(error))."""
+    R = rodrigues(np.radians(correction_deg)) @ np.array(rotation(err.get('pitch', 0), err.get('yaw', 0),
+                                                                  err.get('roll', 0)))
+    return np.degrees(rotvec(R))
+
+
+def run_tool(a, folder, refine):
+    cmd = [a.tool, '--kitti', folder, '--modes', 'sdsgm', '--quiet', '1', '--threads', str(a.threads)]
+    if a.params:
+        cmd += ['--params', a.params]
+    if refine:
+        cmd += ['--refine-calibration']
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit('calibration_benchmark.py: %s failed:\n%s%s' % (' '.join(cmd), p.stdout, p.stderr))
+    d1 = float(re.search(r'\| SDSGM \(stereo-lidar\)\s*\|[^|]*\|[^|]*\|\s*([0-9.]+) %', p.stdout).group(1))
+    ms = float(re.search(r'\| SDSGM \(stereo-lidar\)(?:\s*\|[^|]*){3}\|\s*([0-9.]+)', p.stdout).group(1))
+    res = float(re.search(r'calibration residual: ([0-9.]+)', p.stdout).group(1)) if refine else None
+    corr = secs = after = None
+    m = re.search(r'pitch ([-+0-9.]+) \+- [0-9.]+, yaw ([-+0-9.]+) \+- [0-9.]+, roll ([-+0-9.]+)', p.stdout)
+    if m:
+        corr = np.array([float(m.group(k)) for k in (1, 2, 3)])
+        t = re.search(r'after the correction: ([0-9.]+) px \(\d+ points, \d+ frames, ([0-9.]+) s\)', p.stdout)
+        after, secs = float(t.group(1)), float(t.group(2))
+    return d1, ms, res, after, corr, secs
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--tool', required=True)
+    ap.add_argument('--data', required=True)
+    ap.add_argument('--params', default='')
+    ap.add_argument('--threads', type=int, default=2)
+    a = ap.parse_args()
+    import cv2
+    cv2.setNumThreads(a.threads)
+    entries, _ = read_calib(os.path.join(a.data, 'calib.txt'))
+    print('calibration errors applied to %s/calib.txt (tools/perturb_calibration.py), SDSGM %s, CPU, %d threads'
+          % (a.data, a.params or 'create() defaults', a.threads))
+    print('| error | D1 as given | D1 refined | residual before / after (px) | correction left (deg: pitch yaw roll) '
+          '| refinement (s) | fusion (s) |')
+    print('| --- | --- | --- | --- | --- | --- | --- |')
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, err in ERRORS:
+            folder = os.path.join(tmp, name.replace(' ', '_').replace('.', ''))
+            args = [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), 'perturb_calibration.py'),
+                    a.data, folder]
+            for k in ('pitch', 'yaw', 'roll'):
+                args += ['--' + k, str(err.get(k, 0))]
+            for k, v in zip(('x', 'y', 'z'), err.get('t', (0, 0, 0))):
+                args += ['--' + k, str(v)]
+            subprocess.run(args, check=True)
+            d1, ms, _, _, _, _ = run_tool(a, folder, False)
+            d1r, _, res, after, corr, secs = run_tool(a, folder, True)
+            left = remaining(corr, err)
+            print('| %s | %.2f %% | %.2f %% | %.3f / %.3f | %+.3f %+.3f %+.3f | %.2f | %.2f |'
+                  % (name, d1, d1r, res, after, left[0], left[1], left[2], secs, ms * 20 / 1000), flush=True)
+
+    # Single frames.
+    P2 = np.array(entries['P2']).reshape(3, 4)
+    fB = P2[0, 3] - np.array(entries['P3']).reshape(3, 4)[0, 3]
+    ids = open(os.path.join(a.data, 'frames.txt')).read().split()
+    frames = []
+    for i in ids:
+        left = cv2.imread(os.path.join(a.data, 'image_2', i + '_10.png'), cv2.IMREAD_GRAYSCALE)
+        right = cv2.imread(os.path.join(a.data, 'image_3', i + '_10.png'), cv2.IMREAD_GRAYSCALE)
+        pts = np.fromfile(os.path.join(a.data, 'velodyne', i + '.bin'), np.float32).reshape(-1, 4)
+        cal = cv2.lidarsgm.LidarCalibration.create(P2, fB)
+        cal.addFrame(left, right, pts)
+        frames.append((i, cal))
+    print('\nsingle frames (one frame per refinement): frames within 0.15 deg on every axis / refused, '
+          'the largest axis error of each frame')
+    for name, err in SINGLE:
+        pe = perturbed_calib(entries, err.get('pitch', 0), err.get('yaw', 0), err.get('roll', 0))
+        r0 = np.eye(4)
+        r0[:3, :3] = np.array(pe['R0_rect']).reshape(3, 3)
+        tr = np.eye(4)
+        tr[:3, :] = np.array(pe['Tr_velo_to_cam']).reshape(3, 4)
+        T = r0 @ tr
+        good, refused, worst = 0, 0, []
+        t0 = time.time()
+        for i, cal in frames:
+            try:
+                c = cal.refine(T)
+            except cv2.error:
+                refused += 1
+                worst.append('%s refused' % i)
+                continue
+            left = remaining(np.degrees(np.array(c.rotation).ravel()), err)
+            good += int(np.max(np.abs(left)) <= 0.15)
+            worst.append('%s %.3f' % (i, np.max(np.abs(left))))
+        print('%s: %d of %d within 0.15 deg, %d refused (%.2f s a frame): %s'
+              % (name, good, len(frames), refused, (time.time() - t0) / len(frames), ', '.join(worst)), flush=True)
+
+
+if __name__ == '__main__':
+    main()
