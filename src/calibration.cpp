@@ -16,7 +16,7 @@ namespace {
 //! The coarse-to-fine schedule: the stereo maps smoothed by sigma pixels, the Cauchy loss's scale c (pixels of
 //! disparity). Wide first, so that errors of a degree (13 px at f = 720) fall in the basin.
 struct Level { double sigma, c; };
-const Level kLevels[] = { { 8, 4 }, { 4, 2 }, { 2, 1 }, { 1, 1 }, { 0, 1 } };
+const Level kLevels[] = { { 8, 4 }, { 4, 2 }, { 2, 1 }, { 1, 1 } };
 const int kMaxIterations = 20;         // Gauss-Newton steps per level, at most
 const double kStepTolerance = 1e-5;    // radians (and metres): a level ends when every step is below this (6e-4 deg)
 const int kMinPoints = 200;            // fewer points with a stereo disparity: the data cannot tell
@@ -88,12 +88,12 @@ Matx33d rotationOf(const Vec3d& w)
     return Matx33d::eye() + K * std::sin(a) + K * K * (1 - std::cos(a));
 }
 
-//! The parameters: rotation vector (3), then the translation along x where estimated.
+//! The global parameters: rotation vector (3), then the translation along x where estimated.
 struct Motion
 {
     Matx33d R;
     Vec3d t;
-    explicit Motion(const double* p, int n)
+    Motion(const double* p, int n)
     {
         R = rotationOf(Vec3d(p[0], p[1], p[2]));
         t = Vec3d(n > 3 ? p[3] : 0, 0, 0);
@@ -102,24 +102,65 @@ struct Motion
 
 struct FrameData
 {
-    Mat points;   //!< N x 3 CV_64F, in the LiDAR frame
+    Mat points;   //!< N x 4 CV_64F: x, y, z in the LiDAR frame, the point's time from the exposure (s)
     Mat disp;     //!< the stereo map, CV_32F pixels, NaN = none
+};
+
+/** One frame's (or strip's) Gauss-Newton sums: the global block A, g and, with the frame's speed s, the mixed column
+b = J_g^T W J_s, a = J_s^T W J_s, h = J_s^T W r. */
+struct Sums
+{
+    Matx44d A;
+    Vec4d g, b;
+    double a = 0, h = 0;
+    int count = 0;
+    void add(const double* j, double js, double w, double r, int n, bool speed)
+    {
+        for (int k = 0; k < n; k++)
+        {
+            g[k] += w * j[k] * r;
+            for (int l = 0; l < n; l++)
+                A(k, l) += w * j[k] * j[l];
+            if (speed)
+                b[k] += w * j[k] * js;
+        }
+        if (speed)
+        {
+            a += w * js * js;
+            h += w * js * r;
+        }
+        count++;
+    }
+    //! The global system with the speed eliminated (Schur complement); unchanged where the speed is not seen.
+    void reduced(Matx44d& Ar, Vec4d& gr) const
+    {
+        Ar = A;
+        gr = g;
+        if (a > 0)
+            for (int k = 0; k < 4; k++)
+            {
+                gr[k] -= b[k] * h / a;
+                for (int l = 0; l < 4; l++)
+                    Ar(k, l) -= b[k] * b[l] / a;
+            }
+    }
 };
 
 class LidarCalibrationImpl CV_FINAL : public LidarCalibration
 {
 public:
-    LidarCalibrationImpl(InputArray projection, double focalBaseline, int numDisparities)
-        : fB_(focalBaseline), numDisparities_(numDisparities)
+    LidarCalibrationImpl(InputArray projection, double focalBaseline, int numDisparities, double scanRate)
+        : fB_(focalBaseline), numDisparities_(numDisparities), scanRate_(scanRate)
     {
         CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0,
                      "lidarsgm: LidarCalibration: focalBaseline must be finite and > 0");
         CV_CheckTrue(numDisparities >= 16 && numDisparities <= 256 && numDisparities % 16 == 0,
                      "lidarsgm: LidarCalibration: numDisparities must be a multiple of 16 in [16, 256]");
-        const Matx44d P = toMatx44(projection, "projection");
+        CV_CheckTrue(std::isfinite(scanRate) && std::abs(scanRate) <= 100,
+                     "lidarsgm: LidarCalibration: scanRate must be finite, within [-100, 100] Hz (0: no sweep)");
         if (projection.rows() != 3)
             CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration: projection must be 3x4");
-        P_ = P.get_minor<3, 4>(0, 0);
+        P_ = toMatx44(projection, "projection").get_minor<3, 4>(0, 0);
         matcher_ = StereoLidarSGM::create(0, numDisparities, 10, 120, 5, 160, 0.7, StereoLidarSGM::MODE_SGM,
                                           StereoLidarSGM::CHECK_STEREO);
         matcher_->setOutputType(CV_32F);
@@ -131,18 +172,19 @@ public:
         Mat pts = points.getMat();
         if (pts.empty())
             CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: the scan has no points");
-        const int n = pts.checkVector(3, CV_32F) > 0 ? pts.checkVector(3, CV_32F) : pts.checkVector(4, CV_32F);
         int stride = 0;
-        if (pts.channels() == 1 && pts.depth() == CV_32F && (pts.cols == 3 || pts.cols == 4))
+        if (pts.depth() == CV_32F && pts.channels() == 1 && (pts.cols == 3 || pts.cols == 4))
             stride = pts.cols;
-        else if (n > 0)
+        else if (pts.depth() == CV_32F && (pts.channels() == 3 || pts.channels() == 4) && (pts.cols == 1 || pts.rows == 1))
             stride = pts.channels();
         if (stride == 0)
             CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: points must be N x 3 or N x 4 CV_32F "
                                        "(or N x 1 with 3 or 4 channels)");
+        if (!pts.isContinuous())
+            pts = pts.clone();
         pts = pts.reshape(1, (int)(pts.total() * pts.channels() / stride));
         FrameData f;
-        f.points.create(pts.rows, 3, CV_64F);
+        f.points.create(pts.rows, 4, CV_64F);
         int kept = 0;
         for (int i = 0; i < pts.rows; i++)
         {
@@ -153,6 +195,9 @@ public:
                 o[0] = q[0];
                 o[1] = q[1];
                 o[2] = q[2];
+                // A sweep at scanRate turns azimuth atan2(y, x) at -2 pi scanRate per second (clockwise seen from
+                // above for scanRate > 0, as Velodyne sensors turn) and passes x (azimuth 0) at the exposure.
+                o[3] = scanRate_ != 0 ? -std::atan2((double)q[1], (double)q[0]) / (2 * CV_PI * scanRate_) : 0;
             }
         }
         f.points = f.points.rowRange(0, kept).clone();
@@ -173,18 +218,8 @@ public:
     {
         CV_INSTRUMENT_REGION();
         requireFrames("residual");
-        const Matx44d T = checkedTransform(lidarToCamera);
-        std::vector<float> r;
-        const double zero[4] = { 0, 0, 0, 0 };
-        const std::vector<Mat> pts = cameraPoints(T);
-        for (size_t fi = 0; fi < frames_.size(); fi++)
-            residuals(pts[fi], frames_[fi].disp, Motion(zero, 3), [&](int, double e) { r.push_back((float)std::abs(e)); });
-        if (r.size() < (size_t)kMinPoints)
-            CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::residual: only %d LiDAR points land on a stereo "
-                                        "disparity (at least %d needed: textureless or dark images, an empty scan, "
-                                        "or a wrong transform or projection)", (int)r.size(), kMinPoints));
-        std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
-        return r[r.size() / 2];
+        const std::vector<Mat> pts = cameraPoints(checkedTransform(lidarToCamera));
+        return medianResidual(pts, std::vector<double>(frames_.size(), 0.0), nullptr);
     }
 
     CalibrationCorrection refine(InputArray lidarToCamera, bool translation) const CV_OVERRIDE
@@ -193,24 +228,35 @@ public:
         requireFrames("refine");
         const Matx44d T = checkedTransform(lidarToCamera);
         const int n = translation ? 4 : 3;
+        const size_t F = frames_.size();
         double p[4] = { 0, 0, 0, 0 };
+        std::vector<double> speed(F, 0.0);
         const std::vector<Mat> pts = cameraPoints(T);
-        std::vector<Mat> maps(frames_.size());
-        Matx44d A;
-        Vec4d g;
+        std::vector<Mat> maps(F);
         int used = 0;
         for (const Level& L : kLevels)
         {
-            for (size_t i = 0; i < frames_.size(); i++)
+            for (size_t i = 0; i < F; i++)
                 maps[i] = smoothDisparity(frames_[i].disp, L.sigma);
             for (int it = 0; it < kMaxIterations; it++)
             {
-                used = normalEquations(pts, maps, p, n, L.c, A, g, nullptr);
+                std::vector<Sums> sums;
+                used = frameSums(pts, maps, p, speed, n, L.c, false, sums);
                 if (used < kMinPoints)
                     CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: only %d LiDAR points land on "
                                                 "a stereo disparity (at least %d needed): the data cannot tell the "
                                                 "calibration (textureless or dark images, an empty scan, or a "
                                                 "transform far off)", used, kMinPoints));
+                Matx44d A;
+                Vec4d g;
+                for (const Sums& s : sums)
+                {
+                    Matx44d Ar;
+                    Vec4d gr;
+                    s.reduced(Ar, gr);
+                    A += Ar;
+                    g += gr;
+                }
                 Vec4d step;
                 if (!solve(A, g, n, step))
                     CV_Error(Error::StsError, "lidarsgm: LidarCalibration::refine: the points do not constrain every "
@@ -221,6 +267,9 @@ public:
                     p[k] -= step[k];
                     largest = std::max(largest, std::abs(step[k]));
                 }
+                for (size_t fi = 0; fi < F; fi++)
+                    if (sums[fi].a > 0)   // the frame's speed given the global step
+                        speed[fi] -= (sums[fi].h - sums[fi].b.dot(step)) / sums[fi].a;
                 if (std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) > kMaxCorrectionDeg * CV_PI / 180)
                     CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: the correction grew beyond %g "
                                                 "degrees: the data do not agree with any nearby calibration",
@@ -233,11 +282,13 @@ public:
         CalibrationCorrection c;
         c.rotation = Vec3d(p[0], p[1], p[2]);
         c.translation = Vec3d(n > 3 ? p[3] : 0, 0, 0);
-        const Vec4d sd = jackknifeStd(pts, maps, p, n, kLevels[sizeof(kLevels) / sizeof(kLevels[0]) - 1].c);
+        const Vec4d sd = jackknifeStd(pts, maps, p, speed, n, kLevels[sizeof(kLevels) / sizeof(kLevels[0]) - 1].c);
         c.rotationStd = Vec3d(sd[0], sd[1], sd[2]);
         c.translationStd = Vec3d(n > 3 ? sd[3] : 0, 0, 0);
         c.points = used;
-        c.frames = (int)frames_.size();
+        c.frames = (int)F;
+        if (scanRate_ != 0)
+            c.speeds = speed;
         const Motion m(p, n);
         Matx44d C = Matx44d::eye();
         for (int i = 0; i < 3; i++)
@@ -247,8 +298,8 @@ public:
             C(i, 3) = m.t[i];
         }
         c.lidarToCamera = Mat(C * T).clone();
-        c.residualBefore = residual(Mat(T));
-        c.residualAfter = residual(c.lidarToCamera);
+        c.residualBefore = medianResidual(pts, std::vector<double>(F, 0.0), nullptr);
+        c.residualAfter = medianResidual(pts, speed, p, n);
         for (int k = 0; k < 3; k++)
             if (!(sd[k] * 180 / CV_PI <= kMaxStdDeg))
                 CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: the data cannot tell the rotation: "
@@ -277,9 +328,9 @@ private:
         return T;
     }
 
-    /** The points of every frame in the camera frame of T (N x 3 CV_64F), keeping those in front of the camera
-    whose pixel lies within kMargin of the image: the others cannot reach a stereo disparity within the correction's
-    range. */
+    /** The points of every frame in the camera frame of T (N x 4 CV_64F: x, y, z, time), keeping those in front of
+    the camera whose pixel lies within kMargin of the image: the others cannot reach a stereo disparity within the
+    correction's range. */
     std::vector<Mat> cameraPoints(const Matx44d& T) const
     {
         const double kMargin = 0.1;   // of the image's width and height
@@ -288,7 +339,7 @@ private:
         {
             const FrameData& f = frames_[fi];
             const double W = f.disp.cols, H = f.disp.rows;
-            Mat c(f.points.rows, 3, CV_64F);
+            Mat c(f.points.rows, 4, CV_64F);
             int kept = 0;
             for (int i = 0; i < f.points.rows; i++)
             {
@@ -305,21 +356,24 @@ private:
                 o[0] = Y[0];
                 o[1] = Y[1];
                 o[2] = Y[2];
+                o[3] = q[3];
             }
             out[fi] = c.rowRange(0, kept);
         }
         return out;
     }
 
-    /** Calls out(point index, LiDAR disparity - stereo disparity) for each camera-frame point of pts that m moves
-    in front of the camera and onto a disparity of map. */
+    /** Calls out(point index, LiDAR disparity - stereo disparity, pixel column) for each camera-frame point of pts
+    that m and the frame's speed (along the optical axis, over the point's time) move in front of the camera and
+    onto a disparity of map. */
     template <typename Out>
-    void residuals(const Mat& pts, const Mat& map, const Motion& m, Out out) const
+    void residuals(const Mat& pts, const Mat& map, const Motion& m, double speed, Out out) const
     {
         for (int i = 0; i < pts.rows; i++)
         {
             const double* q = pts.ptr<double>(i);
-            const Vec3d Y = m.R * Vec3d(q[0], q[1], q[2]) + m.t;
+            Vec3d Y = m.R * Vec3d(q[0], q[1], q[2]) + m.t;
+            Y[2] += speed * q[3];   // the rig moved speed * time forward between the exposure and the point
             const double z = P_(2, 0) * Y[0] + P_(2, 1) * Y[1] + P_(2, 2) * Y[2] + P_(2, 3);
             if (!(z > 1))   // behind or at the camera: no disparity in the search range
                 continue;
@@ -327,104 +381,90 @@ private:
             const double v = (P_(1, 0) * Y[0] + P_(1, 1) * Y[1] + P_(1, 2) * Y[2] + P_(1, 3)) / z;
             const double s = sampleBilinear(map, u, v);
             if (s == s)
-                out(i, fB_ / z - s);
+                out(i, fB_ / z - s, u);
         }
     }
 
-    /** The Gauss-Newton normal equations of the Cauchy-weighted residuals at p (numerical Jacobian, central
-    differences of about one pixel), summed over the frames, or over the frames and groups where group is given
-    (group sums of A and g into groupA / groupG, one per frame or strip). Returns the points used. */
-    int normalEquations(const std::vector<Mat>& pts, const std::vector<Mat>& maps, const double* p, int n, double c,
-                        Matx44d& A, Vec4d& g, std::vector<std::pair<Matx44d, Vec4d> >* groups) const
+    //! The median |residual| against the unsmoothed maps at global parameters p (none: the transform as given).
+    double medianResidual(const std::vector<Mat>& pts, const std::vector<double>& speed, const double* p,
+                          int n = 3) const
     {
-        const double hRot = 1.0 / std::max(P_(0, 0), 1.0), hT = 0.01;
-        std::vector<Matx44d> As(frames_.size());
-        std::vector<Vec4d> gs(frames_.size());
-        std::vector<int> counts(frames_.size(), 0);
-        const bool strips = groups && frames_.size() < 4;
-        std::vector<std::pair<Matx44d, Vec4d> > stripSums(strips ? frames_.size() * kJackknifeStrips : 0);
+        const double zero[4] = { 0, 0, 0, 0 };
+        const Motion m(p ? p : zero, n);
+        std::vector<float> r;
+        for (size_t fi = 0; fi < frames_.size(); fi++)
+            residuals(pts[fi], frames_[fi].disp, m, speed[fi],
+                      [&](int, double e, double) { r.push_back((float)std::abs(e)); });
+        if (r.size() < (size_t)kMinPoints)
+            CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration: only %d LiDAR points land on a stereo "
+                                        "disparity (at least %d needed: textureless or dark images, an empty scan, "
+                                        "or a wrong transform or projection)", (int)r.size(), kMinPoints));
+        std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+        return r[r.size() / 2];
+    }
+
+    /** The Cauchy-weighted Gauss-Newton sums at (p, speed), numerical Jacobian by central differences of about one
+    pixel (and 0.5 m/s), one Sums per frame, or per image strip of each frame (strips). Returns the points used. */
+    int frameSums(const std::vector<Mat>& pts, const std::vector<Mat>& maps, const double* p,
+                  const std::vector<double>& speed, int n, double c, bool strips, std::vector<Sums>& sums) const
+    {
+        const double hRot = 1.0 / std::max(P_(0, 0), 1.0), hT = 0.01, hS = 0.5;
+        const bool withSpeed = scanRate_ != 0;
+        const int groups = strips ? kJackknifeStrips : 1;
+        sums.assign(frames_.size() * groups, Sums());
         parallel_for_(Range(0, (int)frames_.size()), [&](const Range& range) {
             for (int fi = range.start; fi < range.end; fi++)
             {
                 const Mat& P = pts[fi];
-                const int N = P.rows;
-                // Residual at p and at p +- h e_k; NaN where a point leaves the map.
-                std::vector<double> r0(N, std::numeric_limits<double>::quiet_NaN());
-                std::vector<double> J((size_t)N * n, std::numeric_limits<double>::quiet_NaN());
-                residuals(P, maps[fi], Motion(p, n), [&](int i, double e) { r0[i] = e; });
-                for (int k = 0; k < n; k++)
+                const int N = P.rows, nj = n + (withSpeed ? 1 : 0);
+                const double nan = std::numeric_limits<double>::quiet_NaN();
+                std::vector<double> r0(N, nan), u0(N, 0), J((size_t)N * nj, nan), rp(N);
+                residuals(P, maps[fi], Motion(p, n), speed[fi], [&](int i, double e, double u) {
+                    r0[i] = e;
+                    u0[i] = u;
+                });
+                for (int k = 0; k < nj; k++)
                 {
-                    const double h = k < 3 ? hRot : hT;
+                    const double h = k < 3 ? hRot : k < n ? hT : hS;
                     double pp[4], pm[4];
                     std::copy(p, p + 4, pp);
                     std::copy(p, p + 4, pm);
-                    pp[k] += h;
-                    pm[k] -= h;
-                    std::vector<double> rp(N, std::numeric_limits<double>::quiet_NaN());
-                    residuals(P, maps[fi], Motion(pp, n), [&](int i, double e) { rp[i] = e; });
-                    residuals(P, maps[fi], Motion(pm, n), [&](int i, double e) {
+                    double sp = speed[fi], sm = speed[fi];
+                    if (k < n)
+                    {
+                        pp[k] += h;
+                        pm[k] -= h;
+                    }
+                    else
+                    {
+                        sp += h;
+                        sm -= h;
+                    }
+                    std::fill(rp.begin(), rp.end(), nan);
+                    residuals(P, maps[fi], Motion(pp, n), sp, [&](int i, double e, double) { rp[i] = e; });
+                    residuals(P, maps[fi], Motion(pm, n), sm, [&](int i, double e, double) {
                         if (rp[i] == rp[i])
-                            J[(size_t)i * n + k] = (rp[i] - e) / (2 * h);
+                            J[(size_t)i * nj + k] = (rp[i] - e) / (2 * h);
                     });
                 }
-                Matx44d Af;
-                Vec4d gf;
-                int count = 0;
+                const int W = maps[fi].cols;
                 for (int i = 0; i < N; i++)
                 {
-                    const double* j = &J[(size_t)i * n];
+                    const double* j = &J[(size_t)i * nj];
                     bool ok = r0[i] == r0[i];
-                    for (int k = 0; k < n && ok; k++)
+                    for (int k = 0; k < nj && ok; k++)
                         ok = j[k] == j[k];
                     if (!ok)
                         continue;
                     const double w = 1 / (1 + (r0[i] / c) * (r0[i] / c));
-                    Matx44d a;
-                    Vec4d b;
-                    for (int k = 0; k < n; k++)
-                    {
-                        b[k] = w * j[k] * r0[i];
-                        for (int l = 0; l < n; l++)
-                            a(k, l) = w * j[k] * j[l];
-                    }
-                    Af += a;
-                    gf += b;
-                    count++;
-                    if (strips)
-                    {
-                        // The strip of the point's column at p: eight vertical bands of the image.
-                        const double* Y = P.ptr<double>(i);
-                        const double z = P_(2, 0) * Y[0] + P_(2, 1) * Y[1] + P_(2, 2) * Y[2] + P_(2, 3);
-                        const double u = (P_(0, 0) * Y[0] + P_(0, 1) * Y[1] + P_(0, 2) * Y[2] + P_(0, 3)) / z;
-                        const int s = std::min(std::max((int)(u * kJackknifeStrips / maps[fi].cols), 0),
-                                               kJackknifeStrips - 1);
-                        stripSums[fi * kJackknifeStrips + s].first += a;
-                        stripSums[fi * kJackknifeStrips + s].second += b;
-                    }
+                    const int s = strips ? std::min(std::max((int)(u0[i] * groups / W), 0), groups - 1) : 0;
+                    sums[fi * groups + s].add(j, withSpeed ? j[n] : 0, w, r0[i], n, withSpeed);
                 }
-                As[fi] = Af;
-                gs[fi] = gf;
-                counts[fi] = count;
             }
         });
-        A = Matx44d();
-        g = Vec4d();
         int used = 0;
-        for (size_t fi = 0; fi < frames_.size(); fi++)
-        {
-            A += As[fi];
-            g += gs[fi];
-            used += counts[fi];
-        }
-        if (groups)
-        {
-            groups->clear();
-            if (strips)
-                *groups = stripSums;
-            else
-                for (size_t fi = 0; fi < frames_.size(); fi++)
-                    groups->push_back(std::make_pair(As[fi], gs[fi]));
-        }
+        for (const Sums& s : sums)
+            used += s.count;
         return used;
     }
 
@@ -446,19 +486,29 @@ private:
         return true;
     }
 
-    /** Jackknife standard errors at the solution p: the estimate without group k is one Gauss-Newton step from p
-    with group k's sums taken out, p_k = p - (A - A_k)^-1 (g - g_k); the variance (K - 1) / K sum (p_k - mean)^2. */
-    Vec4d jackknifeStd(const std::vector<Mat>& pts, const std::vector<Mat>& maps, const double* p, int n, double c) const
+    /** Jackknife standard errors of the global parameters at the solution p: the estimate without group k (a frame,
+    or an image strip when fewer than four frames are pooled) is one Gauss-Newton step from p with group k's reduced
+    sums taken out, p_k = p - (A - A_k)^-1 (g - g_k); the variance is (K - 1) / K sum (p_k - mean)^2. */
+    Vec4d jackknifeStd(const std::vector<Mat>& pts, const std::vector<Mat>& maps, const double* p,
+                       const std::vector<double>& speed, int n, double c) const
     {
+        std::vector<Sums> sums;
+        frameSums(pts, maps, p, speed, n, c, frames_.size() < 4, sums);
+        std::vector<Matx44d> As(sums.size());
+        std::vector<Vec4d> gs(sums.size());
         Matx44d A;
         Vec4d g;
-        std::vector<std::pair<Matx44d, Vec4d> > groups;
-        normalEquations(pts, maps, p, n, c, A, g, &groups);
+        for (size_t k = 0; k < sums.size(); k++)
+        {
+            sums[k].reduced(As[k], gs[k]);
+            A += As[k];
+            g += gs[k];
+        }
         std::vector<Vec4d> est;
-        for (const auto& grp : groups)
+        for (size_t k = 0; k < sums.size(); k++)
         {
             Vec4d step;
-            if (solve(A - grp.first, g - grp.second, n, step))
+            if (sums[k].count > 0 && solve(A - As[k], g - gs[k], n, step))
                 est.push_back(Vec4d(p[0], p[1], p[2], p[3]) - step);
         }
         const double inf = std::numeric_limits<double>::infinity();
@@ -480,6 +530,7 @@ private:
     Matx34d P_;
     double fB_;
     int numDisparities_;
+    double scanRate_;
     Ptr<StereoLidarSGM> matcher_;
     std::vector<FrameData> frames_;
     std::mutex mutex_;
@@ -487,9 +538,10 @@ private:
 
 } // namespace
 
-Ptr<LidarCalibration> LidarCalibration::create(InputArray projection, double focalBaseline, int numDisparities)
+Ptr<LidarCalibration> LidarCalibration::create(InputArray projection, double focalBaseline, int numDisparities,
+                                               double scanRate)
 {
-    return makePtr<LidarCalibrationImpl>(projection, focalBaseline, numDisparities);
+    return makePtr<LidarCalibrationImpl>(projection, focalBaseline, numDisparities, scanRate);
 }
 
 }} // namespace cv::lidarsgm

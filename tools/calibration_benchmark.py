@@ -114,7 +114,7 @@ def main():
         left = cv2.imread(os.path.join(a.data, 'image_2', i + '_10.png'), cv2.IMREAD_GRAYSCALE)
         right = cv2.imread(os.path.join(a.data, 'image_3', i + '_10.png'), cv2.IMREAD_GRAYSCALE)
         pts = np.fromfile(os.path.join(a.data, 'velodyne', i + '.bin'), np.float32).reshape(-1, 4)
-        cal = cv2.lidarsgm.LidarCalibration.create(P2, fB)
+        cal = cv2.lidarsgm.LidarCalibration.create(P2, fB, 128, 10.0)   # KITTI's raw HDL-64E scans sweep at 10 Hz
         cal.addFrame(left, right, pts)
         frames.append((i, cal))
     print('\nsingle frames (one frame per refinement): frames within 0.15 deg on every axis / refused, '

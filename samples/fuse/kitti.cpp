@@ -270,7 +270,8 @@ KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const 
         return calib;
     TickMeter tm;
     tm.start();
-    Ptr<lidarsgm::LidarCalibration> cal = lidarsgm::LidarCalibration::create(calib.P2, calib.focalBaseline);
+    Ptr<lidarsgm::LidarCalibration> cal =
+        lidarsgm::LidarCalibration::create(calib.P2, calib.focalBaseline, 128, o.d("scan-rate", 10));
     for (const std::string& id : ids)
     {
         Mat left, right, points;

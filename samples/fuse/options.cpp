@@ -71,6 +71,8 @@ const OptionSpec kOptions[] = {
     { "refine-calibration", 'f', nullptr, "(KITTI folder, raw drive) estimate the LiDAR-to-camera rotation's\n"
       "correction from the run's frames (a raw drive: 20 frames spread over it), print it with\n"
       "its standard errors and the residual before and after, and fuse with the corrected transform", nullptr },
+    { "scan-rate", 'd', "HZ", "with --check-calibration / --refine-calibration: the LiDAR's sweep rate for scans\n"
+      "that are not motion-compensated (default 10: KITTI's HDL-64E; 0: compensated scans)", nullptr },
     { "refine-translation", 'f', nullptr, "with --refine-calibration: also estimate the translation along the\n"
       "camera's x axis", nullptr },
     { "params", 's', "FILE", "matcher parameters saved with StereoLidarSGM::save (e.g. doc/params/kitti_best.yml);\n"
@@ -310,6 +312,8 @@ void checkOptions(const Options& o)
     }
     if ((o.has("refine-calibration") || o.has("check-calibration")) && !o.has("kitti") && !o.has("kitti-raw"))
         CV_Error(Error::StsBadArg, "--refine-calibration and --check-calibration go with --kitti or --kitti-raw");
+    if (o.has("scan-rate") && !o.has("refine-calibration") && !o.has("check-calibration"))
+        CV_Error(Error::StsBadArg, "--scan-rate goes with --refine-calibration or --check-calibration");
     if (o.has("refine-translation") && !o.has("refine-calibration"))
         CV_Error(Error::StsBadArg, "--refine-translation goes with --refine-calibration");
     if (o.has("gt-depth") && !o.has("kitti-raw"))

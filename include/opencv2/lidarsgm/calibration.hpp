@@ -31,6 +31,8 @@ struct CV_EXPORTS_W_SIMPLE CalibrationCorrection
     CV_PROP_RW double residualAfter = 0;   //!< and after the correction
     CV_PROP_RW int points = 0;        //!< LiDAR points that entered the estimate (stereo disparity at their pixel)
     CV_PROP_RW int frames = 0;        //!< frames pooled
+    //! Each frame's speed along the optical axis while the LiDAR swept, m/s (a sweeping scan only, see create())
+    CV_PROP_RW std::vector<double> speeds;
 };
 
 /** @brief Measures and refines the LiDAR-to-camera transform from the data: stereo pairs and the LiDAR scans taken
@@ -61,8 +63,16 @@ public:
     @param projection 3x4 projection matrix (CV_32F or CV_64F) of the rectified left camera.
     @param focalBaseline focal length (pixels) times baseline (metres), > 0.
     @param numDisparities disparities the stereo maps search: a multiple of 16 in [16, 256].
+    @param scanRate the LiDAR's sweep rate in Hz for scans that are not motion-compensated, 0 for scans that are
+    (or a still rig). A sweeping LiDAR measures a point at azimuth a = atan2(y, x) (LiDAR frame) at
+    t = -a / (2 pi scanRate) from the camera's exposure: it passes its x axis at the exposure and turns clockwise seen
+    from above where scanRate > 0 (as Velodyne sensors do; KITTI: 10), counter-clockwise where < 0. refine() then
+    estimates each frame's speed along the camera's optical axis beside the correction, so that the rig's motion
+    during the sweep (points ahead of the rig on one side of the image, behind on the other) is not taken for a
+    rotation.
      */
-    CV_WRAP static Ptr<LidarCalibration> create(InputArray projection, double focalBaseline, int numDisparities = 128);
+    CV_WRAP static Ptr<LidarCalibration> create(InputArray projection, double focalBaseline, int numDisparities = 128,
+                                                double scanRate = 0);
 
     /** @brief Adds a frame: computes its stereo disparity map and keeps it with the points.
     @param left left image, CV_8UC1 or CV_16UC1 (rectified).
