@@ -15,8 +15,9 @@ namespace {
 
 //! The coarse-to-fine schedule: the stereo maps smoothed by sigma pixels, the Cauchy loss's scale c (pixels of
 //! disparity). Wide first, so that errors of a degree (13 px at f = 720) fall in the basin.
-struct Level { double sigma, c; };
-const Level kLevels[] = { { 8, 4 }, { 4, 2 }, { 2, 1 }, { 1, 1 } };
+//! stride: every stride-th point takes part (the wide levels only have to find the basin).
+struct Level { double sigma, c; int stride; };
+const Level kLevels[] = { { 8, 4, 4 }, { 4, 2, 4 }, { 2, 1, 2 }, { 1, 1, 1 } };
 const int kMaxIterations = 20;         // Gauss-Newton steps per level, at most
 const double kStepTolerance = 1e-5;    // radians (and metres): a level ends when every step is below this (6e-4 deg)
 const int kMinPoints = 200;            // fewer points with a stereo disparity: the data cannot tell
@@ -164,6 +165,7 @@ public:
         matcher_ = StereoLidarSGM::create(0, numDisparities, 10, 120, 5, 160, 0.7, StereoLidarSGM::MODE_SGM,
                                           StereoLidarSGM::CHECK_STEREO);
         matcher_->setOutputType(CV_32F);
+        matcher_->setNumPaths(4);
     }
 
     void addFrame(InputArray left, InputArray right, InputArray points) CV_OVERRIDE
@@ -234,19 +236,29 @@ public:
         const std::vector<Mat> pts = cameraPoints(T);
         std::vector<Mat> maps(F);
         int used = 0;
+        std::vector<Mat> levelPts(F);
         for (const Level& L : kLevels)
         {
             for (size_t i = 0; i < F; i++)
+            {
                 maps[i] = smoothDisparity(frames_[i].disp, L.sigma);
+                levelPts[i] = pts[i];
+                if (L.stride > 1)
+                {
+                    levelPts[i] = Mat((pts[i].rows + L.stride - 1) / L.stride, 4, CV_64F);
+                    for (int k = 0; k < levelPts[i].rows; k++)
+                        pts[i].row(k * L.stride).copyTo(levelPts[i].row(k));
+                }
+            }
             for (int it = 0; it < kMaxIterations; it++)
             {
                 std::vector<Sums> sums;
-                used = frameSums(pts, maps, p, speed, n, L.c, false, sums);
-                if (used < kMinPoints)
+                used = frameSums(levelPts, maps, p, speed, n, L.c, false, sums);
+                if (used * L.stride < kMinPoints)
                     CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: only %d LiDAR points land on "
                                                 "a stereo disparity (at least %d needed): the data cannot tell the "
                                                 "calibration (textureless or dark images, an empty scan, or a "
-                                                "transform far off)", used, kMinPoints));
+                                                "transform far off)", used * L.stride, kMinPoints));
                 Matx44d A;
                 Vec4d g;
                 for (const Sums& s : sums)
