@@ -27,7 +27,7 @@ from perturb_calibration import perturbed_calib, read_calib, rotation  # noqa: E
 ERRORS = [('none', {}), ('yaw 0.25', dict(yaw=0.25)), ('yaw 0.5', dict(yaw=0.5)), ('pitch 0.5', dict(pitch=0.5)),
           ('roll 0.5', dict(roll=0.5)), ('yaw 1', dict(yaw=1)), ('pitch 1', dict(pitch=1)), ('roll 1', dict(roll=1)),
           ('mix', dict(pitch=0.6, yaw=-0.7, roll=0.5)), ('x 5 cm', dict(t=(0.05, 0, 0))),
-          ('z 10 cm', dict(t=(0, 0, 0.1)))]
+          ('z 10 cm', dict(t=(0, 0, 0.1))), ('scans of the next frame', dict(swap=True))]
 SINGLE = [('yaw 0.5', dict(yaw=0.5)), ('mix', dict(pitch=0.6, yaw=-0.7, roll=0.5))]
 
 
@@ -59,16 +59,18 @@ def run_tool(a, folder, refine):
     if a.params:
         cmd += ['--params', a.params]
     if refine:
-        cmd += ['--refine-calibration']
+        cmd += ['--refine-calibration', '--scan-rate', str(a.scan_rate)]
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         sys.exit('calibration_benchmark.py: %s failed:\n%s%s' % (' '.join(cmd), p.stdout, p.stderr))
-    d1 = float(re.search(r'\| SDSGM \(stereo-lidar\)\s*\|[^|]*\|[^|]*\|\s*([0-9.]+) %', p.stdout).group(1))
+    d1 = float(re.search(r'\| S?D?SGM \(stereo(?:-lidar)?\)\s*\|[^|]*\|[^|]*\|\s*([0-9.]+) %', p.stdout).group(1))
     fps = float(re.search(r'([0-9.]+) frames/s over the pass', p.stdout).group(1))
     frames = int(re.search(r'frames: (\d+) computed', p.stdout).group(1))
     res = float(re.search(r'calibration residual: ([0-9.]+)', p.stdout).group(1)) if refine else None
     corr = secs = after = None
     m = re.search(r'pitch ([-+0-9.]+) \+- [0-9.]+, yaw ([-+0-9.]+) \+- [0-9.]+, roll ([-+0-9.]+)', p.stdout)
+    if 'the LiDAR is left out' in p.stdout:
+        secs = -1.0   # stereo alone: the row says so
     if m:
         corr = np.array([float(m.group(k)) for k in (1, 2, 3)])
         t = re.search(r'after the correction: ([0-9.]+) px \(\d+ points, \d+ frames, ([0-9.]+) s\)', p.stdout)
@@ -82,6 +84,7 @@ def main():
     ap.add_argument('--data', required=True)
     ap.add_argument('--params', default='')
     ap.add_argument('--threads', type=int, default=2)
+    ap.add_argument('--scan-rate', type=float, default=10.0, help="the LiDAR's sweep rate (default 10 Hz: KITTI)")
     a = ap.parse_args()
     import cv2
     cv2.setNumThreads(a.threads)
@@ -101,8 +104,21 @@ def main():
             for k, v in zip(('x', 'y', 'z'), err.get('t', (0, 0, 0))):
                 args += ['--' + k, str(v)]
             subprocess.run(args, check=True)
+            if err.get('swap'):
+                # A synchronisation error: each frame gets the next frame's scan.
+                scans = os.path.join(folder, 'velodyne')
+                os.remove(scans)
+                os.mkdir(scans)
+                ids = open(os.path.join(a.data, 'frames.txt')).read().split()
+                for k, i in enumerate(ids):
+                    os.symlink(os.path.abspath(os.path.join(a.data, 'velodyne', ids[(k + 1) % len(ids)] + '.bin')),
+                               os.path.join(scans, i + '.bin'))
             d1, fusion, _, _, _, _ = run_tool(a, folder, False)
             d1r, _, res, after, corr, secs = run_tool(a, folder, True)
+            if secs is not None and secs < 0:
+                print('| %s | %.2f %% | %.2f %% (stereo alone: the LiDAR left out) | %.3f / %s | - | - | %.2f |'
+                      % (name, d1, d1r, res, '%.3f' % after if after else '-', fusion), flush=True)
+                continue
             left = remaining(corr, err)
             print('| %s | %.2f %% | %.2f %% | %.3f / %.3f | %+.3f %+.3f %+.3f | %.2f | %.2f |'
                   % (name, d1, d1r, res, after, left[0], left[1], left[2], secs, fusion), flush=True)
@@ -116,7 +132,7 @@ def main():
         left = cv2.imread(os.path.join(a.data, 'image_2', i + '_10.png'), cv2.IMREAD_GRAYSCALE)
         right = cv2.imread(os.path.join(a.data, 'image_3', i + '_10.png'), cv2.IMREAD_GRAYSCALE)
         pts = np.fromfile(os.path.join(a.data, 'velodyne', i + '.bin'), np.float32).reshape(-1, 4)
-        cal = cv2.lidarsgm.LidarCalibration.create(P2, fB, 128, 10.0)   # KITTI's raw HDL-64E scans sweep at 10 Hz
+        cal = cv2.lidarsgm.LidarCalibration.create(P2, fB, 128, a.scan_rate)
         cal.addFrame(left, right, pts)
         frames.append((i, cal))
     print('\nsingle frames (one frame per refinement): frames within 0.15 deg on every axis / refused, '

@@ -259,13 +259,18 @@ int runPasses(const Options& o, const FrameSource& src)
     return 1;
 }
 
+//! The largest median |LiDAR - stereo disparity| (px) after refinement with which the LiDAR still takes part.
+const double kMaxFusedResidual = 1.0;
+
 /** --check-calibration, --refine-calibration: the LiDAR-to-camera transform measured against the stereo pairs of
 the frames given (cv::lidarsgm::LidarCalibration); prints the residual and, when refining, the correction, and
 returns the calibration the run fuses with (calib itself, or corrected). A frame that cannot be read is left out;
-a refinement the data cannot support stops the run (cv::Exception saying why) rather than fusing with a guess. */
+a refinement the data cannot support (refine() refuses), or a LiDAR still far from the stereo pairs after it, sets
+stereoOnly: the run then fuses nothing and gives stereo alone, saying so, rather than fusing with a guess. */
 KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const std::vector<std::string>& ids,
-                               const std::function<void(const std::string&, Mat&, Mat&, Mat&)>& read)
+                               const std::function<void(const std::string&, Mat&, Mat&, Mat&)>& read, bool& stereoOnly)
 {
+    stereoOnly = false;
     if (!o.has("check-calibration") && !o.has("refine-calibration"))
         return calib;
     TickMeter tm;
@@ -291,7 +296,18 @@ KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const 
            cal->residual(calib.lidarToCamera), cal->getNumFrames());
     if (!o.has("refine-calibration"))
         return calib;
-    const lidarsgm::CalibrationCorrection c = cal->refine(calib.lidarToCamera, o.has("refine-translation"));
+    lidarsgm::CalibrationCorrection c;
+    try
+    {
+        c = cal->refine(calib.lidarToCamera, o.has("refine-translation"));
+    }
+    catch (const cv::Exception& e)
+    {
+        printf("calibration refinement refused: %s\nthe LiDAR is left out: stereo alone (SGM, left-right check)\n",
+               e.err.c_str());
+        stereoOnly = true;
+        return calib;
+    }
     tm.stop();
     const double k = 180 / CV_PI;
     printf("calibration correction (camera frame, degrees): pitch %+.3f +- %.3f, yaw %+.3f +- %.3f, roll %+.3f +- %.3f",
@@ -301,9 +317,28 @@ KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const 
         printf(", x %+.3f +- %.3f m", c.translation[0], c.translationStd[0]);
     printf("\ncalibration residual after the correction: %.3f px (%d points, %d frames, %.2f s)\n", c.residualAfter,
            c.points, c.frames, tm.getTimeSec());
+    // A LiDAR that stays more than one disparity step (the DDC's Q1 band) from the stereo match at most of its
+    // points steers the fusion wrong instead of helping it: it is left out.
+    if (c.residualAfter > kMaxFusedResidual)
+    {
+        printf("the corrected calibration still leaves the LiDAR %.3f px (median) from the stereo pairs, more than "
+               "%.1f px: the LiDAR is left out: stereo alone (SGM, left-right check)\n", c.residualAfter,
+               kMaxFusedResidual);
+        stereoOnly = true;
+    }
     KittiCalib refined = calib;
     refined.lidarToCamera = c.lidarToCamera;
     return refined;
+}
+
+//! The run's options with the LiDAR left out: plain SGM with the left-right check.
+Options stereoAlone(const Options& o)
+{
+    Options s = o;
+    s.kv["modes"] = "sgm";
+    s.kv["check"] = "stereo";
+    s.kv.erase("table5");
+    return s;
 }
 
 } // namespace
@@ -316,25 +351,27 @@ int runKittiFolder(const Options& o)
     src.ids = kittiFrameIds(dir);
     if (src.ids.empty())
         CV_Error(Error::StsObjectNotFound, dir + "/frames.txt lists no frame");
+    bool stereoOnly = false;
     const KittiCalib calib = calibrationFromData(o, readKittiCalib(dir + "/calib.txt"), src.ids,
         [&dir](const std::string& id, Mat& left, Mat& right, Mat& points) {
             left = readGrey(dir + "/image_2/" + id + "_10.png");
             right = readGrey(dir + "/image_3/" + id + "_10.png");
             points = readVelodyne(dir + "/velodyne/" + id + ".bin");
-        });
+        }, stereoOnly);
     src.load = [dir, calib](const std::string& id, LidarRings rings) {
         Frame f = loadKittiFrame(dir, id, rings.every, rings.first, &calib);
         if (f.gt.empty())
             CV_Error(Error::StsObjectNotFound, "no ground truth " + dir + "/disp_occ_0/" + id + "_10.png");
         return f;
     };
-    return runPasses(o, src);
+    return runPasses(stereoOnly ? stereoAlone(o) : o, src);
 }
 
 int runKittiRaw(const Options& o)
 {
     const std::string drive = o.str("kitti-raw"), calibDir = kittiRawCalibDir(drive), gtDir = o.str("gt-depth");
     // The calibration is the drive's, read once: a missing file or key stops the run before any frame.
+    bool stereoOnly = false;
     const KittiCalib given = readKittiRawCalib(calibDir + "/calib_cam_to_cam.txt", calibDir + "/calib_velo_to_cam.txt");
     FrameSource src;
     src.label = "KITTI raw " + drive;
@@ -349,14 +386,14 @@ int runKittiRaw(const Options& o)
             left = readGrey(drive + "/image_02/data/" + id + ".png");
             right = readGrey(drive + "/image_03/data/" + id + ".png");
             points = readVelodyne(drive + "/velodyne_points/data/" + id + ".bin");
-        });
+        }, stereoOnly);
     src.load = [drive, calib, gtDir](const std::string& id, LidarRings rings) {
         Frame f = loadKittiRawFrame(drive, calib, id, rings.every, rings.first);
         if (!gtDir.empty())
             f.gt = readKittiDepthAsDisparity(gtDir + "/" + id + ".png", calib.focalBaseline);
         return f;
     };
-    return runPasses(o, src);
+    return runPasses(stereoOnly ? stereoAlone(o) : o, src);
 }
 
 } // namespace lidarsgm_fuse

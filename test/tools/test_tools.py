@@ -245,6 +245,18 @@ class ToolTest(unittest.TestCase):
         self.assertEqual(rc, 0, se)
         self.assertIn("calibration residual:", so)
         self.assertNotIn("calibration correction", so)
+        # Scans swapped between the two frames (a synchronisation error): no rotation repairs that, and the run
+        # gives stereo alone instead of a fusion with the wrong scans.
+        kitti = self.kitti_folder("000002\n000046\n")
+        scans = os.path.join(kitti, "velodyne")
+        os.rename(os.path.join(scans, "000002.bin"), os.path.join(scans, "tmp.bin"))
+        os.rename(os.path.join(scans, "000046.bin"), os.path.join(scans, "000002.bin"))
+        os.rename(os.path.join(scans, "tmp.bin"), os.path.join(scans, "000046.bin"))
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1", "--refine-calibration"])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("the LiDAR is left out: stereo alone (SGM, left-right check)", so)
+        self.assertIn("| SGM (stereo) ", so)
+        self.assertNotIn("| SDSGM", so)
         for args, message in ((["--kitti-frame", KITTI, "--refine-calibration"], "go with --kitti or --kitti-raw"),
                               (["--kitti", KITTI, "--refine-translation"], "goes with --refine-calibration")):
             rc, so, se = run([TOOL] + args)
