@@ -54,6 +54,15 @@ def remaining(correction_deg, err):
     return np.degrees(rotvec(R))
 
 
+def calib_transform(entries):
+    """R0_rect * Tr_velo_to_cam as a 4x4 array."""
+    r0 = np.eye(4)
+    r0[:3, :3] = np.array(entries['R0_rect']).reshape(3, 3)
+    tr = np.eye(4)
+    tr[:3, :] = np.array(entries['Tr_velo_to_cam']).reshape(3, 4)
+    return r0 @ tr
+
+
 def run_tool(a, folder, refine):
     cmd = [a.tool, '--kitti', folder, '--modes', 'sdsgm', '--quiet', '1', '--threads', str(a.threads)]
     if a.params:
@@ -69,12 +78,12 @@ def run_tool(a, folder, refine):
     res = float(re.search(r'calibration residual: ([0-9.]+)', p.stdout).group(1)) if refine else None
     corr = secs = after = None
     m = re.search(r'pitch ([-+0-9.]+) \+- [0-9.]+, yaw ([-+0-9.]+) \+- [0-9.]+, roll ([-+0-9.]+)', p.stdout)
-    if 'the LiDAR is left out' in p.stdout:
-        secs = -1.0   # stereo alone: the row says so
     if m:
         corr = np.array([float(m.group(k)) for k in (1, 2, 3)])
         t = re.search(r'after the correction: ([0-9.]+) px \(\d+ points, \d+ frames, ([0-9.]+) s\)', p.stdout)
         after, secs = float(t.group(1)), float(t.group(2))
+    if 'the LiDAR is left out' in p.stdout:
+        secs = -1.0   # stereo alone: the row says so
     return d1, frames / fps, res, after, corr, secs
 
 
@@ -128,22 +137,26 @@ def main():
     fB = P2[0, 3] - np.array(entries['P3']).reshape(3, 4)[0, 3]
     ids = open(os.path.join(a.data, 'frames.txt')).read().split()
     frames = []
+    t_maps = 0.0
     for i in ids:
         left = cv2.imread(os.path.join(a.data, 'image_2', i + '_10.png'), cv2.IMREAD_GRAYSCALE)
         right = cv2.imread(os.path.join(a.data, 'image_3', i + '_10.png'), cv2.IMREAD_GRAYSCALE)
         pts = np.fromfile(os.path.join(a.data, 'velodyne', i + '.bin'), np.float32).reshape(-1, 4)
         cal = cv2.lidarsgm.LidarCalibration.create(P2, fB, 128, a.scan_rate)
+        t0 = time.time()
         cal.addFrame(left, right, pts)
+        t_maps += time.time() - t0
         frames.append((i, cal))
+    T_given = calib_transform(entries)
+    t0 = time.time()
+    for _, cal in frames:
+        cal.residual(T_given)
+    print('\naddFrame (the stereo map) %.1f ms a frame; residual() %.2f ms a frame once the map exists'
+          % (1000 * t_maps / len(ids), 1000 * (time.time() - t0) / len(ids)))
     print('\nsingle frames (one frame per refinement): frames within 0.15 deg on every axis / refused, '
           'the largest axis error of each frame')
     for name, err in SINGLE:
-        pe = perturbed_calib(entries, err.get('pitch', 0), err.get('yaw', 0), err.get('roll', 0))
-        r0 = np.eye(4)
-        r0[:3, :3] = np.array(pe['R0_rect']).reshape(3, 3)
-        tr = np.eye(4)
-        tr[:3, :] = np.array(pe['Tr_velo_to_cam']).reshape(3, 4)
-        T = r0 @ tr
+        T = calib_transform(perturbed_calib(entries, err.get('pitch', 0), err.get('yaw', 0), err.get('roll', 0)))
         good, refused, worst = 0, 0, []
         t0 = time.time()
         for i, cal in frames:
