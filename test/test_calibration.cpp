@@ -31,12 +31,13 @@ Vec3d rotationBetween(const Mat& a, const Mat& b)
     return Vec3d(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1)) * k;
 }
 
-//! The shipped KITTI frames (testdata/kitti) added to one refiner; the calibration of calib.txt.
-Ptr<LidarCalibration> shippedFrames(lidarsgm_data::KittiCalib& calib)
+/** The shipped KITTI frames (testdata/kitti) added to one refiner; the calibration of calib.txt. scanRate: 10 (the
+HDL-64E's sweep, each frame's speed estimated) or 0 (the scans taken as compensated). */
+Ptr<LidarCalibration> shippedFrames(lidarsgm_data::KittiCalib& calib, double scanRate = 10)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
     calib = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
-    Ptr<LidarCalibration> cal = LidarCalibration::create(calib.P2, calib.focalBaseline);
+    Ptr<LidarCalibration> cal = LidarCalibration::create(calib.P2, calib.focalBaseline, 128, scanRate);
     for (const std::string& id : lidarsgm_data::kittiFrameIds(dir))
         cal->addFrame(lidarsgm_data::readGrey(dir + "/image_2/" + id + "_10.png"),
                       lidarsgm_data::readGrey(dir + "/image_3/" + id + "_10.png"),
@@ -44,10 +45,12 @@ Ptr<LidarCalibration> shippedFrames(lidarsgm_data::KittiCalib& calib)
     return cal;
 }
 
-TEST(Lidarsgm_Calibration, rotation_errors_are_undone)
+class Lidarsgm_Calibration_Sweep : public ::testing::TestWithParam<double> {};
+
+TEST_P(Lidarsgm_Calibration_Sweep, rotation_errors_are_undone)
 {
     lidarsgm_data::KittiCalib calib;
-    Ptr<LidarCalibration> cal = shippedFrames(calib);
+    Ptr<LidarCalibration> cal = shippedFrames(calib, GetParam());
     ASSERT_EQ(2, cal->getNumFrames());
     const Matx44d T(calib.lidarToCamera);
     const CalibrationCorrection exact = cal->refine(calib.lidarToCamera);
@@ -60,6 +63,10 @@ TEST(Lidarsgm_Calibration, rotation_errors_are_undone)
     }
     EXPECT_EQ(2, exact.frames);
     EXPECT_GT(exact.points, 10000);
+    // A speed per frame where the scans sweep, each a car's (the shipped frames were taken driving), none otherwise.
+    ASSERT_EQ(GetParam() != 0 ? 2u : 0u, exact.speeds.size());
+    for (double v : exact.speeds)
+        EXPECT_LE(std::abs(v), 40.0);
     const Vec3d errors[] = { Vec3d(0, 0.5, 0), Vec3d(0.5, 0, 0), Vec3d(0, 0, 0.5), Vec3d(-0.6, 1.0, 0.4) };
     for (const Vec3d& e : errors)
     {
@@ -77,6 +84,8 @@ TEST(Lidarsgm_Calibration, rotation_errors_are_undone)
     // A pitch error shows in the residual: ground points land on other rows.
     EXPECT_GT(cal->residual(Mat(cameraMotion(0.5, 0, 0) * T)), 2 * cal->residual(calib.lidarToCamera));
 }
+
+INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_Calibration_Sweep, testing::Values(0.0, 10.0));
 
 TEST(Lidarsgm_Calibration, translation_along_the_baseline)
 {
