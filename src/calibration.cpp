@@ -202,6 +202,8 @@ public:
                 o[3] = scanRate_ != 0 ? -std::atan2((double)q[1], (double)q[0]) / (2 * CV_PI * scanRate_) : 0;
             }
         }
+        if (kept == 0)
+            CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: the scan has no finite point");
         f.points = f.points.rowRange(0, kept).clone();
         Mat disp;
         matcher_->compute(left, right, noArray(), disp);   // checks the images (sizes, types) itself

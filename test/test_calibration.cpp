@@ -130,6 +130,9 @@ TEST(Lidarsgm_Calibration, refuses_what_the_data_cannot_tell)
     Ptr<LidarCalibration> cal = LidarCalibration::create(calib.P2, calib.focalBaseline);
     EXPECT_THROW(cal->refine(calib.lidarToCamera), cv::Exception);
     EXPECT_THROW(cal->addFrame(left, right, Mat()), cv::Exception);
+    EXPECT_THROW(cal->addFrame(left, right, Mat(10, 3, CV_32F, Scalar(std::numeric_limits<float>::quiet_NaN()))),
+                 cv::Exception);
+    EXPECT_THROW(cal->addFrame(left, right, Mat(10, 2, CV_32F, Scalar(1))), cv::Exception);
     EXPECT_THROW(cal->addFrame(left, right.colRange(0, 100), scan), cv::Exception);
     EXPECT_EQ(0, cal->getNumFrames());
     cal->addFrame(left, right, scan);

@@ -5,7 +5,7 @@
 #   tools/cpu_benchmarks.sh NAME THREADS [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90] [runs, default 15]
 set -eo pipefail
 cd "$(dirname "$0")/.."
-NAME=${1:?name, e.g. 2core}; THREADS=${2:?thread count}
+NAME=${1:?name: cores-machine, e.g. 2core-epyc}; THREADS=${2:?thread count}
 T=${3:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
 RUNS=${4:-15}
 C=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src src_cuda include samples || echo " + uncommitted changes")

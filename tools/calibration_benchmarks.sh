@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Rewrites the calibration outputs in doc/benchmarks/ (the figures of doc/accuracy.md's "Calibration errors", the
+# README and doc/design.md section 7): tools/calibration_benchmark.py on the 20 shared KITTI frames with kitti_best.yml,
+# with the LiDAR's sweep modelled (calibration_kitti20.txt, 10 Hz) and without it (calibration_kitti20_scan_rate_0.txt).
+# Needs the OpenCV build made by the README's commands (its tool and its cv2) and a Python with numpy: the one of
+# LIDARSGM_PYTHON, else the build's virtual environment where it exists, else python3.
+#   tools/calibration_benchmarks.sh [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90] [shared data dir]
+set -eo pipefail
+cd "$(dirname "$0")/.."
+B=${1:-$HOME/.cache/lidarsgm/build-cuda90}
+DATA=${2:-../shared/data}
+PY=${LIDARSGM_PYTHON:-$(ls $HOME/.cache/lidarsgm/pyenv-*/bin/python 2>/dev/null | head -1)}
+PY=${PY:-python3}
+C=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src src_cuda include samples tools || echo " + uncommitted changes")
+for rate in 10 0; do
+  f=doc/benchmarks/calibration_kitti20.txt
+  [ $rate = 0 ] && f=doc/benchmarks/calibration_kitti20_scan_rate_0.txt
+  args=(--tool "$B/bin/lidarsgm_lidarsgm_fuse" --data "$DATA/kitti2015_lidar" --params doc/params/kitti_best.yml
+        --scan-rate $rate)
+  { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"
+    echo "# Command: tools/calibration_benchmark.py ${args[*]}"
+    echo
+    PYTHONPATH="$B/python_loader" "$PY" tools/calibration_benchmark.py "${args[@]}"; } > "$f" 2>&1
+  echo "wrote $f"
+done
