@@ -97,7 +97,7 @@ struct Motion
     Motion(const double* p, int n)
     {
         R = rotationOf(Vec3d(p[0], p[1], p[2]));
-        t = Vec3d(n > 3 ? p[3] : 0, 0, n > 4 ? p[4] : 0);
+        t = Vec3d(n > 3 ? p[3] : 0, 0, 0);
     }
 };
 
@@ -111,8 +111,8 @@ struct FrameData
 b = J_g^T W J_s, a = J_s^T W J_s, h = J_s^T W r. */
 struct Sums
 {
-    Matx66d A;
-    Vec6d g, b;
+    Matx44d A;
+    Vec4d g, b;
     double a = 0, h = 0;
     int count = 0;
     void add(const double* j, double js, double w, double r, int n, bool speed)
@@ -133,15 +133,15 @@ struct Sums
         count++;
     }
     //! The global system with the speed eliminated (Schur complement); unchanged where the speed is not seen.
-    void reduced(Matx66d& Ar, Vec6d& gr) const
+    void reduced(Matx44d& Ar, Vec4d& gr) const
     {
         Ar = A;
         gr = g;
         if (a > 0)
-            for (int k = 0; k < 6; k++)
+            for (int k = 0; k < 4; k++)
             {
                 gr[k] -= b[k] * h / a;
-                for (int l = 0; l < 6; l++)
+                for (int l = 0; l < 4; l++)
                     Ar(k, l) -= b[k] * b[l] / a;
             }
     }
@@ -231,9 +231,9 @@ public:
         CV_INSTRUMENT_REGION();
         requireFrames("refine");
         const Matx44d T = checkedTransform(lidarToCamera);
-        const int n = translation ? 5 : 3;
+        const int n = translation ? 4 : 3;
         const size_t F = frames_.size();
-        double p[6] = { 0, 0, 0, 0, 0, 0 };
+        double p[4] = { 0, 0, 0, 0 };
         std::vector<double> speed(F, 0.0);
         const std::vector<Mat> pts = cameraPoints(T);
         std::vector<Mat> maps(F);
@@ -261,17 +261,17 @@ public:
                                                 "a stereo disparity (at least %d needed): the data cannot tell the "
                                                 "calibration (textureless or dark images, an empty scan, or a "
                                                 "transform far off)", used * L.stride, kMinPoints));
-                Matx66d A;
-                Vec6d g;
+                Matx44d A;
+                Vec4d g;
                 for (const Sums& s : sums)
                 {
-                    Matx66d Ar;
-                    Vec6d gr;
+                    Matx44d Ar;
+                    Vec4d gr;
                     s.reduced(Ar, gr);
                     A += Ar;
                     g += gr;
                 }
-                Vec6d step;
+                Vec4d step;
                 if (!solve(A, g, n, step))
                     CV_Error(Error::StsError, "lidarsgm: LidarCalibration::refine: the points do not constrain every "
                                               "parameter (degenerate scene)");
@@ -295,8 +295,8 @@ public:
 
         CalibrationCorrection c;
         c.rotation = Vec3d(p[0], p[1], p[2]);
-        c.translation = Vec3d(n > 3 ? p[3] : 0, 0, n > 4 ? p[4] : 0);
-        const Vec6d sd = jackknifeStd(pts, maps, p, speed, n, kLevels[sizeof(kLevels) / sizeof(kLevels[0]) - 1].c);
+        c.translation = Vec3d(n > 3 ? p[3] : 0, 0, 0);
+        const Vec4d sd = jackknifeStd(pts, maps, p, speed, n, kLevels[sizeof(kLevels) / sizeof(kLevels[0]) - 1].c);
         c.rotationStd = Vec3d(sd[0], sd[1], sd[2]);
         c.translationStd = Vec3d(n > 3 ? sd[3] : 0, 0, 0);
         c.points = used;
@@ -440,9 +440,9 @@ private:
                 for (int k = 0; k < nj; k++)
                 {
                     const double h = k < 3 ? hRot : k < n ? hT : hS;
-                    double pp[6], pm[6];
-                    std::copy(p, p + 6, pp);
-                    std::copy(p, p + 6, pm);
+                    double pp[4], pm[4];
+                    std::copy(p, p + 4, pp);
+                    std::copy(p, p + 4, pm);
                     double sp = speed[fi], sm = speed[fi];
                     if (k < n)
                     {
@@ -483,7 +483,7 @@ private:
     }
 
     //! The n x n system A step = g; false where A is singular.
-    static bool solve(const Matx66d& A, const Vec6d& g, int n, Vec6d& step)
+    static bool solve(const Matx44d& A, const Vec4d& g, int n, Vec4d& step)
     {
         Mat a(n, n, CV_64F), b(n, 1, CV_64F), x;
         for (int k = 0; k < n; k++)
@@ -494,7 +494,7 @@ private:
         }
         if (!cv::solve(a, b, x, DECOMP_CHOLESKY))
             return false;
-        step = Vec6d();
+        step = Vec4d();
         for (int k = 0; k < n; k++)
             step[k] = x.at<double>(k);
         return true;
@@ -503,40 +503,40 @@ private:
     /** Jackknife standard errors of the global parameters at the solution p: the estimate without group k (a frame,
     or an image strip when fewer than four frames are pooled) is one Gauss-Newton step from p with group k's reduced
     sums taken out, p_k = p - (A - A_k)^-1 (g - g_k); the variance is (K - 1) / K sum (p_k - mean)^2. */
-    Vec6d jackknifeStd(const std::vector<Mat>& pts, const std::vector<Mat>& maps, const double* p,
+    Vec4d jackknifeStd(const std::vector<Mat>& pts, const std::vector<Mat>& maps, const double* p,
                        const std::vector<double>& speed, int n, double c) const
     {
         std::vector<Sums> sums;
         frameSums(pts, maps, p, speed, n, c, frames_.size() < 4, sums);
-        std::vector<Matx66d> As(sums.size());
-        std::vector<Vec6d> gs(sums.size());
-        Matx66d A;
-        Vec6d g;
+        std::vector<Matx44d> As(sums.size());
+        std::vector<Vec4d> gs(sums.size());
+        Matx44d A;
+        Vec4d g;
         for (size_t k = 0; k < sums.size(); k++)
         {
             sums[k].reduced(As[k], gs[k]);
             A += As[k];
             g += gs[k];
         }
-        std::vector<Vec6d> est;
+        std::vector<Vec4d> est;
         for (size_t k = 0; k < sums.size(); k++)
         {
-            Vec6d step;
+            Vec4d step;
             if (sums[k].count > 0 && solve(A - As[k], g - gs[k], n, step))
-                est.push_back(Vec6d(p[0], p[1], p[2], p[3], p[4], p[5]) - step);
+                est.push_back(Vec4d(p[0], p[1], p[2], p[3]) - step);
         }
         const double inf = std::numeric_limits<double>::infinity();
         if (est.size() < 2)
-            return Vec6d(inf, inf, inf, inf, inf, inf);
-        Vec6d mean, var;
-        for (const Vec6d& e : est)
+            return Vec4d(inf, inf, inf, inf);
+        Vec4d mean, var;
+        for (const Vec4d& e : est)
             mean += e * (1.0 / est.size());
-        for (const Vec6d& e : est)
-            for (int k = 0; k < 6; k++)
+        for (const Vec4d& e : est)
+            for (int k = 0; k < 4; k++)
                 var[k] += (e[k] - mean[k]) * (e[k] - mean[k]);
         const double K = (double)est.size();
-        Vec6d sd;
-        for (int k = 0; k < 6; k++)
+        Vec4d sd;
+        for (int k = 0; k < 4; k++)
             sd[k] = std::sqrt(var[k] * (K - 1) / K);
         return sd;
     }
