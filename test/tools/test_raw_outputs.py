@@ -127,6 +127,20 @@ class RawDriveTest(unittest.TestCase):
         # The same pixels carry ground truth (depth > 0 exactly where disparity > 0), so the coverage is the same.
         self.assertEqual(raw.group(1), ref.group(1))
 
+    def test_raw_drive_calibration_refinement(self):
+        # The drive pools its frames as the KITTI folder does: the same frames and calibration, the same correction.
+        angles = r"pitch ([-+\d.]+) \+- [\d.]+, yaw ([-+\d.]+) \+- [\d.]+, roll ([-+\d.]+)"
+        rc, so, se = run([TOOL, "--kitti-raw", self.drive, "--modes", "sdsgm", "--refine-calibration"])
+        self.assertEqual(rc, 0, se)
+        rc, so_ref, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--refine-calibration"])
+        self.assertEqual(rc, 0, se)
+        raw, ref = re.search(angles, so), re.search(angles, so_ref)
+        self.assertIsNotNone(raw, so)
+        self.assertIsNotNone(ref, so_ref)
+        for k in (1, 2, 3):
+            self.assertAlmostEqual(float(raw.group(k)), float(ref.group(k)), delta=0.002)
+        self.assertIn("2 frames", so)
+
     @unittest.skipUnless(os.path.isfile(TOOL), "LIDARSGM_TOOL does not name the tool binary")
     def test_bad_raw_drives(self):
         out = os.path.join(self.tmp, "out")
