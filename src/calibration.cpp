@@ -155,8 +155,8 @@ public:
     {
         CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0,
                      "lidarsgm: LidarCalibration: focalBaseline must be finite and > 0");
-        CV_CheckTrue(numDisparities >= 16 && numDisparities <= 256 && numDisparities % 16 == 0,
-                     "lidarsgm: LidarCalibration: numDisparities must be a multiple of 16 in [16, 256]");
+        CV_CheckTrue(numDisparities >= 16 && numDisparities <= 512 && numDisparities % 16 == 0,
+                     "lidarsgm: LidarCalibration: numDisparities must be a multiple of 16 in [16, 512]");
         CV_CheckTrue(std::isfinite(scanRate) && std::abs(scanRate) <= 100,
                      "lidarsgm: LidarCalibration: scanRate must be finite, within [-100, 100] Hz (0: no sweep)");
         if (projection.rows() != 3)

@@ -131,6 +131,10 @@ INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationRandom,
     testing::Combine(testing::Values(4, 8), testing::Values(16, 48),
                      testing::Values(Size(1, 1), Size(7, 1), Size(1, 9), Size(13, 11), Size(70, 33), Size(300, 17)),
                      testing::Values(0, 60)));
+// The largest search the CPU path takes (MAX_DISPARITIES); minDisparity is drawn from [-3, 2].
+INSTANTIATE_TEST_CASE_P(D512, Lidarsgm_AggregationRandom,
+    testing::Combine(testing::Values(4, 8), testing::Values(512),
+                     testing::Values(Size(1, 1), Size(13, 11), Size(70, 33)), testing::Values(0, 60)));
 
 //! Random census strings of both views and a prior on a fifth of the pixels (1/16-pixel values in the range).
 static void randomCensusAndPrior(RNG& rng, Size sz, int D, Mat& cl, Mat& cr, Mat& prior)

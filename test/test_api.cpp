@@ -51,9 +51,12 @@ TEST(Lidarsgm_API, parameter_validation)
     Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
     EXPECT_THROW(m->setNumDisparities(0), cv::Exception);
     EXPECT_THROW(m->setNumDisparities(100), cv::Exception);
-    EXPECT_THROW(m->setNumDisparities(272), cv::Exception);
+    EXPECT_THROW(m->setNumDisparities(520), cv::Exception);
+    EXPECT_THROW(m->setNumDisparities(528), cv::Exception);
     EXPECT_NO_THROW(m->setNumDisparities(64));
     EXPECT_NO_THROW(m->setNumDisparities(256));
+    EXPECT_NO_THROW(m->setNumDisparities(272));
+    EXPECT_NO_THROW(m->setNumDisparities(512));
     EXPECT_THROW(m->setMinDisparity(5000), cv::Exception);
     EXPECT_THROW(m->setP1(-1), cv::Exception);
     EXPECT_THROW(m->setP2(1001), cv::Exception);

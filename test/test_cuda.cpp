@@ -21,6 +21,27 @@ static void requireCudaDevice()
 #endif
 }
 
+//! More than 256 disparities: the CUDA path refuses with a message that names the CPU path (the CPU path takes 512).
+TEST(Lidarsgm_CUDA, refuses_more_than_256_disparities)
+{
+    requireCudaDevice();
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 512);
+    Mat l(64, 600, CV_8UC1, Scalar(7)), r = l.clone(), s(l.size(), CV_32FC1, Scalar(0));
+    cuda::GpuMat gl(l), gr(r), gs(s), gd;
+    try
+    {
+        m->compute(gl, gr, gs, gd);
+        ADD_FAILURE() << "512 disparities on the CUDA path did not raise";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_EQ(cv::Error::StsNotImplemented, e.code);
+        EXPECT_NE(std::string::npos, e.err.find("the CPU path")) << e.err;
+    }
+    Mat out;
+    EXPECT_NO_THROW(m->compute(l, r, s, out));
+}
+
 static void compareCpuGpu(const Ptr<StereoLidarSGM>& m, const Mat& l, const Mat& r, const Mat& s, const std::string& what)
 {
     Mat cpu, gpuOut;

@@ -62,7 +62,7 @@ public:
     /** @brief Creates an empty calibration refiner.
     @param projection 3x4 projection matrix (CV_32F or CV_64F) of the rectified left camera.
     @param focalBaseline focal length (pixels) times baseline (metres), > 0.
-    @param numDisparities disparities the stereo maps search: a multiple of 16 in [16, 256].
+    @param numDisparities disparities the stereo maps search: a multiple of 16 in [16, 512].
     @param scanRate the LiDAR's sweep rate in Hz for scans that are not motion-compensated, 0 for scans that are
     (or a still rig). A sweeping LiDAR measures a point at azimuth a = atan2(y, x) (LiDAR frame) at
     t = -a / (2 pi scanRate) from the camera's exposure: it passes its x axis at the exposure and turns clockwise seen
