@@ -1,17 +1,17 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Semi-global aggregation, CUDA twin of src/aggregation.cpp, with the matching cost (src/matching_cost.cpp on the
-// CPU) computed as the paths walk. All directions in one launch; one warp walks one path line, its lanes hold the path
-// costs of the line's disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction adds
-// into the one 16-bit sum volume (the only large buffer) with atomics; integer sums: the order does not matter.
-// Measured against one launch per direction, and pairs of opposite directions walking each line from both ends,
-// without atomics: this is the fastest at every size since the census strings' loads span few cache lines
-// (doc/perf.md, "Tried and dropped").
+// Semi-global aggregation, CUDA twin of src/aggregation.simd.hpp, with the matching cost (src/matching_cost.simd.hpp on
+// the CPU) computed as the paths walk. All directions in one launch; one warp walks one path line, its lanes hold the
+// path costs of the line's disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction
+// adds into the one 16-bit sum volume (the only large buffer) with atomics; integer sums: the order does not matter.
+// Measured against one launch per direction, and pairs of opposite directions walking each line from both ends, without
+// atomics: this is the fastest at every size since the census strings' loads span few cache lines (doc/perf.md, "Tried
+// and dropped").
 
 #include "cuda_stages.hpp"
 #include "aggregation.cuh"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 #include <algorithm>
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -251,12 +251,12 @@ void run(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior1
          const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    cudaSafeCall(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+    CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
-    const dim3 grid(cv::cuda::device::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
+    const dim3 grid(cv::cudev::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
     pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, T><<<grid, dim3(32 * WARPS_PER_BLOCK), 0, stream>>>(censusL, censusR, prior16,
                                                                                              image, p, own16, scan, sum);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 template <typename T>

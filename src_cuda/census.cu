@@ -1,10 +1,10 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Census transform, CUDA twin of src/census.cpp (same bits, same clamped border).
+// Census transform, CUDA twin of src/census.simd.hpp (same bits, same clamped border).
 
 #include "cuda_stages.hpp"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -73,10 +73,10 @@ void runCensus(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<int> censusL, Pt
                int padAfter, cudaStream_t stream)
 {
     const dim3 block(BX, BY);
-    const dim3 grid(cv::cuda::device::divUp(censusL.cols + padBefore + padAfter, block.x),
-                    cv::cuda::device::divUp(censusL.rows, block.y), 2);
+    const dim3 grid(cv::cudev::divUp(censusL.cols + padBefore + padAfter, block.x),
+                    cv::cudev::divUp(censusL.rows, block.y), 2);
     censusKernel<T><<<grid, block, 0, stream>>>(left, right, censusL, censusR, padBefore, padAfter);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 void censusTransform(PtrStepSz<uchar> left, PtrStepSz<uchar> right, PtrStepSz<int> censusL, PtrStepSz<int> censusR,

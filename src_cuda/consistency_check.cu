@@ -7,7 +7,7 @@
 // Tile coordinates are packed in 16 bits each (images below 32768 pixels a side).
 
 #include "sparse_window.cuh"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -97,7 +97,7 @@ const dim3 BLOCK(32, 8);
 
 static dim3 gridFor(int cols, int rows)
 {
-    return dim3(cv::cuda::device::divUp(cols, BLOCK.x), cv::cuda::device::divUp(rows, BLOCK.y));
+    return dim3(cv::cudev::divUp(cols, BLOCK.x), cv::cudev::divUp(rows, BLOCK.y));
 }
 
 template <typename T>
@@ -108,14 +108,14 @@ void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short
     const size_t smem = p.lidarCheck ? tileKernelSmem(checkKernel<T>, BLOCK, p.checkRadius) : 0;
     checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
                                                                                 rings, p, out);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 template <typename T>
 void runEncode(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out, cudaStream_t stream)
 {
     encodeKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, 0, stream>>>(disp16, minD, out);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 } // namespace

@@ -5,7 +5,7 @@
 // ranks above every value, clamped border, median of the sorted columns), all maps in one launch.
 
 #include "cuda_stages.hpp"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -39,10 +39,10 @@ __global__ void medianKernel(MedianMaps maps)
 void medianFilter(const MedianMaps& maps, int count, cudaStream_t stream)
 {
     const dim3 block(32, 8);
-    const dim3 grid(cv::cuda::device::divUp(maps.src[0].cols, block.x), cv::cuda::device::divUp(maps.src[0].rows, block.y),
+    const dim3 grid(cv::cudev::divUp(maps.src[0].cols, block.x), cv::cudev::divUp(maps.src[0].rows, block.y),
                     count);
     medianKernel<<<grid, block, 0, stream>>>(maps);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

@@ -6,7 +6,7 @@
 // the result does not depend on the order the points are processed in.
 
 #include "cuda_stages.hpp"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -43,20 +43,20 @@ __global__ void toKitti16Kernel(PtrStepSz<float> disp, PtrStepSz<ushort> out)
 void projectPoints(const float* points, int n, int stride, const double PT[12], double focalBaseline,
                    PtrStepSz<float> disp, PtrStepSz<ushort> out16, cudaStream_t stream)
 {
-    cudaSafeCall(cudaMemset2DAsync(disp.data, disp.step, 0, disp.cols * sizeof(float), disp.rows, stream));
+    CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(disp.data, disp.step, 0, disp.cols * sizeof(float), disp.rows, stream));
     Projection34 P;
     for (int k = 0; k < 12; k++)
         P.m[k] = PT[k];
     if (n > 0)
         projectKernel<<<(n + 255) / 256, 256, 0, stream>>>(points, n, stride, P, focalBaseline,
                                                            PtrStepSz<int>(disp.rows, disp.cols, (int*)disp.data, disp.step));
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
     if (out16.data)
     {
         const dim3 block(32, 8);
-        const dim3 grid(cv::cuda::device::divUp(out16.cols, block.x), cv::cuda::device::divUp(out16.rows, block.y));
+        const dim3 grid(cv::cudev::divUp(out16.cols, block.x), cv::cudev::divUp(out16.rows, block.y));
         toKitti16Kernel<<<grid, block, 0, stream>>>(disp, out16);
-        cudaSafeCall(cudaGetLastError());
+        CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
 }
 

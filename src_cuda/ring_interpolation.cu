@@ -6,7 +6,7 @@
 // host.
 
 #include "cuda_stages.hpp"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -94,20 +94,20 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
                       const PipelineParams& p, PtrStepSz<short> semidense16, PtrStepSz<short> above,
                       PtrStepSz<short> below, int* stats, cudaStream_t stream)
 {
-    using cv::cuda::device::divUp;
+    using cv::cudev::divUp;
     const int W = semidense16.cols, H = semidense16.rows;
     ringNeighboursKernel<<<divUp(W, 32), dim3(32, 32), 0, stream>>>(sparse16, above, below);
-    cudaSafeCall(cudaGetLastError());
-    cudaSafeCall(cudaMemsetAsync(stats, 0, (RING_GAP_BINS + 1) * sizeof(int), stream));
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaMemsetAsync(stats, 0, (RING_GAP_BINS + 1) * sizeof(int), stream));
     const dim3 block(32, 8), grid(divUp(W, block.x), divUp(H, block.y));
     ringGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, above, below, stats);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
     ringGapLimitKernel<<<1, 1, 0, stream>>>(stats, p.ringGapFactor16);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
     ringFillKernel<<<grid, block, 0, stream>>>(censusL, censusR, sparse16, above, below, stats,
                                                p.semidenseThreshold, p.minDisparity,
                                                p.minDisparity + p.numDisparities - 1, semidense16);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

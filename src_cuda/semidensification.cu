@@ -5,7 +5,7 @@
 // identically.
 
 #include "sparse_window.cuh"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -47,11 +47,11 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream)
 {
     const dim3 block(32, 8);
-    const dim3 grid(cv::cuda::device::divUp(semidense16.cols, block.x), cv::cuda::device::divUp(semidense16.rows, block.y));
+    const dim3 grid(cv::cudev::divUp(semidense16.cols, block.x), cv::cudev::divUp(semidense16.rows, block.y));
     const int rs = p.semidenseRadius;
     const size_t smem = tileKernelSmem(semidenseKernel, block, rs);
     semidenseKernel<<<grid, block, smem, stream>>>(censusL, censusR, sparse16, rs, p.semidenseThreshold, semidense16);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

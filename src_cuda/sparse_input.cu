@@ -4,7 +4,7 @@
 // Sparse input to the internal 1/16-pixel map, CUDA twin of src/sparse_input.cpp (sparseFromKitti16, sparseFromFloat).
 
 #include "cuda_stages.hpp"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -24,10 +24,10 @@ void runConvert(PtrStepSz<T> sparse, int minDisparity, int numDisparities, PtrSt
                 cudaStream_t stream)
 {
     const dim3 block(32, 8);
-    const dim3 grid(cv::cuda::device::divUp(sparse16.cols, block.x), cv::cuda::device::divUp(sparse16.rows, block.y));
+    const dim3 grid(cv::cudev::divUp(sparse16.cols, block.x), cv::cudev::divUp(sparse16.rows, block.y));
     convertSparseKernel<T><<<grid, block, 0, stream>>>(sparse, minDisparity, minDisparity + numDisparities - 1,
                                                        sparse16);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,

@@ -9,7 +9,7 @@
 #define OPENCV_LIDARSGM_SPARSE_WINDOW_CUH
 
 #include "cuda_stages.hpp"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -26,7 +26,7 @@ static size_t tileKernelSmem(Kernel kernel, dim3 block, int r)
 {
     const size_t smem = tilePointsBytes(block.x, block.y, r);
     if (smem > 48 * 1024)
-        cudaSafeCall(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
+        CV_CUDEV_SAFE_CALL(cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, (int)smem));
     return smem;
 }
 

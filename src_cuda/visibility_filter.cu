@@ -68,25 +68,25 @@ __global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, in
 void testScan(PtrStepSz<short> sparse16, int* stats, cudaStream_t stream)
 {
     const dim3 block(32, 8);
-    const dim3 grid(cv::cuda::device::divUp(sparse16.cols, block.x), cv::cuda::device::divUp(sparse16.rows, block.y));
-    cudaSafeCall(cudaMemsetAsync(stats, 0, 2 * SCAN_GAP_BINS * sizeof(int), stream));
+    const dim3 grid(cv::cudev::divUp(sparse16.cols, block.x), cv::cudev::divUp(sparse16.rows, block.y));
+    CV_CUDEV_SAFE_CALL(cudaMemsetAsync(stats, 0, 2 * SCAN_GAP_BINS * sizeof(int), stream));
     scanGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, stats);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
     scanTestKernel<<<1, 1, 0, stream>>>(stats);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16,
                         const int* stats, cudaStream_t stream)
 {
     const dim3 block(32, 8);
-    const dim3 grid(cv::cuda::device::divUp(sparse16.cols, block.x), cv::cuda::device::divUp(sparse16.rows, block.y));
+    const dim3 grid(cv::cudev::divUp(sparse16.cols, block.x), cv::cudev::divUp(sparse16.rows, block.y));
     const bool growth = p.visibilityParallax256 > 0;
     // The tile's margin: the larger half-size of the base window grown by the largest parallax growth.
     const int reach = std::max(p.visibilityRadiusX, p.visibilityRadiusY) + visibilityGrowth(p);
     const size_t smem = tileKernelSmem(visibilityKernel, block, reach);
     visibilityKernel<<<grid, block, smem, stream>>>(sparse16, p, reach, growth ? stats : nullptr, visible16);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

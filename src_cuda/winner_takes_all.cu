@@ -1,13 +1,13 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Winner-takes-all, CUDA twin of src/winner_takes_all.cpp. Ties go to the smallest disparity, as on the CPU:
+// Winner-takes-all, CUDA twin of src/winner_takes_all.simd.hpp. Ties go to the smallest disparity, as on the CPU:
 // candidates are compared as (cost << 16 | d). The right-view disparity is an atomicMin of the same keys per right
 // pixel, so its result does not depend on the order the threads run in.
 
 #include "cuda_stages.hpp"
 #include "aggregation.cuh"
-#include "opencv2/core/cuda/common.hpp"
+#include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -160,7 +160,7 @@ void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, P
                     PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
                     PtrStepSz<short> nonUnique16, cudaStream_t stream)
 {
-    cudaSafeCall(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
+    CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
                                    stream));
     const dim3 grid((width + SEG - 1) / SEG, sum.rows);
     const auto launch = [&](void (*kernel)(PtrStepSz<ushort>, int, PipelineParams, PtrStepSz<short>, PtrStepSz<short>,
@@ -174,11 +174,11 @@ void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, P
     case 3: launch(wtaKernel<3>); break;
     default: launch(wtaKernel<4>); break;
     }
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
     const dim3 block(32, 8);
-    const dim3 grid2(cv::cuda::device::divUp(width, block.x), cv::cuda::device::divUp(sum.rows, block.y));
+    const dim3 grid2(cv::cudev::divUp(width, block.x), cv::cudev::divUp(sum.rows, block.y));
     rightKeyToDisparity<<<grid2, block, 0, stream>>>(rightKey, p.minDisparity, dispRight);
-    cudaSafeCall(cudaGetLastError());
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl
