@@ -223,25 +223,4 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     EXPECT_THROW(n->read(fs.root()), cv::Exception);
 }
 
-TEST(Lidarsgm_API, deterministic_across_runs_and_threads)
-{
-    const std::string dir = cvtest::findDataDirectory("kitti");
-    Mat l = imread(dir + "/image_2/000002_10.png", IMREAD_GRAYSCALE), r = imread(dir + "/image_3/000002_10.png", IMREAD_GRAYSCALE);
-    ASSERT_FALSE(l.empty());
-    Mat s(l.size(), CV_32F, Scalar::all(0));
-    RNG rng(5);
-    for (int i = 0; i < 20000; i++)
-        s.at<float>(rng.uniform(0, l.rows), rng.uniform(0, l.cols)) = (float)rng.uniform(1.0, 100.0);
-    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
-    Mat a, b, c;
-    const int threads = getNumThreads();
-    m->compute(l, r, s, a);
-    m->compute(l, r, s, b);
-    setNumThreads(1);
-    m->compute(l, r, s, c);
-    setNumThreads(threads);
-    EXPECT_EQ(0, cvtest::norm(a, b, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(a, c, NORM_INF));
-}
-
 }} // namespace

@@ -36,7 +36,7 @@ static Mat runCheck(int check, int dx, int sparseValue16, int rc = 20, int tc16 
     return out;
 }
 
-TEST(Lidarsgm_Consistency, lidar_rescues_left_right_failure)
+TEST(Lidarsgm_ConsistencyCheck, lidar_rescues_left_right_failure)
 {
     // |160 - 184| = 24 <= 32: the LiDAR view confirms pixel 30.
     EXPECT_EQ(160, runCheck(SLS::CHECK_STEREO_LIDAR, 15, 184).at<short>(0, 30));
@@ -45,7 +45,7 @@ TEST(Lidarsgm_Consistency, lidar_rescues_left_right_failure)
     EXPECT_EQ(160, runCheck(SLS::CHECK_NONE, 15, 184).at<short>(0, 30));
 }
 
-TEST(Lidarsgm_Consistency, window_and_threshold_edges)
+TEST(Lidarsgm_ConsistencyCheck, window_and_threshold_edges)
 {
     EXPECT_EQ(160, runCheck(SLS::CHECK_STEREO_LIDAR, 20, 184).at<short>(0, 30));      // at the window's edge
     EXPECT_EQ(NO_DISP, runCheck(SLS::CHECK_STEREO_LIDAR, 21, 184).at<short>(0, 30));  // just outside
@@ -53,7 +53,7 @@ TEST(Lidarsgm_Consistency, window_and_threshold_edges)
     EXPECT_EQ(NO_DISP, runCheck(SLS::CHECK_STEREO_LIDAR, -3, 193).at<short>(0, 30));  // 1/16 px over
 }
 
-TEST(Lidarsgm_Consistency, left_right_pass_and_camera_lidar_rejection)
+TEST(Lidarsgm_ConsistencyCheck, left_right_pass_and_camera_lidar_rejection)
 {
     // Pixel 40 passes left-right; with no sparse value near 5 px the camera-LiDAR check drops it.
     EXPECT_EQ(80, runCheck(SLS::CHECK_STEREO, 15, 184).at<short>(0, 40));

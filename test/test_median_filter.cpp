@@ -21,7 +21,7 @@ static short referenceMedian(const Mat& m, int x, int y)
     return v[4] == INT_MAX ? NO_DISP : (short)v[4];
 }
 
-TEST(Lidarsgm_Median, matches_the_rule_on_random_maps)
+TEST(Lidarsgm_MedianFilter, matches_the_rule_on_random_maps)
 {
     RNG rng(7);
     const Size sizes[] = { Size(1, 1), Size(1, 9), Size(9, 1), Size(2, 2), Size(7, 5), Size(33, 17), Size(130, 41) };
@@ -42,7 +42,7 @@ TEST(Lidarsgm_Median, matches_the_rule_on_random_maps)
         }
 }
 
-TEST(Lidarsgm_Median, holes_and_outliers)
+TEST(Lidarsgm_MedianFilter, holes_and_outliers)
 {
     // A hole with 4 invalid pixels in its window is filled; with 5 it stays; a lone outlier is removed.
     Mat src(5, 24, CV_16SC1, Scalar::all(160)), dst;

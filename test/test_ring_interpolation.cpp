@@ -169,39 +169,4 @@ TEST(Lidarsgm_RingInterpolationApi, parameter)
     EXPECT_GT(countNonZero(on >= 0), countNonZero(off >= 0) + 500);   // 62000 + 879 measured
 }
 
-/* Through the API: semidenseWeight is range-checked and reaches the pipeline on LiDAR scans only. On the KITTI frame
-(a scan) SDSGM's output changes with it and DSGM's (no copies) does not; on a sample scattered over the image (the
-Middlebury protocol's kind, no scan) nothing changes. */
-TEST(Lidarsgm_SemidenseWeightApi, parameter)
-{
-    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
-    EXPECT_EQ(1.0, m->getSemidenseWeight());
-    EXPECT_THROW(m->setSemidenseWeight(0), cv::Exception);
-    EXPECT_THROW(m->setSemidenseWeight(1.5), cv::Exception);
-    EXPECT_THROW(m->setSemidenseWeight(std::numeric_limits<double>::quiet_NaN()), cv::Exception);
-    Mat l, r, s;
-    loadKittiTestFrame("000002", l, r, s);
-    RNG rng(5);
-    Mat scattered(s.size(), CV_32FC1, Scalar::all(0));
-    for (int i = 0; i < s.size().area() / 100; i++)
-        scattered.at<float>(rng.uniform(0, s.rows), rng.uniform(0, s.cols)) = (float)rng.uniform(5.0, 60.0);
-    for (int mode : { StereoLidarSGM::MODE_DSGM, StereoLidarSGM::MODE_SDSGM })
-        for (int k = 0; k < 2; k++)
-        {
-            const Mat& sparse = k ? scattered : s;
-            SCOPED_TRACE(cv::format("mode %d, %s", mode, k ? "scattered sample" : "LiDAR scan"));
-            m->setMode(mode);
-            Mat full, half;
-            m->setSemidenseWeight(1.0);
-            m->compute(l, r, sparse, full);
-            m->setSemidenseWeight(0.5);
-            m->compute(l, r, sparse, half);
-            const int changed = countNonZero(full != half);
-            if (mode == StereoLidarSGM::MODE_SDSGM && k == 0)
-                EXPECT_GT(changed, 1000);   // 161486 measured
-            else
-                EXPECT_EQ(0, changed);
-        }
-}
-
 }} // namespace

@@ -8,7 +8,7 @@ using namespace cv::lidarsgm::detail;
 
 // Left census all zero; right census zero at columns 5 and 7, three bits elsewhere, so H(p, d) = 0 exactly when
 // x - d is 5 or 7, else 3. Two sparse points on row 2: d = 5 at x = 10 and d = 7 at x = 12.
-class Lidarsgm_Semidense : public testing::Test
+class Lidarsgm_Semidensification : public testing::Test
 {
 protected:
     void SetUp() CV_OVERRIDE
@@ -32,7 +32,7 @@ protected:
     PipelineParams p;
 };
 
-TEST_F(Lidarsgm_Semidense, choice)
+TEST_F(Lidarsgm_Semidensification, choice)
 {
     Mat out;
     semidensify(cl, cr, sparse, p, out);
@@ -45,7 +45,7 @@ TEST_F(Lidarsgm_Semidense, choice)
     EXPECT_EQ(NO_DISP, out.at<short>(2, 25));      // no sparse point within rs
 }
 
-TEST_F(Lidarsgm_Semidense, threshold_and_radius)
+TEST_F(Lidarsgm_Semidensification, threshold_and_radius)
 {
     Mat out;
     p.semidenseThreshold = 0;  // no cost is below 0: only the own values remain
@@ -63,7 +63,7 @@ TEST_F(Lidarsgm_Semidense, threshold_and_radius)
     EXPECT_EQ(NO_DISP, out.at<short>(2, 14));
 }
 
-TEST_F(Lidarsgm_Semidense, own_value_kept_when_nothing_matches)
+TEST_F(Lidarsgm_Semidensification, own_value_kept_when_nothing_matches)
 {
     cr.setTo(Scalar::all(0x7FFF));  // every candidate costs 15
     Mat out;
@@ -76,7 +76,7 @@ TEST_F(Lidarsgm_Semidense, own_value_kept_when_nothing_matches)
 namespace opencv_test { namespace {
 
 // semidenseKey orders the candidates of one pixel exactly as (cost, squared distance, row, column) lexicographically.
-TEST(Lidarsgm_Semidensify, key_order_is_the_lexicographic_order)
+TEST_F(Lidarsgm_Semidensification, key_order_is_the_lexicographic_order)
 {
     using namespace cv::lidarsgm::detail;
     RNG rng(11);

@@ -15,7 +15,7 @@ static PipelineParams visibilityParams(int rx, int ry, int tc16)
     return p;
 }
 
-TEST(Lidarsgm_Visibility, nearer_points_hide_farther_ones_in_the_window)
+TEST(Lidarsgm_VisibilityFilter, nearer_points_hide_farther_ones_in_the_window)
 {
     // A near object (disparity 40 px) whose points surround a background point (10 px) seen past its edge, and a
     // background point outside the window.
@@ -46,7 +46,7 @@ TEST(Lidarsgm_Visibility, nearer_points_hide_farther_ones_in_the_window)
     EXPECT_EQ(10 * 16, out.at<short>(10, 10));
 }
 
-TEST(Lidarsgm_Visibility, window_grows_with_the_disparity_step)
+TEST(Lidarsgm_VisibilityFilter, window_grows_with_the_disparity_step)
 {
     // hiddenBy at parallax 0.25: the window (2 x 4) grows by 1 px per 4 px of disparity step, at most
     // VISIBILITY_MAX_GROWTH.
@@ -87,7 +87,7 @@ static Mat syntheticScan(bool transposed)
     return s;
 }
 
-TEST(Lidarsgm_Visibility, growth_applies_to_scans_only)
+TEST(Lidarsgm_VisibilityFilter, growth_applies_to_scans_only)
 {
     PipelineParams p = visibilityParams(4, 4, 32);
     p.numDisparities = 64;
@@ -106,7 +106,7 @@ TEST(Lidarsgm_Visibility, growth_applies_to_scans_only)
     }
 }
 
-TEST(Lidarsgm_Visibility, matcher_drops_hidden_points_before_every_stage)
+TEST(Lidarsgm_VisibilityFilter, matcher_drops_hidden_points_before_every_stage)
 {
     // With the filter on, the matcher behaves as if the hidden points were not in the input.
     RNG rng(3);

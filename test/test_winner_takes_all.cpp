@@ -16,7 +16,7 @@ static PipelineParams wtaParams(int minD, int D, bool subpixel, double uniq)
     return p;
 }
 
-TEST(Lidarsgm_WTA, subpixel_parabola_and_uniqueness)
+TEST(Lidarsgm_WinnerTakesAll, subpixel_parabola_and_uniqueness)
 {
     const int W = 1, D = 16;
     Mat sum(1, W * D, CV_16UC1, Scalar::all(100));
@@ -45,7 +45,7 @@ TEST(Lidarsgm_WTA, subpixel_parabola_and_uniqueness)
     EXPECT_EQ(5 * 16 + 3, d16.at<short>(0, 0));
 }
 
-TEST(Lidarsgm_WTA, right_view_disparity)
+TEST(Lidarsgm_WinnerTakesAll, right_view_disparity)
 {
     // Three left pixels, D = 16, minD = 0: pixel x at index k sees right pixel x - k.
     const int W = 3, D = 16;
