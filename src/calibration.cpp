@@ -7,6 +7,8 @@
 #include "precomp.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/lidarsgm/calibration.hpp"
+#include "pipeline.hpp"
+#include "projection.hpp"
 #include <mutex>
 
 namespace cv { namespace lidarsgm {
@@ -24,23 +26,6 @@ const int kMinPoints = 200;            // fewer points with a stereo disparity: 
 const double kMaxStdDeg = 0.1;         // a larger standard error on any angle: refused as not told by the data
 const double kMaxCorrectionDeg = 5;    // beyond this the linearised steps and the basin do not hold
 const int kJackknifeStrips = 8;        // groups of a jackknife over fewer than four frames
-
-Matx44d toMatx44(InputArray m, const char* name)
-{
-    Mat a = m.getMat();
-    if (a.channels() != 1 || (a.depth() != CV_32F && a.depth() != CV_64F) ||
-        !((a.rows == 3 || a.rows == 4) && a.cols == 4))
-        CV_Error_(Error::StsBadArg, ("lidarsgm: LidarCalibration: %s must be a 3x4 or 4x4 CV_32F or CV_64F matrix", name));
-    Mat d;
-    a.convertTo(d, CV_64F);
-    Matx44d T = Matx44d::eye();
-    for (int i = 0; i < d.rows; i++)
-        for (int j = 0; j < 4; j++)
-            T(i, j) = d.at<double>(i, j);
-    for (int i = 0; i < 16; i++)
-        CV_CheckTrue(std::isfinite(T.val[i]), "lidarsgm: LidarCalibration: the matrices must be finite");
-    return T;
-}
 
 //! A NaN-aware Gaussian smoothing of a disparity map (normalised convolution): a pixel keeps a value where at
 //! least half of the kernel's weight falls on valid pixels.
@@ -161,7 +146,7 @@ public:
                      "lidarsgm: LidarCalibration: scanRate must be finite, within [-100, 100] Hz (0: no sweep)");
         if (projection.rows() != 3)
             CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration: projection must be 3x4");
-        P_ = toMatx44(projection, "projection").get_minor<3, 4>(0, 0);
+        P_ = detail::toMatx34(projection, "projection");
         matcher_ = StereoLidarSGM::create(0, numDisparities, 10, 120, 5, 160, 0.7, StereoLidarSGM::MODE_SGM,
                                           StereoLidarSGM::CHECK_STEREO);
         matcher_->setOutputType(CV_32F);
@@ -174,17 +159,11 @@ public:
         Mat pts = points.getMat();
         if (pts.empty())
             CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: the scan has no points");
-        int stride = 0;
-        if (pts.depth() == CV_32F && pts.channels() == 1 && (pts.cols == 3 || pts.cols == 4))
-            stride = pts.cols;
-        else if (pts.depth() == CV_32F && (pts.channels() == 3 || pts.channels() == 4) && (pts.cols == 1 || pts.rows == 1))
-            stride = pts.channels();
-        if (stride == 0)
-            CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: points must be N x 3 or N x 4 CV_32F "
-                                       "(or N x 1 with 3 or 4 channels)");
+        int n = 0, stride = 0;
+        detail::pointLayout(pts.rows, pts.cols, pts.channels(), pts.depth(), false, n, stride);
         if (!pts.isContinuous())
             pts = pts.clone();
-        pts = pts.reshape(1, (int)(pts.total() * pts.channels() / stride));
+        pts = pts.reshape(1, n);
         FrameData f;
         f.points.create(pts.rows, 4, CV_64F);
         int kept = 0;
@@ -211,16 +190,26 @@ public:
         // beyond it (and a flat image gives 0 everywhere).
         f.disp = disp;
         f.disp.setTo(std::numeric_limits<float>::quiet_NaN(), (disp <= 0) | (disp >= numDisparities_ - 1));
-        std::lock_guard<std::mutex> lock(mutex_);
+        std::lock_guard<std::mutex> lock(mutex_);   // the matcher serialises its own calls
         frames_.push_back(f);
     }
 
-    int getNumFrames() const CV_OVERRIDE { return (int)frames_.size(); }
-    void clear() CV_OVERRIDE { frames_.clear(); }
+    int getNumFrames() const CV_OVERRIDE
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return (int)frames_.size();
+    }
+
+    void clear() CV_OVERRIDE
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        frames_.clear();
+    }
 
     double residual(InputArray lidarToCamera) const CV_OVERRIDE
     {
         CV_INSTRUMENT_REGION();
+        std::lock_guard<std::mutex> lock(mutex_);
         requireFrames("residual");
         const std::vector<Mat> pts = cameraPoints(checkedTransform(lidarToCamera));
         return medianResidual(pts, std::vector<double>(frames_.size(), 0.0), nullptr);
@@ -229,6 +218,7 @@ public:
     CalibrationCorrection refine(InputArray lidarToCamera, bool translation) const CV_OVERRIDE
     {
         CV_INSTRUMENT_REGION();
+        std::lock_guard<std::mutex> lock(mutex_);
         requireFrames("refine");
         const Matx44d T = checkedTransform(lidarToCamera);
         const int n = translation ? 4 : 3;
@@ -331,15 +321,26 @@ private:
             CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::%s: add frames first (addFrame)", what));
     }
 
+    //! lidarToCamera checked as projectPointsToDisparity checks it, as a 4x4 transform.
     static Matx44d checkedTransform(InputArray lidarToCamera)
     {
-        const Matx44d T = toMatx44(lidarToCamera, "lidarToCamera");
-        const Matx33d R = T.get_minor<3, 3>(0, 0);
-        CV_CheckTrue(norm(R * R.t() - Matx33d::eye(), NORM_INF) < 1e-3 && std::abs(determinant(R) - 1) < 1e-3,
-                     "lidarsgm: LidarCalibration: lidarToCamera must be a rigid transform (its 3x3 block a rotation)");
-        CV_CheckTrue(T(3, 0) == 0 && T(3, 1) == 0 && T(3, 2) == 0 && T(3, 3) == 1,
-                     "lidarsgm: LidarCalibration: the last row of a 4x4 lidarToCamera must be [0 0 0 1]");
-        return T;
+        const Matx34d T = detail::toMatx34(lidarToCamera, "lidarToCamera");
+        detail::checkRigidTransform(T);
+        return Matx44d(T(0, 0), T(0, 1), T(0, 2), T(0, 3), T(1, 0), T(1, 1), T(1, 2), T(1, 3), T(2, 0), T(2, 1),
+                       T(2, 2), T(2, 3), 0, 0, 0, 1);
+    }
+
+    /** The pixel (u, v) and depth z of camera-frame point Y through the projection (projectRow, as
+    projectPointsToDisparity computes them); false for a point less than 1 m in front of the camera, whose disparity
+    lies beyond any search range. */
+    bool project(const Vec3d& Y, double& u, double& v, double& z) const
+    {
+        z = detail::projectRow(P_.val + 8, Y[0], Y[1], Y[2]);
+        if (!(z > 1))
+            return false;
+        u = detail::projectRow(P_.val, Y[0], Y[1], Y[2]) / z;
+        v = detail::projectRow(P_.val + 4, Y[0], Y[1], Y[2]) / z;
+        return true;
     }
 
     /** The points of every frame in the camera frame of T (N x 4 CV_64F: x, y, z, time), keeping those in front of
@@ -359,11 +360,9 @@ private:
             {
                 const double* q = f.points.ptr<double>(i);
                 const Vec4d Y = T * Vec4d(q[0], q[1], q[2], 1);
-                const double z = P_(2, 0) * Y[0] + P_(2, 1) * Y[1] + P_(2, 2) * Y[2] + P_(2, 3);
-                if (!(z > 1))
+                double u, v, z;
+                if (!project(Vec3d(Y[0], Y[1], Y[2]), u, v, z))
                     continue;
-                const double u = (P_(0, 0) * Y[0] + P_(0, 1) * Y[1] + P_(0, 2) * Y[2] + P_(0, 3)) / z;
-                const double v = (P_(1, 0) * Y[0] + P_(1, 1) * Y[1] + P_(1, 2) * Y[2] + P_(1, 3)) / z;
                 if (u < -kMargin * W || u > (1 + kMargin) * W || v < -kMargin * H || v > (1 + kMargin) * H)
                     continue;
                 double* o = c.ptr<double>(kept++);
@@ -388,11 +387,9 @@ private:
             const double* q = pts.ptr<double>(i);
             Vec3d Y = m.R * Vec3d(q[0], q[1], q[2]) + m.t;
             Y[2] += speed * q[3];   // the rig moved speed * time forward between the exposure and the point
-            const double z = P_(2, 0) * Y[0] + P_(2, 1) * Y[1] + P_(2, 2) * Y[2] + P_(2, 3);
-            if (!(z > 1))   // behind or at the camera: no disparity in the search range
+            double u, v, z;
+            if (!project(Y, u, v, z))
                 continue;
-            const double u = (P_(0, 0) * Y[0] + P_(0, 1) * Y[1] + P_(0, 2) * Y[2] + P_(0, 3)) / z;
-            const double v = (P_(1, 0) * Y[0] + P_(1, 1) * Y[1] + P_(1, 2) * Y[2] + P_(1, 3)) / z;
             const double s = sampleBilinear(map, u, v);
             if (s == s)
                 out(i, fB_ / z - s, u);
@@ -547,7 +544,7 @@ private:
     double scanRate_;
     Ptr<StereoLidarSGM> matcher_;
     std::vector<FrameData> frames_;
-    std::mutex mutex_;
+    mutable std::mutex mutex_;   //!< guards frames_: the public calls of one instance run one at a time
 };
 
 } // namespace

@@ -5,10 +5,11 @@
 
 #include "precomp.hpp"
 #include "pipeline.hpp"
+#include "projection.hpp"
 
 namespace cv { namespace lidarsgm {
 
-namespace {
+namespace detail {
 
 Matx34d toMatx34(InputArray m, const char* name)
 {
@@ -35,35 +36,15 @@ Matx34d toMatx34(InputArray m, const char* name)
     return r;
 }
 
-} // namespace
-
-//! Checks the calibration arguments and returns projection * lidarToCamera (3x4).
-static Matx34d checkedProjection(InputArray _projection, InputArray _lidarToCamera, double focalBaseline, Size imageSize,
-                                 int dtype)
+void checkRigidTransform(const Matx34d& T)
 {
-    CV_CheckTrue(dtype == CV_32F || dtype == CV_16U, "lidarsgm: projectPointsToDisparity: dtype must be CV_32F or CV_16U");
-    CV_CheckTrue(imageSize.width > 0 && imageSize.height > 0, "lidarsgm: projectPointsToDisparity: imageSize must be positive");
-    CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0, "lidarsgm: projectPointsToDisparity: focalBaseline must be finite and > 0");
-    const Matx34d P = toMatx34(_projection, "projection");
-    const Matx34d T = toMatx34(_lidarToCamera, "lidarToCamera");
-    {
-        Matx33d M(P(0, 0), P(0, 1), P(0, 2), P(1, 0), P(1, 1), P(1, 2), P(2, 0), P(2, 1), P(2, 2));
-        const double scale = std::max(norm(M, NORM_INF), DBL_MIN);
-        CV_CheckTrue(std::abs(determinant(M)) > 1e-9 * scale * scale * scale,
-                     "lidarsgm: the projection's left 3x3 block is singular");
-        Matx33d R(T(0, 0), T(0, 1), T(0, 2), T(1, 0), T(1, 1), T(1, 2), T(2, 0), T(2, 1), T(2, 2));
-        const double orthErr = norm(R * R.t() - Matx33d::eye(), NORM_INF);
-        CV_CheckTrue(orthErr < 1e-3 && std::abs(determinant(R) - 1.0) < 1e-3,
-                     "lidarsgm: lidarToCamera must be a rigid transform (its 3x3 block a rotation)");
-    }
-    return Matx44d(P(0, 0), P(0, 1), P(0, 2), P(0, 3), P(1, 0), P(1, 1), P(1, 2), P(1, 3),
-                   P(2, 0), P(2, 1), P(2, 2), P(2, 3), 0, 0, 0, 1).get_minor<3, 4>(0, 0) *
-           Matx44d(T(0, 0), T(0, 1), T(0, 2), T(0, 3), T(1, 0), T(1, 1), T(1, 2), T(1, 3),
-                   T(2, 0), T(2, 1), T(2, 2), T(2, 3), 0, 0, 0, 1);
+    const Matx33d R = T.get_minor<3, 3>(0, 0);
+    const double orthErr = norm(R * R.t() - Matx33d::eye(), NORM_INF);
+    CV_CheckTrue(orthErr < 1e-3 && std::abs(determinant(R) - 1.0) < 1e-3,
+                 "lidarsgm: lidarToCamera must be a rigid transform (its 3x3 block a rotation)");
 }
 
-//! Number of points and floats per point of an N x 3 / N x 4 (or N x 1 with 3 or 4 channels) CV_32F array.
-static void pointLayout(int rows, int cols, int channels, int depth, bool empty, int& n, int& stride)
+void pointLayout(int rows, int cols, int channels, int depth, bool empty, int& n, int& stride)
 {
     n = 0;
     stride = 0;
@@ -83,6 +64,33 @@ static void pointLayout(int rows, int cols, int channels, int depth, bool empty,
     else
         CV_Error_(Error::StsBadSize, ("lidarsgm: points must be N x 3 or N x 4 (or N x 1 with 3 or 4 channels), got %dx%d with %d channels",
                                       rows, cols, channels));
+}
+
+} // namespace detail
+
+using detail::pointLayout;
+using detail::toMatx34;
+
+//! Checks the calibration arguments and returns projection * lidarToCamera (3x4).
+static Matx34d checkedProjection(InputArray _projection, InputArray _lidarToCamera, double focalBaseline, Size imageSize,
+                                 int dtype)
+{
+    CV_CheckTrue(dtype == CV_32F || dtype == CV_16U, "lidarsgm: projectPointsToDisparity: dtype must be CV_32F or CV_16U");
+    CV_CheckTrue(imageSize.width > 0 && imageSize.height > 0, "lidarsgm: projectPointsToDisparity: imageSize must be positive");
+    CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0, "lidarsgm: projectPointsToDisparity: focalBaseline must be finite and > 0");
+    const Matx34d P = toMatx34(_projection, "projection");
+    const Matx34d T = toMatx34(_lidarToCamera, "lidarToCamera");
+    {
+        Matx33d M(P(0, 0), P(0, 1), P(0, 2), P(1, 0), P(1, 1), P(1, 2), P(2, 0), P(2, 1), P(2, 2));
+        const double scale = std::max(norm(M, NORM_INF), DBL_MIN);
+        CV_CheckTrue(std::abs(determinant(M)) > 1e-9 * scale * scale * scale,
+                     "lidarsgm: the projection's left 3x3 block is singular");
+    }
+    detail::checkRigidTransform(T);
+    return Matx44d(P(0, 0), P(0, 1), P(0, 2), P(0, 3), P(1, 0), P(1, 1), P(1, 2), P(1, 3),
+                   P(2, 0), P(2, 1), P(2, 2), P(2, 3), 0, 0, 0, 1).get_minor<3, 4>(0, 0) *
+           Matx44d(T(0, 0), T(0, 1), T(0, 2), T(0, 3), T(1, 0), T(1, 1), T(1, 2), T(1, 3),
+                   T(2, 0), T(2, 1), T(2, 2), T(2, 3), 0, 0, 0, 1);
 }
 
 void projectPointsToDisparity(InputArray _points, InputArray _projection, InputArray _lidarToCamera,

@@ -54,7 +54,8 @@ least certain angle. Where the stereo pair or the LiDAR cannot tell (too few poi
 fog, a textureless scene, an empty or misaimed scan; or a standard error above 0.1 degree), refine() raises
 cv::Exception saying so instead of returning a guess.
 
-Frames must come from one rig with one calibration: the projection and focalBaseline are given at create().
+Frames must come from one rig with one calibration: the projection and focalBaseline are given at create(). The
+calls of one instance may come from several threads; they run one at a time.
  */
 class CV_EXPORTS_W LidarCalibration : public Algorithm
 {

@@ -1,0 +1,27 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The checks of the LiDAR inputs (src/projection.cpp), shared by the projection and the calibration refinement
+// (src/calibration.cpp).
+
+#ifndef OPENCV_LIDARSGM_PROJECTION_HPP
+#define OPENCV_LIDARSGM_PROJECTION_HPP
+
+#include "opencv2/core.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail {
+
+//! A 3x4, or 4x4 with last row [0 0 0 1], single-channel CV_32F / CV_64F matrix with finite entries, as Matx34d;
+//! raises cv::Exception naming `name` otherwise.
+Matx34d toMatx34(InputArray m, const char* name);
+
+//! Raises cv::Exception unless T's 3x3 block is a rotation (orthonormal rows, determinant 1).
+void checkRigidTransform(const Matx34d& T);
+
+//! Number of points and floats per point of an N x 3 / N x 4 (or N x 1 / 1 x N with 3 or 4 channels) CV_32F array;
+//! n = stride = 0 when empty. Raises cv::Exception for any other layout.
+void pointLayout(int rows, int cols, int channels, int depth, bool empty, int& n, int& stride);
+
+}}} // namespace cv::lidarsgm::detail
+
+#endif
