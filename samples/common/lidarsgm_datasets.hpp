@@ -255,6 +255,18 @@ inline void projectScan(Frame& f, const std::string& scanPath, const KittiCalib&
     useCalibration(f, c);
 }
 
+//! Where one frame's files lie: the left and right images and the raw Velodyne scan.
+struct FramePaths
+{
+    std::string left, right, scan;
+};
+
+//! Frame `id` of a KITTI-layout folder: image_2/ID_10.png, image_3/ID_10.png, velodyne/ID.bin.
+inline FramePaths kittiFramePaths(const std::string& dir, const std::string& id)
+{
+    return { dir + "/image_2/" + id + "_10.png", dir + "/image_3/" + id + "_10.png", dir + "/velodyne/" + id + ".bin" };
+}
+
 /** Frame `id` of a KITTI-layout folder (image_2/ID_10.png, image_3/ID_10.png, velodyne/ID.bin, calib.txt, optional
 disp_occ_0/ID_10.png): the grey pair, the raw scan (every lidarEvery-th ring from ring firstRing, see selectLidarRings)
 projected by cv::lidarsgm::projectPointsToDisparity, and the ground truth where it exists. calib, where given,
@@ -262,13 +274,13 @@ replaces calib.txt (a refined calibration). */
 inline Frame loadKittiFrame(const std::string& dir, const std::string& id, int lidarEvery = 1, int firstRing = 0,
                             const KittiCalib* calib = nullptr)
 {
+    const FramePaths paths = kittiFramePaths(dir, id);
     Frame f;
     f.name = id;
-    f.leftImage = readImage(dir + "/image_2/" + id + "_10.png");
+    f.leftImage = readImage(paths.left);
     f.left = toGrey(f.leftImage);
-    f.right = readGrey(dir + "/image_3/" + id + "_10.png");
-    projectScan(f, dir + "/velodyne/" + id + ".bin", calib ? *calib : readKittiCalib(dir + "/calib.txt"), lidarEvery,
-                firstRing);
+    f.right = readGrey(paths.right);
+    projectScan(f, paths.scan, calib ? *calib : readKittiCalib(dir + "/calib.txt"), lidarEvery, firstRing);
     const std::string gt = dir + "/disp_occ_0/" + id + "_10.png";
     if (std::ifstream(gt.c_str()).good())
         f.gt = readKittiDisparity(gt);
@@ -317,19 +329,27 @@ inline std::string kittiRawCalibDir(const std::string& drive)
     return slash == std::string::npos ? std::string(".") : d.substr(0, slash == 0 ? 1 : slash);
 }
 
+//! Frame `name` of a KITTI raw drive: image_02/data/NAME.png, image_03/data/NAME.png, velodyne_points/data/NAME.bin.
+inline FramePaths kittiRawFramePaths(const std::string& drive, const std::string& name)
+{
+    return { drive + "/image_02/data/" + name + ".png", drive + "/image_03/data/" + name + ".png",
+             drive + "/velodyne_points/data/" + name + ".bin" };
+}
+
 /** Frame `name` of a KITTI raw drive: image_02/data/NAME.png, image_03/data/NAME.png and velodyne_points/data/NAME.bin,
 with the drive's calibration c (readKittiRawCalib); no ground truth. */
 inline Frame loadKittiRawFrame(const std::string& drive, const KittiCalib& c, const std::string& name,
                                int lidarEvery = 1, int firstRing = 0)
 {
+    const FramePaths paths = kittiRawFramePaths(drive, name);
     Frame f;
     f.name = name;
-    f.leftImage = readImage(drive + "/image_02/data/" + name + ".png");
+    f.leftImage = readImage(paths.left);
     f.left = toGrey(f.leftImage);
-    f.right = readGrey(drive + "/image_03/data/" + name + ".png");
+    f.right = readGrey(paths.right);
     if (f.right.size() != f.left.size())
         CV_Error(cv::Error::StsBadSize, "the images of frame " + name + " in " + drive + " differ in size");
-    projectScan(f, drive + "/velodyne_points/data/" + name + ".bin", c, lidarEvery, firstRing);
+    projectScan(f, paths.scan, c, lidarEvery, firstRing);
     return f;
 }
 

@@ -268,7 +268,7 @@ returns the calibration the run fuses with (calib itself, or corrected). A frame
 a refinement the data cannot support (refine() refuses), or a LiDAR still far from the stereo pairs after it, sets
 stereoOnly: the run then fuses nothing and gives stereo alone, saying so, rather than fusing with a guess. */
 KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const std::vector<std::string>& ids,
-                               const std::function<void(const std::string&, Mat&, Mat&, Mat&)>& read, bool& stereoOnly)
+                               const std::function<FramePaths(const std::string&)>& paths, bool& stereoOnly)
 {
     stereoOnly = false;
     if (!o.has("check-calibration") && !o.has("refine-calibration"))
@@ -279,11 +279,10 @@ KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const 
         lidarsgm::LidarCalibration::create(calib.P2, calib.focalBaseline, 128, o.d("scan-rate", 10));
     for (const std::string& id : ids)
     {
-        Mat left, right, points;
         try
         {
-            read(id, left, right, points);
-            cal->addFrame(left, right, points);
+            const FramePaths p = paths(id);
+            cal->addFrame(readGrey(p.left), readGrey(p.right), readVelodyne(p.scan));
         }
         catch (const cv::Exception& e)
         {
@@ -353,11 +352,7 @@ int runKittiFolder(const Options& o)
         CV_Error(Error::StsObjectNotFound, dir + "/frames.txt lists no frame");
     bool stereoOnly = false;
     const KittiCalib calib = calibrationFromData(o, readKittiCalib(dir + "/calib.txt"), src.ids,
-        [&dir](const std::string& id, Mat& left, Mat& right, Mat& points) {
-            left = readGrey(dir + "/image_2/" + id + "_10.png");
-            right = readGrey(dir + "/image_3/" + id + "_10.png");
-            points = readVelodyne(dir + "/velodyne/" + id + ".bin");
-        }, stereoOnly);
+        [&dir](const std::string& id) { return kittiFramePaths(dir, id); }, stereoOnly);
     src.load = [dir, calib](const std::string& id, LidarRings rings) {
         Frame f = loadKittiFrame(dir, id, rings.every, rings.first, &calib);
         if (f.gt.empty())
@@ -382,11 +377,7 @@ int runKittiRaw(const Options& o)
     for (size_t k = 0; k < poolSize; k++)
         pool.push_back(src.ids[k * src.ids.size() / poolSize]);
     const KittiCalib calib = calibrationFromData(o, given, pool,
-        [&drive](const std::string& id, Mat& left, Mat& right, Mat& points) {
-            left = readGrey(drive + "/image_02/data/" + id + ".png");
-            right = readGrey(drive + "/image_03/data/" + id + ".png");
-            points = readVelodyne(drive + "/velodyne_points/data/" + id + ".bin");
-        }, stereoOnly);
+        [&drive](const std::string& id) { return kittiRawFramePaths(drive, id); }, stereoOnly);
     src.load = [drive, calib, gtDir](const std::string& id, LidarRings rings) {
         Frame f = loadKittiRawFrame(drive, calib, id, rings.every, rings.first);
         if (!gtDir.empty())
