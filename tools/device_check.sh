@@ -51,6 +51,17 @@ if [ "${SIZES:-0}" = 1 ]; then
     $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
   done
 fi
+if [ "${BASE:-0}" = 1 ] && [ -f .device/prebuilt_base.tar.xz ]; then
+  # The same timings with .device/prebuilt_base.tar.xz (tools/pack_device_build.sh with PACK_NAME=prebuilt_base, from
+  # an earlier commit), for a before/after on the same card.
+  mkdir -p /tmp/base && tar -xJf .device/prebuilt_base.tar.xz -C /tmp/base
+  echo "== base build $(head -c 12 /tmp/base/prebuilt/COMMIT)"
+  for a in "" "--resize 1920x1080 --num-disparities 256" "--resize 1920x1080 --num-disparities 256 --paths 4" \
+           "--resize 3840x2160 --num-disparities 256"; do
+    LD_LIBRARY_PATH=/tmp/base/prebuilt/lib /tmp/base/prebuilt/bin/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
+      --id 000002 --cuda 1 --timing 20 $a | grep -E "^device:|lidarsgm SDSGM"
+  done
+fi
 if [ "${SANITIZE:-0}" = 1 ] && command -v compute-sanitizer >/dev/null; then
   # memcheck over MEM_FILTER and racecheck over RACE_FILTER, at the same time; racecheck split into RACE_SHARDS
   # processes (gtest sharding). Racecheck takes about half a minute per KITTI-size configuration, so its default set
@@ -167,6 +178,22 @@ fi
 if [ -n "${HANDOFF:-}" ] && command -v nvcc >/dev/null; then
   # The row hand-off of a strip-wise sweep alone (tools/analysis/wavefront_handoff.cu).
   nvcc -O3 -arch=sm_90 tools/analysis/wavefront_handoff.cu -o /tmp/wavefront_handoff && /tmp/wavefront_handoff
+fi
+if [ -n "${INSTRUCTIONS:-}" ] && command -v ncu >/dev/null; then
+  # The aggregation kernels of one SDSGM call at each WxH:disparities:paths of INSTRUCTIONS: time, warp instructions
+  # executed, issue activity and the leading stall reasons (this build, then the base build where BASE=1).
+  M=gpu__time_duration.sum,smsp__inst_executed.sum,smsp__issue_active.avg.pct_of_peak_sustained_active,sm__warps_active.avg.pct_of_peak_sustained_active,launch__registers_per_thread
+  bins=$B; [ "${BASE:-0}" = 1 ] && [ -d /tmp/base/prebuilt/bin ] && bins="$B /tmp/base/prebuilt/bin"
+  for spec in $INSTRUCTIONS; do
+    args=$(spec_args "$spec")
+    for b in $bins; do
+      echo "== $spec, $(head -c 12 $b/../COMMIT 2>/dev/null || echo 'built here')"
+      LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} ncu --clock-control none \
+        -k regex:'pathKernel|verticalKernel|horizontalKernel' --launch-skip 3 --launch-count 3 --metrics $M \
+        $b/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(|^ +[a-z_]+__" \
+        | sed -E 's/^ +(void )?//; s/\(anonymous namespace\):: *//; s/<.*//; s/^.*:://' | awk '/__/ {print "   ", $1, $NF; next} {print}'
+    done
+  done
 fi
 if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
   # Per-kernel durations of the second SDSGM call at each WxH:disparities:paths of PROFILE_SIZES (the first call
