@@ -42,7 +42,6 @@ struct CudaPipeline::Buffers
     the semidense prior; after the winner-takes-all the sum volume is dead, so the right-view disparities and the
     median's outputs take its memory. */
     cuda::GpuMat censusL, censusR, sparse16, semidense16, sum;
-    cuda::GpuMat pathScratch;        //!< the aggregation's hand-off between row chunks and its work counters
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
     cuda::GpuMat ring, ringStats;    //!< ring interpolation's maps (above, then below) and gap statistics
     cuda::GpuMat scanStats;          //!< the visibility filter's scan test (gap histograms and result)
@@ -162,13 +161,10 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const bool weigh = p.weighCopies && scanStats;
     const cuda::PtrStepSz<short> own16 = weigh ? cuda::PtrStepSz<short>(b.sparse16) : cuda::PtrStepSz<short>();
     const int* scan = weigh ? scanStats + 2 * SCAN_GAP_BINS : nullptr;
-    b.pathScratch.create(1, (int)ci::aggregationScratchBytes(p, sz.width), CV_8UC1);
-    uchar* scratch = b.pathScratch.ptr();
     if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, b.sum, scratch, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, b.sum, st);
     else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, b.sum, scratch,
-                           st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, b.sum, st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
     ci::RingCheckMaps ringCheck = {};

@@ -62,17 +62,16 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
                       PtrStepSz<short> below, int* stats, cudaStream_t stream);
 
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
-and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities,
-every element written. The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0).
-own16: the filtered sparse map where copied priors take p.wCopy (copiedPrior) if the scan test's result at *scan
-(device memory) is non-zero; empty: w everywhere. scratch: aggregationScratchBytes(p, width) bytes of device memory. */
+and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
+The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). own16: the filtered
+sparse map where copied priors take p.wCopy (copiedPrior) if the scan test's result at *scan (device memory) is
+non-zero; empty: w everywhere. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
-                    uchar* scratch, cudaStream_t stream);
+                    cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
-                    uchar* scratch, cudaStream_t stream);
-size_t aggregationScratchBytes(const PipelineParams& p, int width);
+                    cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
 right-view disparity as on the CPU; nonUnique16 (may be empty) the winners that fail the uniqueness check, NO_DISP
