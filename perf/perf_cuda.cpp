@@ -2,7 +2,6 @@
 // CUDA path on KITTI frame 000002 (inputs and output on the GPU), against cv::cuda::StereoSGM in the same process.
 // Skipped where no CUDA device exists.
 #include "perf_precomp.hpp"
-#include "lidarsgm_datasets.hpp"
 #include "opencv2/core/cuda.hpp"
 #ifdef HAVE_OPENCV_CUDASTEREO
 #include "opencv2/cudastereo.hpp"
@@ -25,7 +24,7 @@ static void requireDevice()
 //! KITTI frame 000002 on the GPU, at its own size or scaled (LiDAR disparities scaled with the width).
 static void kittiOnGpu(cuda::GpuMat& l, cuda::GpuMat& r, cuda::GpuMat& s, Size size = Size())
 {
-    const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(cvtest::findDataDirectory("kitti"), "000002");
+    const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(cvtest::findDataDirectory("kitti"), "000002");
     Mat left = f.left, right = f.right, sparse = f.sparse;
     if (size.area() > 0 && size != left.size())
     {

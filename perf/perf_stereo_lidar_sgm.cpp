@@ -1,6 +1,5 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "perf_precomp.hpp"
-#include "lidarsgm_datasets.hpp"
 
 namespace opencv_test { namespace {
 
@@ -16,7 +15,7 @@ static const KittiInput& kittiFrame()
     static KittiInput in;
     if (in.left.empty())
     {
-        const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(cvtest::findDataDirectory("kitti"), "000002");
+        const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(cvtest::findDataDirectory("kitti"), "000002");
         in.left = f.left;
         in.right = f.right;
         in.sparse = f.sparse;
@@ -78,9 +77,9 @@ PERF_TEST_P(Lidarsgm_KITTI_StereoSGBM, opencv_StereoSGBM_128, SgbmMode::all())
 PERF_TEST(Lidarsgm_KITTI, projectPointsToDisparity)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_data::KittiCalib c = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
-    Mat pts = lidarsgm_data::readVelodyne(dir + "/velodyne/000002.bin"), sparse;
-    TEST_CYCLE() cv::lidarsgm::projectPointsToDisparity(pts, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), sparse);
+    cv::lidarsgm::KittiCalibration c = cv::lidarsgm::readKittiCalibration(dir + "/calib.txt");
+    Mat pts = cv::lidarsgm::readVelodyneScan(dir + "/velodyne/000002.bin"), sparse;
+    TEST_CYCLE() cv::lidarsgm::projectPointsToDisparity(pts, c.projection, c.lidarToCamera, c.focalBaseline, Size(1242, 375), sparse);
     SANITY_CHECK_NOTHING();
 }
 

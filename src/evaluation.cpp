@@ -5,6 +5,7 @@
 // bad-N, as public functions: the tool, the tests, the perf tests and the Python sample score with this one copy.
 
 #include "precomp.hpp"
+#include "opencv2/imgproc.hpp"
 
 namespace cv { namespace lidarsgm {
 
@@ -222,6 +223,46 @@ void colorizeDisparityError(InputArray _disp, InputArray _gt, OutputArray _color
                     break;
                 }
         }
+}
+
+void drawSparseDisparity(InputArray image_, InputArray sparse_, OutputArray dst, double maxDisparity)
+{
+    const Mat image = image_.getMat(), sparse = sparse_.getMat();
+    CV_CheckTypeEQ(sparse.type(), CV_32FC1, "lidarsgm: the sparse disparities must be CV_32FC1 pixels");
+    CV_Check(sparse.size(), sparse.size() == image.size(), "lidarsgm: the sparse map must have the image's size");
+    Mat grey8, out, colours;
+    if (image.depth() == CV_16U)
+        image.convertTo(grey8, CV_8U, 1.0 / 256);
+    else
+        grey8 = image;
+    CV_CheckDepthEQ(grey8.depth(), CV_8U, "lidarsgm: the image must have 8 or 16 bits");
+    if (grey8.channels() == 1)
+        cvtColor(grey8, out, COLOR_GRAY2BGR);
+    else if (grey8.channels() == 4)
+        cvtColor(grey8, out, COLOR_BGRA2BGR);
+    else
+        out = grey8.clone();
+    colorizeDisparity(sparse, colours, maxDisparity);
+    std::vector<std::pair<float, Point> > pts;
+    for (int y = 0; y < sparse.rows; y++)
+        for (int x = 0; x < sparse.cols; x++)
+            if (sparse.at<float>(y, x) > 0)
+                pts.push_back(std::make_pair(sparse.at<float>(y, x), Point(x, y)));
+    // Nearest last, so on top; equal disparities in raster order.
+    std::stable_sort(pts.begin(), pts.end(), [](const std::pair<float, Point>& a, const std::pair<float, Point>& b) {
+        return a.first < b.first; });
+    for (const auto& p : pts)
+    {
+        const Vec3b c = colours.at<Vec3b>(p.second);
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++)
+            {
+                const Point q(p.second.x + dx, p.second.y + dy);
+                if (q.x >= 0 && q.y >= 0 && q.x < out.cols && q.y < out.rows)
+                    out.at<Vec3b>(q) = c;
+            }
+    }
+    out.copyTo(dst);
 }
 
 }} // namespace cv::lidarsgm

@@ -6,7 +6,7 @@
 // check. The near object's own points lie around them, within one sample spacing plus the parallax band that widens
 // with the depth step; a point with a nearer point (by more than Tc) within that window is dropped (hiddenBy). The base
 // window is the sensor's sample footprint: about half the spacing of neighbouring samples, plus the half pixel of
-// rounding (doc/design.md derives it for KITTI's HDL-64E).
+// rounding (doc/decisions.md derives it for KITTI's HDL-64E).
 
 #include "precomp.hpp"
 #include "cpu_stages.hpp"

@@ -3,10 +3,9 @@
 // of the ground truth). Thresholds were set from measured values (doc/accuracy.md) with a small margin, so that the
 // tests fail when DDC, semidensification or the LiDAR consistency check is switched off or broken.
 #include "test_precomp.hpp"
-#include "lidarsgm_datasets.hpp"
 
 // Thresholds. Measured 2026-11-23 with the create() defaults (3x3 median on), the frames read as the tool reads them
-// (lidarsgm_data::loadKittiFrame), sums over the 2 shipped frames: SDSGM coverage 99.86 %, covered D1 1.39 %, total
+// (cv::lidarsgm::loadKittiFrame), sums over the 2 shipped frames: SDSGM coverage 99.86 %, covered D1 1.39 %, total
 // D1 1.40 % (median off: 99.02 / 1.57 / 1.69); DSGM total 1.54 %; SGM total 7.07 %; SDSGM with the stereo check
 // alone coverage 96.63 %, total 1.81 %. Cones (1 % of GT, seed 1): SDSGM total bad-2 10.28 %, SGM 12.45 %. Switching
 // off the median, DDC (SGM), semidensification (DSGM) or the LiDAR check (stereo) breaks at least one of these.
@@ -36,12 +35,12 @@ using cv::lidarsgm::StereoLidarSGM;
 using cv::lidarsgm::DisparityErrors;
 using cv::lidarsgm::evaluateDisparity;
 
-static const std::vector<lidarsgm_data::Frame>& kittiFrames()
+static const std::vector<cv::lidarsgm::StereoLidarFrame>& kittiFrames()
 {
-    static std::vector<lidarsgm_data::Frame> frames;
+    static std::vector<cv::lidarsgm::StereoLidarFrame> frames;
     if (frames.empty())
         for (const char* id : { "000002", "000046" })
-            frames.push_back(lidarsgm_data::loadKittiFrame(cvtest::findDataDirectory("kitti"), id));
+            frames.push_back(cv::lidarsgm::loadKittiFrame(cvtest::findDataDirectory("kitti"), id));
     return frames;
 }
 
@@ -55,11 +54,11 @@ static DisparityErrors runKitti(int mode, int check)
 {
     Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode, check);
     DisparityErrors total;
-    for (const lidarsgm_data::Frame& f : kittiFrames())
+    for (const cv::lidarsgm::StereoLidarFrame& f : kittiFrames())
     {
         Mat disp;
         m->compute(f.left, f.right, f.sparse, disp);
-        total.add(evaluateDisparity(disp, f.gt));
+        total.add(evaluateDisparity(disp, f.groundTruth));
     }
     print(format("mode %d check %d", mode, check), total);
     return total;
@@ -80,15 +79,15 @@ TEST(Lidarsgm_Accuracy, kitti_sdsgm_512_disparities)
 {
     Ptr<StereoLidarSGM> wide = StereoLidarSGM::create(-32, 512), base = StereoLidarSGM::create(0, 128);
     DisparityErrors w, b;
-    for (const lidarsgm_data::Frame& f : kittiFrames())
+    for (const cv::lidarsgm::StereoLidarFrame& f : kittiFrames())
     {
         Mat dw, db;
         wide->compute(f.left, f.right, f.sparse, dw);
         base->compute(f.left, f.right, f.sparse, db);
         ASSERT_EQ(CV_16SC1, dw.type());
         EXPECT_GE((int)*std::min_element(dw.begin<short>(), dw.end<short>()), (-32 - 1) * 16);   // invalid: minD - 1
-        w.add(evaluateDisparity(dw, f.gt, lidarsgm::METRIC_KITTI_D1, 2.0, -32));
-        b.add(evaluateDisparity(db, f.gt));
+        w.add(evaluateDisparity(dw, f.groundTruth, lidarsgm::METRIC_KITTI_D1, 2.0, -32));
+        b.add(evaluateDisparity(db, f.groundTruth));
     }
     print("512 from -32", w);
     EXPECT_NEAR(w.coverage(), b.coverage(), 0.1);
@@ -118,9 +117,9 @@ TEST(Lidarsgm_Accuracy, kitti_lidar_check_keeps_coverage)
 TEST(Lidarsgm_Accuracy, middlebury_cones_1_percent)
 {
     Mat l, r, gt;
-    ASSERT_TRUE(lidarsgm_data::loadMiddlebury(cvtest::findDataDirectory("middlebury/cone"), l, r, gt));
+    ASSERT_NO_THROW(cv::lidarsgm::loadMiddleburyScene(cvtest::findDataDirectory("middlebury/cone"), l, r, gt));
     // The tool's default seed: the same sampling as `lidarsgm_fuse --middlebury`.
-    Mat sparse = lidarsgm_data::sampleGroundTruth(gt, 0.01, 1);
+    Mat sparse = cv::lidarsgm::sampleGroundTruth(gt, 0.01, 1);
     DisparityErrors res[2];
     const int modes[2] = { StereoLidarSGM::MODE_SGM, StereoLidarSGM::MODE_SDSGM };
     for (int i = 0; i < 2; i++)
@@ -159,19 +158,19 @@ TEST(Lidarsgm_Accuracy, kitti_shared_frames_defaults_and_best)
                         bestDsgm = kittiBest();
     md->setMode(StereoLidarSGM::MODE_DSGM);
     bestDsgm->setMode(StereoLidarSGM::MODE_DSGM);
-    const std::vector<std::string> ids = lidarsgm_data::kittiFrameIds(dir);
+    const std::vector<std::string> ids = cv::lidarsgm::readKittiFrameIds(dir);
     for (const std::string& id : ids)
     {
-        const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(dir, id);
+        const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(dir, id);
         Mat disp;
         msd->compute(f.left, f.right, f.sparse, disp);
-        sd.add(evaluateDisparity(disp, f.gt));
+        sd.add(evaluateDisparity(disp, f.groundTruth));
         md->compute(f.left, f.right, f.sparse, disp);
-        d.add(evaluateDisparity(disp, f.gt));
+        d.add(evaluateDisparity(disp, f.groundTruth));
         best->compute(f.left, f.right, f.sparse, disp);
-        bestSd.add(evaluateDisparity(disp, f.gt));
+        bestSd.add(evaluateDisparity(disp, f.groundTruth));
         bestDsgm->compute(f.left, f.right, f.sparse, disp);
-        bestD.add(evaluateDisparity(disp, f.gt));
+        bestD.add(evaluateDisparity(disp, f.groundTruth));
     }
     print(format("%d shared frames, SDSGM", (int)ids.size()), sd);
     print("DSGM", d);
@@ -191,20 +190,20 @@ TEST(Lidarsgm_Accuracy, kitti_best_beats_defaults)
 {
     DisparityErrors def, best;
     Ptr<StereoLidarSGM> m = StereoLidarSGM::create(), b = kittiBest();
-    for (const lidarsgm_data::Frame& f : kittiFrames())
+    for (const cv::lidarsgm::StereoLidarFrame& f : kittiFrames())
     {
         Mat disp;
         m->compute(f.left, f.right, f.sparse, disp);
-        def.add(evaluateDisparity(disp, f.gt));
+        def.add(evaluateDisparity(disp, f.groundTruth));
         b->compute(f.left, f.right, f.sparse, disp);
-        best.add(evaluateDisparity(disp, f.gt));
+        best.add(evaluateDisparity(disp, f.groundTruth));
     }
     print("defaults", def);
     print("kitti_best.yml", best);
     EXPECT_LT(best.totalError(), def.totalError());
     Mat l, r, gt, disp;
-    ASSERT_TRUE(lidarsgm_data::loadMiddlebury(cvtest::findDataDirectory("middlebury/cone"), l, r, gt));
-    const Mat sparse = lidarsgm_data::sampleGroundTruth(gt, 0.01, 1);
+    ASSERT_NO_THROW(cv::lidarsgm::loadMiddleburyScene(cvtest::findDataDirectory("middlebury/cone"), l, r, gt));
+    const Mat sparse = cv::lidarsgm::sampleGroundTruth(gt, 0.01, 1);
     m->setNumDisparities(64);
     b->setNumDisparities(64);
     m->compute(l, r, sparse, disp);

@@ -1,6 +1,5 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
-#include "lidarsgm_datasets.hpp"
 
 namespace opencv_test { namespace {
 
@@ -33,15 +32,16 @@ Vec3d rotationBetween(const Mat& a, const Mat& b)
 
 /** The shipped KITTI frames (testdata/kitti) added to one refiner; the calibration of calib.txt. scanRate: 10 (the
 HDL-64E's sweep, each frame's speed estimated) or 0 (the scans taken as compensated). */
-Ptr<LidarCalibration> shippedFrames(lidarsgm_data::KittiCalib& calib, double scanRate = 10)
+Ptr<LidarCalibration> shippedFrames(cv::lidarsgm::KittiCalibration& calib, double scanRate = 10)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
-    calib = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
-    Ptr<LidarCalibration> cal = LidarCalibration::create(calib.P2, calib.focalBaseline, 128, scanRate);
-    for (const std::string& id : lidarsgm_data::kittiFrameIds(dir))
-        cal->addFrame(lidarsgm_data::readGrey(dir + "/image_2/" + id + "_10.png"),
-                      lidarsgm_data::readGrey(dir + "/image_3/" + id + "_10.png"),
-                      lidarsgm_data::readVelodyne(dir + "/velodyne/" + id + ".bin"));
+    calib = cv::lidarsgm::readKittiCalibration(dir + "/calib.txt");
+    Ptr<LidarCalibration> cal = LidarCalibration::create(calib.projection, calib.focalBaseline, 128, scanRate);
+    for (const std::string& id : cv::lidarsgm::readKittiFrameIds(dir))
+    {
+        const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(dir, id);
+        cal->addFrame(f.left, f.right, cv::lidarsgm::readVelodyneScan(dir + "/velodyne/" + id + ".bin"));
+    }
     return cal;
 }
 
@@ -49,7 +49,7 @@ class Lidarsgm_Calibration_Sweep : public ::testing::TestWithParam<double> {};
 
 TEST_P(Lidarsgm_Calibration_Sweep, rotation_errors_are_undone)
 {
-    lidarsgm_data::KittiCalib calib;
+    cv::lidarsgm::KittiCalibration calib;
     Ptr<LidarCalibration> cal = shippedFrames(calib, GetParam());
     ASSERT_EQ(2, cal->getNumFrames());
     const Matx44d T(calib.lidarToCamera);
@@ -89,7 +89,7 @@ INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_Calibration_Sweep, testing::Values(0.0, 1
 
 TEST(Lidarsgm_Calibration, translation_along_the_baseline)
 {
-    lidarsgm_data::KittiCalib calib;
+    cv::lidarsgm::KittiCalibration calib;
     Ptr<LidarCalibration> cal = shippedFrames(calib);
     const Matx44d T(calib.lidarToCamera);
     const CalibrationCorrection exact = cal->refine(calib.lidarToCamera, true);
@@ -107,27 +107,27 @@ TEST(Lidarsgm_Calibration, translation_along_the_baseline)
 TEST(Lidarsgm_Calibration, refuses_what_the_data_cannot_tell)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
-    const lidarsgm_data::KittiCalib calib = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
-    const Mat left = lidarsgm_data::readGrey(dir + "/image_2/000002_10.png");
-    const Mat right = lidarsgm_data::readGrey(dir + "/image_3/000002_10.png");
-    const Mat scan = lidarsgm_data::readVelodyne(dir + "/velodyne/000002.bin");
+    const cv::lidarsgm::KittiCalibration calib = cv::lidarsgm::readKittiCalibration(dir + "/calib.txt");
+    const cv::lidarsgm::StereoLidarFrame frame = cv::lidarsgm::loadKittiFrame(dir, "000002");
+    const Mat left = frame.left, right = frame.right;
+    const Mat scan = cv::lidarsgm::readVelodyneScan(dir + "/velodyne/000002.bin");
 
     // A textureless pair (a flat grey wall): no stereo disparity, so nothing to compare the LiDAR with.
-    Ptr<LidarCalibration> flat = LidarCalibration::create(calib.P2, calib.focalBaseline);
+    Ptr<LidarCalibration> flat = LidarCalibration::create(calib.projection, calib.focalBaseline);
     const Mat grey(left.size(), CV_8UC1, Scalar(128));
     flat->addFrame(grey, grey, scan);
     EXPECT_THROW(flat->refine(calib.lidarToCamera), cv::Exception);
     EXPECT_THROW(flat->residual(calib.lidarToCamera), cv::Exception);
 
     // A scan aimed away from the camera (every point behind it).
-    Ptr<LidarCalibration> away = LidarCalibration::create(calib.P2, calib.focalBaseline);
+    Ptr<LidarCalibration> away = LidarCalibration::create(calib.projection, calib.focalBaseline);
     Mat behind = scan.clone();
     behind.col(0) = -abs(scan.col(0)) - 1;   // the Velodyne's x points forward
     away->addFrame(left, right, behind);
     EXPECT_THROW(away->refine(calib.lidarToCamera), cv::Exception);
 
     // No frames, an empty scan, images of different sizes.
-    Ptr<LidarCalibration> cal = LidarCalibration::create(calib.P2, calib.focalBaseline);
+    Ptr<LidarCalibration> cal = LidarCalibration::create(calib.projection, calib.focalBaseline);
     EXPECT_THROW(cal->refine(calib.lidarToCamera), cv::Exception);
     EXPECT_THROW(cal->addFrame(left, right, Mat()), cv::Exception);
     EXPECT_THROW(cal->addFrame(left, right, Mat(10, 3, CV_32F, Scalar(std::numeric_limits<float>::quiet_NaN()))),

@@ -4,14 +4,13 @@
 #define OPENCV_LIDARSGM_TEST_COMMON_HPP
 
 #include "test_precomp.hpp"
-#include "lidarsgm_datasets.hpp"
 
 namespace opencv_test {
 
 //! A shipped KITTI frame (testdata/kitti): grey pair and the raw scan projected to a CV_32F sparse map.
 inline void loadKittiTestFrame(const std::string& id, Mat& l, Mat& r, Mat& s)
 {
-    const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(cvtest::findDataDirectory("kitti"), id);
+    const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(cvtest::findDataDirectory("kitti"), id);
     l = f.left;
     r = f.right;
     s = f.sparse;

@@ -208,15 +208,15 @@ TEST(Lidarsgm_CUDA, shared_data_bit_exact)
         Mat l, r, s = s16;
         if (s16.empty())
         {
-            const lidarsgm_data::Frame f = lidarsgm_data::loadKittiFrame(kitti, id);
+            const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(kitti, id);
             l = f.left;
             r = f.right;
             s = f.sparse;
         }
         else
         {
-            l = lidarsgm_data::readGrey(kitti + "/image_2/" + id + "_10.png");
-            r = lidarsgm_data::readGrey(kitti + "/image_3/" + id + "_10.png");
+            l = imread(kitti + "/image_2/" + id + "_10.png", IMREAD_UNCHANGED);   // stored grey
+            r = imread(kitti + "/image_3/" + id + "_10.png", IMREAD_UNCHANGED);
         }
         ASSERT_FALSE(l.empty() || r.empty() || s.empty()) << id;
         for (int mode = 0; mode < 3; mode++)
@@ -228,8 +228,8 @@ TEST(Lidarsgm_CUDA, shared_data_bit_exact)
     for (int i = 0; i < 6; i++)
     {
         Mat l, r, gt;
-        ASSERT_TRUE(lidarsgm_data::loadMiddlebury(std::string(env) + "/middlebury/" + scenes[i], l, r, gt)) << scenes[i];
-        Mat s = lidarsgm_data::sampleGroundTruth(gt, 0.01, 1);
+        ASSERT_NO_THROW(cv::lidarsgm::loadMiddleburyScene(std::string(env) + "/middlebury/" + scenes[i], l, r, gt)) << scenes[i];
+        Mat s = cv::lidarsgm::sampleGroundTruth(gt, 0.01, 1);
         for (int mode = 0; mode < 3; mode++)
             compareCpuGpu(StereoLidarSGM::create(0, 256, 10, 120, 5, 160, 0.7, mode), l, r, s, format("%s mode %d", scenes[i], mode));
     }
@@ -239,23 +239,23 @@ TEST(Lidarsgm_CUDA, projection_bit_exact)
 {
     requireCudaDevice();
     const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_data::KittiCalib c = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
+    cv::lidarsgm::KittiCalibration c = cv::lidarsgm::readKittiCalibration(dir + "/calib.txt");
     const char* ids[] = { "000002", "000046" };
     for (int i = 0; i < 2; i++)
     {
-        Mat pts4 = lidarsgm_data::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin");
+        Mat pts4 = cv::lidarsgm::readVelodyneScan(dir + "/velodyne/" + ids[i] + ".bin");
         Mat pts3 = pts4.colRange(0, 3).clone();
         for (int dtype = 0; dtype < 2; dtype++)
         {
             const int t = dtype ? CV_16U : CV_32F;
             Mat cpu, gpuOut;
-            cv::lidarsgm::projectPointsToDisparity(pts4, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), cpu, t);
+            cv::lidarsgm::projectPointsToDisparity(pts4, c.projection, c.lidarToCamera, c.focalBaseline, Size(1242, 375), cpu, t);
             cuda::GpuMat g4(pts4), g3(pts3), gd;
-            cv::lidarsgm::projectPointsToDisparity(g4, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), gd, t);
+            cv::lidarsgm::projectPointsToDisparity(g4, c.projection, c.lidarToCamera, c.focalBaseline, Size(1242, 375), gd, t);
             gd.download(gpuOut);
             EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF)) << ids[i] << " dtype " << t;
             cuda::Stream stream;
-            cv::cuda::projectPointsToDisparity(g3, c.P2, c.lidarToCamera, c.focalBaseline, Size(1242, 375), gd, t, stream);
+            cv::cuda::projectPointsToDisparity(g3, c.projection, c.lidarToCamera, c.focalBaseline, Size(1242, 375), gd, t, stream);
             stream.waitForCompletion();
             gd.download(gpuOut);
             EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF)) << ids[i] << " N x 3, dtype " << t;

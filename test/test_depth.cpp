@@ -1,9 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // Disparity to metric depth and 3D points (opencv2/lidarsgm/depth.hpp): the x16 scale of the CV_16S output, the
 // invalid value, minDisparity, the reprojection formula (the Python test compares with cv2.reprojectImageTo3D), and
-// the refusals of bad input; and the tool's depth and PLY encodings (samples/common/lidarsgm_datasets.hpp).
+// the refusals of bad input.
 #include "test_precomp.hpp"
-#include "lidarsgm_datasets.hpp"
 #include <fstream>
 
 namespace opencv_test { namespace {
@@ -91,41 +90,6 @@ TEST(Lidarsgm_Depth, bad_input_is_refused)
     {
         EXPECT_NE(std::string::npos, e.err.find("CV_16SC1 (x16) or CV_32FC1")) << e.err;
     }
-}
-
-TEST(Lidarsgm_Depth, kitti_depth_png_and_ply_encodings)
-{
-    // Depth PNG: metres x 256, 0 = none; a depth beyond 65535 / 256 m is none, not clamped.
-    const Mat_<float> depth = (Mat_<float>(1, 4) << 0.f, 10.f, 255.99f, 300.f);
-    const Mat png = lidarsgm_data::toKittiDepthPng(depth);
-    ASSERT_EQ(CV_16UC1, png.type());
-    EXPECT_EQ(0, png.at<ushort>(0, 0));
-    EXPECT_EQ(2560, png.at<ushort>(0, 1));
-    EXPECT_EQ(65533, png.at<ushort>(0, 2));
-    EXPECT_EQ(0, png.at<ushort>(0, 3));
-    // PLY: a header naming the valid points, then x y z float32 and r g b per point, NaN pixels left out.
-    Mat points(1, 3, CV_32FC3, Scalar::all(std::numeric_limits<float>::quiet_NaN()));
-    points.at<Vec3f>(0, 1) = Vec3f(1.5f, -2.f, 7.25f);
-    Mat bgr(1, 3, CV_8UC3, Scalar(10, 20, 30));
-    const std::string path = cv::tempfile(".ply");
-    ASSERT_TRUE(lidarsgm_data::writePly(path, points, bgr));
-    std::ifstream in(path.c_str(), std::ios::binary);
-    std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::remove(path.c_str());
-    const size_t end = content.find("end_header\n");
-    ASSERT_NE(std::string::npos, end);
-    EXPECT_NE(std::string::npos, content.find("format binary_little_endian 1.0\n"));
-    EXPECT_NE(std::string::npos, content.find("element vertex 1\n"));
-    const std::string body = content.substr(end + 11);
-    ASSERT_EQ(15u, body.size());
-    float xyz[3];
-    memcpy(xyz, body.data(), 12);   // the test hosts are little-endian
-    EXPECT_EQ(1.5f, xyz[0]);
-    EXPECT_EQ(-2.f, xyz[1]);
-    EXPECT_EQ(7.25f, xyz[2]);
-    EXPECT_EQ(30, (uchar)body[12]);   // red
-    EXPECT_EQ(20, (uchar)body[13]);
-    EXPECT_EQ(10, (uchar)body[14]);   // blue
 }
 
 }} // namespace

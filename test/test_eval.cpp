@@ -1,14 +1,10 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
-// The evaluator (opencv2/lidarsgm/evaluation.hpp) and the dataset helpers (samples/common/lidarsgm_datasets.hpp) the tool,
-// the tests and the perf tests use, checked against small cases computed by hand: the KITTI devkit's background
-// interpolation and D1 rule, Middlebury bad-N, formats, colour maps, the LiDAR ring selection.
+// The evaluator (opencv2/lidarsgm/evaluation.hpp), checked against small cases computed by hand: the KITTI devkit's
+// background interpolation and D1 rule, Middlebury bad-N, the colour maps and the sparse overlay.
 #include "test_precomp.hpp"
-#include "lidarsgm_datasets.hpp"
-#include <set>
 
 namespace opencv_test { namespace {
 
-using namespace lidarsgm_data;
 using cv::lidarsgm::DisparityErrors;
 using cv::lidarsgm::evaluateDisparity;
 
@@ -137,37 +133,6 @@ TEST(Lidarsgm_Eval, matcher_output_and_kitti_ground_truth)
     EXPECT_THROW(evaluateDisparity(row({ 1, 2, 3 }), row({ 1, 2 })), cv::Exception);
 }
 
-TEST(Lidarsgm_Eval, formats)
-{
-    // Matcher output (x16, invalid = (minD - 1) * 16) to float pixels with -1 = invalid.
-    Mat d16 = (Mat_<short>(1, 4) << -16, 0, 37, 2040);
-    expectMat(row({ -1, 0, 37 / 16.f, 127.5f }), disparityToFloat(d16, 0));
-    // KITTI PNG: round(d * 256), 0 = invalid (so d = 0 cannot be stored and becomes invalid).
-    Mat png = toKittiPng(row({ -1, 0, 2.3125f, 127.5f, 0.001f }));
-    EXPECT_EQ(0, png.at<ushort>(0, 0));
-    EXPECT_EQ(0, png.at<ushort>(0, 1));
-    EXPECT_EQ(592, png.at<ushort>(0, 2));
-    EXPECT_EQ(32640, png.at<ushort>(0, 3));
-    EXPECT_EQ(1, png.at<ushort>(0, 4));  // a positive disparity stays valid
-
-    // PFM (invalid written as +inf, Middlebury's "unknown") and raw CV_16S round trips.
-    const std::string pfm = cv::tempfile(".pfm"), raw = cv::tempfile(".s16");
-    ASSERT_TRUE(writePfm(pfm, Mat((Mat_<float>(2, 3) << -1, 0.5f, 37.0625f, 4, 5, 6))));
-    Mat back = imread(pfm, IMREAD_UNCHANGED);
-    ASSERT_EQ(CV_32FC1, back.type());
-    expectMat((Mat_<float>(2, 3) << std::numeric_limits<float>::infinity(), 0.5f, 37.0625f, 4, 5, 6), back);
-    ASSERT_TRUE(writeRawS16(raw, d16));
-    std::ifstream in(raw.c_str(), std::ios::binary);
-    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    ASSERT_EQ(8u, bytes.size());
-    short v[4];
-    memcpy(v, bytes.data(), 8);
-    EXPECT_EQ(-16, v[0]);
-    EXPECT_EQ(2040, v[3]);
-    remove(pfm.c_str());
-    remove(raw.c_str());
-}
-
 TEST(Lidarsgm_Eval, colour_maps)
 {
     // KITTI disparity colours: invalid black, 0 black, max white; error colours: no GT black, tiny error blue,
@@ -184,59 +149,11 @@ TEST(Lidarsgm_Eval, colour_maps)
     // LiDAR points over the image: the image in grey, each point a coloured dot.
     Mat grey(20, 30, CV_8UC1, Scalar::all(100)), sparse(20, 30, CV_32FC1, Scalar::all(0));
     sparse.at<float>(10, 15) = 128.f;
-    Mat o = overlayPoints(grey, sparse, 128.f);
+    Mat o;
+    cv::lidarsgm::drawSparseDisparity(grey, sparse, o, 128.0);
     ASSERT_EQ(CV_8UC3, o.type());
     EXPECT_EQ(Vec3b(100, 100, 100), o.at<Vec3b>(0, 0));
     EXPECT_EQ(Vec3b(255, 255, 255), o.at<Vec3b>(10, 15));
-}
-
-TEST(Lidarsgm_Eval, lidar_rings)
-{
-    // The shipped 64-line scans split into 64 rings; every 2nd / 4th ring keeps about a half / a quarter of the
-    // points, all of them from the scan, and the top ring first.
-    const std::string dir = cvtest::findDataDirectory("kitti");
-    for (const char* id : { "000002", "000046" })
-    {
-        const Mat pts = readVelodyne(dir + "/velodyne/" + id + ".bin");
-        int rings = 0;
-        const Mat all = selectLidarRings(pts, 1, &rings);
-        EXPECT_EQ(64, rings) << id;
-        EXPECT_EQ(pts.rows, all.rows);
-        const Mat half = selectLidarRings(pts, 2), quarter = selectLidarRings(pts, 4);
-        EXPECT_NEAR(0.5, (double)half.rows / pts.rows, 0.05) << id;
-        EXPECT_NEAR(0.25, (double)quarter.rows / pts.rows, 0.05) << id;
-        // The kept rings are whole rings of the scan, so the 16-line scan's points are all in the 32-line scan.
-        std::set<std::vector<float> > in32;
-        for (int i = 0; i < half.rows; i++)
-            in32.insert(std::vector<float>(half.ptr<float>(i), half.ptr<float>(i) + 4));
-        int missing = 0;
-        for (int i = 0; i < quarter.rows; i++)
-            missing += !in32.count(std::vector<float>(quarter.ptr<float>(i), quarter.ptr<float>(i) + 4));
-        EXPECT_EQ(0, missing) << id;
-        // The four ring offsets of the 16-line thinning split the scan: together they hold every point once.
-        int total = 0;
-        std::set<std::vector<float> > seen;
-        for (int first = 0; first < 4; first++)
-        {
-            const Mat part = selectLidarRings(pts, 4, nullptr, first);
-            total += part.rows;
-            for (int i = 0; i < part.rows; i++)
-                seen.insert(std::vector<float>(part.ptr<float>(i), part.ptr<float>(i) + 4));
-        }
-        std::set<std::vector<float> > scan;
-        for (int i = 0; i < pts.rows; i++)
-            scan.insert(std::vector<float>(pts.ptr<float>(i), pts.ptr<float>(i) + 4));
-        EXPECT_EQ(pts.rows, total) << id;
-        EXPECT_TRUE(seen == scan) << id;
-        // The top ring (highest elevation) is kept: the highest point of the scan's first ring is in every subset.
-        double top = -1e9;
-        for (int i = 0; i < quarter.rows; i++)
-        {
-            const float* p = quarter.ptr<float>(i);
-            top = std::max(top, std::atan2((double)p[2], std::hypot((double)p[0], (double)p[1])));
-        }
-        EXPECT_GT(top * 180 / CV_PI, 1.5) << id;
-    }
 }
 
 }} // namespace

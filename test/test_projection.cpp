@@ -1,6 +1,5 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
-#include "lidarsgm_datasets.hpp"
 
 namespace opencv_test { namespace {
 
@@ -70,14 +69,14 @@ TEST(Lidarsgm_Projection, bad_input)
 TEST(Lidarsgm_Projection, kitti_against_ground_truth)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");
-    lidarsgm_data::KittiCalib calib = lidarsgm_data::readKittiCalib(dir + "/calib.txt");
+    cv::lidarsgm::KittiCalibration calib = cv::lidarsgm::readKittiCalibration(dir + "/calib.txt");
     const char* ids[] = { "000002", "000046" };
     for (int i = 0; i < 2; i++)
     {
-        Mat gt = lidarsgm_data::readKittiDisparity(dir + "/disp_occ_0/" + ids[i] + "_10.png");
-        Mat pts = lidarsgm_data::readVelodyne(dir + "/velodyne/" + ids[i] + ".bin");
+        Mat gt = cv::lidarsgm::readKittiDisparity(dir + "/disp_occ_0/" + ids[i] + "_10.png");
+        Mat pts = cv::lidarsgm::readVelodyneScan(dir + "/velodyne/" + ids[i] + ".bin");
         Mat disp;
-        projectPointsToDisparity(pts, calib.P2, calib.lidarToCamera, calib.focalBaseline, gt.size(), disp);
+        projectPointsToDisparity(pts, calib.projection, calib.lidarToCamera, calib.focalBaseline, gt.size(), disp);
         std::vector<float> err;
         for (int y = 0; y < gt.rows; y++)
             for (int x = 0; x < gt.cols; x++)

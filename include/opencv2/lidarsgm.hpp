@@ -28,7 +28,7 @@ Dense disparity from a rectified stereo pair and a sparse (LiDAR) disparity map,
 6. the consistency check: a disparity survives the left-right check, or (stereo-LiDAR check) if some original sparse
    disparity within a (2 rc + 1)^2 window differs from it by at most Tc. A disparity whose right-view pixel lies
    outside the right image cannot be verified by the left-right check and fails it (the public code keeps such
-   pixels; rejecting them measured better on KITTI and Middlebury, doc/design.md); the LiDAR test can still keep it.
+   pixels; rejecting them measured better on KITTI and Middlebury, doc/decisions.md); the LiDAR test can still keep it.
 
 Semi-global aggregation follows @cite Hirschmuller2008.
 
@@ -358,5 +358,6 @@ CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray project
 #include "opencv2/lidarsgm/evaluation.hpp"
 #include "opencv2/lidarsgm/depth.hpp"
 #include "opencv2/lidarsgm/calibration.hpp"
+#include "opencv2/lidarsgm/datasets.hpp"
 
 #endif // OPENCV_LIDARSGM_HPP

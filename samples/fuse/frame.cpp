@@ -45,9 +45,9 @@ int runFrame(const Options& o, Frame& f)
         }
         printf("%s %-6s check %-12s %s %8.1f ms", f.name.c_str(), modeLabel(mode), checkLabel(check),
                o.has("cuda") ? "CUDA" : "CPU ", tm.getTimeMilli());
-        if (!f.gt.empty())
+        if (!f.groundTruth.empty())
         {
-            const lidarsgm::DisparityErrors s = lidarsgm::evaluateDisparity(disp, f.gt, lidarsgm::METRIC_KITTI_D1, 0, minD);
+            const lidarsgm::DisparityErrors s = lidarsgm::evaluateDisparity(disp, f.groundTruth, lidarsgm::METRIC_KITTI_D1, 0, minD);
             printf("  coverage %6.2f %%  covered D1 %5.2f %%  total D1 %5.2f %%", s.coverage(), s.coveredError(),
                    s.totalError());
         }

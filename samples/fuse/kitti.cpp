@@ -18,7 +18,6 @@
 #include <thread>
 
 using namespace cv;
-using namespace lidarsgm_data;
 
 namespace lidarsgm_fuse {
 
@@ -267,7 +266,7 @@ the frames given (cv::lidarsgm::LidarCalibration); prints the residual and, when
 returns the calibration the run fuses with (calib itself, or corrected). A frame that cannot be read is left out;
 a refinement the data cannot support (refine() refuses), or a LiDAR still far from the stereo pairs after it, sets
 stereoOnly: the run then fuses nothing and gives stereo alone, saying so, rather than fusing with a guess. */
-KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const std::vector<std::string>& ids,
+lidarsgm::KittiCalibration calibrationFromData(const Options& o, const lidarsgm::KittiCalibration& calib, const std::vector<std::string>& ids,
                                const std::function<FramePaths(const std::string&)>& paths, bool& stereoOnly)
 {
     stereoOnly = false;
@@ -276,13 +275,13 @@ KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const 
     TickMeter tm;
     tm.start();
     Ptr<lidarsgm::LidarCalibration> cal =
-        lidarsgm::LidarCalibration::create(calib.P2, calib.focalBaseline, 128, o.d("scan-rate", 10));
+        lidarsgm::LidarCalibration::create(calib.projection, calib.focalBaseline, 128, o.d("scan-rate", 10));
     for (const std::string& id : ids)
     {
         try
         {
             const FramePaths p = paths(id);
-            cal->addFrame(readGrey(p.left), readGrey(p.right), readVelodyne(p.scan));
+            cal->addFrame(readGrey(p.left), readGrey(p.right), lidarsgm::readVelodyneScan(p.scan));
         }
         catch (const cv::Exception& e)
         {
@@ -325,7 +324,7 @@ KittiCalib calibrationFromData(const Options& o, const KittiCalib& calib, const 
                kMaxFusedResidual);
         stereoOnly = true;
     }
-    KittiCalib refined = calib;
+    lidarsgm::KittiCalibration refined = calib;
     refined.lidarToCamera = c.lidarToCamera;
     return refined;
 }
@@ -347,15 +346,15 @@ int runKittiFolder(const Options& o)
     const std::string dir = o.str("kitti");
     FrameSource src;
     src.label = "KITTI " + dir;
-    src.ids = kittiFrameIds(dir);
+    src.ids = lidarsgm::readKittiFrameIds(dir);
     if (src.ids.empty())
         CV_Error(Error::StsObjectNotFound, dir + "/frames.txt lists no frame");
     bool stereoOnly = false;
-    const KittiCalib calib = calibrationFromData(o, readKittiCalib(dir + "/calib.txt"), src.ids,
+    const lidarsgm::KittiCalibration calib = calibrationFromData(o, lidarsgm::readKittiCalibration(dir + "/calib.txt"), src.ids,
         [&dir](const std::string& id) { return kittiFramePaths(dir, id); }, stereoOnly);
     src.load = [dir, calib](const std::string& id, LidarRings rings) {
-        Frame f = loadKittiFrame(dir, id, rings.every, rings.first, &calib);
-        if (f.gt.empty())
+        Frame f = lidarsgm::loadKittiFrame(dir, id, calib, rings.every, rings.first);
+        if (f.groundTruth.empty())
             CV_Error(Error::StsObjectNotFound, "no ground truth " + dir + "/disp_occ_0/" + id + "_10.png");
         return f;
     };
@@ -364,24 +363,24 @@ int runKittiFolder(const Options& o)
 
 int runKittiRaw(const Options& o)
 {
-    const std::string drive = o.str("kitti-raw"), calibDir = kittiRawCalibDir(drive), gtDir = o.str("gt-depth");
+    const std::string drive = o.str("kitti-raw"), gtDir = o.str("gt-depth");
     // The calibration is the drive's, read once: a missing file or key stops the run before any frame.
     bool stereoOnly = false;
-    const KittiCalib given = readKittiRawCalib(calibDir + "/calib_cam_to_cam.txt", calibDir + "/calib_velo_to_cam.txt");
+    const lidarsgm::KittiCalibration given = lidarsgm::readKittiRawDriveCalibration(drive);
     FrameSource src;
     src.label = "KITTI raw " + drive;
-    src.ids = kittiRawFrameNames(drive);
+    src.ids = lidarsgm::readKittiRawFrameNames(drive);
     // A drive pools 20 of its frames, spread evenly over it, for the calibration.
     std::vector<std::string> pool;
     const size_t poolSize = std::min<size_t>(20, src.ids.size());
     for (size_t k = 0; k < poolSize; k++)
         pool.push_back(src.ids[k * src.ids.size() / poolSize]);
-    const KittiCalib calib = calibrationFromData(o, given, pool,
+    const lidarsgm::KittiCalibration calib = calibrationFromData(o, given, pool,
         [&drive](const std::string& id) { return kittiRawFramePaths(drive, id); }, stereoOnly);
     src.load = [drive, calib, gtDir](const std::string& id, LidarRings rings) {
-        Frame f = loadKittiRawFrame(drive, calib, id, rings.every, rings.first);
+        Frame f = lidarsgm::loadKittiRawFrame(drive, id, calib, rings.every, rings.first);
         if (!gtDir.empty())
-            f.gt = readKittiDepthAsDisparity(gtDir + "/" + id + ".png", calib.focalBaseline);
+            f.groundTruth = lidarsgm::readKittiDepthAsDisparity(gtDir + "/" + id + ".png", calib.focalBaseline);
         return f;
     };
     return runPasses(stereoOnly ? stereoAlone(o) : o, src);

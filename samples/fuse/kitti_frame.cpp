@@ -116,12 +116,12 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
             j.ms = tm.getTimeMilli();
         }
     }
-    const bool scored = !f.gt.empty();   // raw drives may have no ground truth: times and files only
+    const bool scored = !f.groundTruth.empty();   // raw drives may have no ground truth: times and files only
     for (size_t k = 0; k < modes.size(); k++)
     {
         const Job& j = jobs[k];
         if (scored)
-            fr.modes[k].stats = score(j.out, f.gt, j.m->getMinDisparity());
+            fr.modes[k].stats = score(j.out, f.groundTruth, j.m->getMinDisparity());
         fr.modes[k].ms.push_back(j.ms);
         if (!frameOut.empty())
             writeDisparity(o_, frameOut, "_" + modes[k], j.out, j.m->getMinDisparity(), j.m->getNumDisparities(), f);
@@ -130,11 +130,11 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
     if (scored)
     {
         for (size_t c = 0; c < fr.table5.size(); c++)
-            fr.table5[c].stats = score(jobs[modes.size() + c].out, f.gt, jobs[modes.size() + c].m->getMinDisparity());
+            fr.table5[c].stats = score(jobs[modes.size() + c].out, f.groundTruth, jobs[modes.size() + c].m->getMinDisparity());
         Mat sp = f.sparse.clone();
         sp.setTo(-1.f, f.sparse <= 0);
-        fr.lidar.stats = score(sp, f.gt, 0);
-        fr.semi.stats = score(semi.out, f.gt, semi.m->getMinDisparity());
+        fr.lidar.stats = score(sp, f.groundTruth, 0);
+        fr.semi.stats = score(semi.out, f.groundTruth, semi.m->getMinDisparity());
     }
     if (!frameOut.empty())
         writeInputs(frameOut, f, semi.m->getMinDisparity(), semi.m->getNumDisparities(), semi.out);

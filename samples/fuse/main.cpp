@@ -26,7 +26,7 @@ Frame loadFrame(const Options& o)
     const LidarRings rings = lidarRings(o, lidarLineCounts(o).front());   // the scan's rings, where a scan is read
     if (o.has("kitti-frame"))
     {
-        f = lidarsgm_data::loadKittiFrame(o.str("kitti-frame"), o.str("id", "000002"), rings.every, rings.first);
+        f = lidarsgm::loadKittiFrame(o.str("kitti-frame"), o.str("id", "000002"), rings.every, rings.first);
         if (o.has("resize"))
         {
             // Speed runs at other sizes: the frame scaled (LiDAR disparities scaled with the width).
@@ -37,27 +37,32 @@ Frame loadFrame(const Options& o)
             resize(f.right, f.right, Size(w, h), 0, 0, INTER_LINEAR);
             resize(f.sparse, f.sparse, Size(w, h), 0, 0, INTER_NEAREST);
             f.sparse *= sx;
-            f.gt.release();
+            f.groundTruth.release();
         }
         return f;
     }
     f.name = o.str("left");
-    f.leftImage = lidarsgm_data::readImage(o.str("left"));
-    f.left = lidarsgm_data::toGrey(f.leftImage);
-    f.right = lidarsgm_data::readGrey(o.str("right"));
+    f.leftImage = readImage(o.str("left"));
+    f.left = toGrey(f.leftImage);
+    f.right = readGrey(o.str("right"));
     if (o.has("sparse"))
     {
         f.sparse = imread(o.str("sparse"), IMREAD_UNCHANGED);
         if (f.sparse.empty())
             CV_Error(Error::StsObjectNotFound, "cannot read sparse disparity " + o.str("sparse"));
         if (o.has("calib"))
-            lidarsgm_data::useCalibration(f, lidarsgm_data::readKittiCalib(o.str("calib")));
+            f.calibration = lidarsgm::readKittiCalibration(o.str("calib"));
     }
     else if (o.has("velodyne") && o.has("calib"))
-        lidarsgm_data::projectScan(f, o.str("velodyne"), lidarsgm_data::readKittiCalib(o.str("calib")), rings.every,
-                                   rings.first);
+    {
+        f.calibration = lidarsgm::readKittiCalibration(o.str("calib"));
+        const lidarsgm::KittiCalibration& c = f.calibration;
+        lidarsgm::projectPointsToDisparity(
+            lidarsgm::selectLidarRings(lidarsgm::readVelodyneScan(o.str("velodyne")), rings.every, rings.first),
+            c.projection, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
+    }
     if (o.has("gt"))
-        f.gt = lidarsgm_data::readKittiDisparity(o.str("gt"));
+        f.groundTruth = lidarsgm::readKittiDisparity(o.str("gt"));
     return f;
 }
 

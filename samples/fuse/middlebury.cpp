@@ -10,7 +10,6 @@
 #include <set>
 
 using namespace cv;
-using namespace lidarsgm_data;
 
 namespace lidarsgm_fuse {
 
@@ -35,8 +34,15 @@ std::vector<Frame> findScenes(const std::string& dir)
     {
         Frame f;
         f.name = name;
-        if (loadMiddlebury(dir + "/" + name, f.left, f.right, f.gt))
+        try
+        {
+            lidarsgm::loadMiddleburyScene(dir + "/" + name, f.left, f.right, f.groundTruth);
             scenes.push_back(f);
+        }
+        catch (const cv::Exception&)
+        {
+            // not a scene (or not a readable one): the folder is skipped
+        }
     }
     return scenes;
 }
@@ -72,9 +78,9 @@ int runMiddlebury(const Options& o)
         // The scene's range: its largest ground-truth disparity, rounded up to a multiple of 16 (at least 64);
         // --num-disparities overrides it.
         double maxGt = 0;
-        minMaxLoc(f.gt, nullptr, &maxGt);
+        minMaxLoc(f.groundTruth, nullptr, &maxGt);
         const int ndisp = std::min(256, std::max(64, ((int)std::ceil(maxGt) + 1 + 15) / 16 * 16));
-        f.sparse = sampleGroundTruth(f.gt, 0.01, (uint64)seed);
+        f.sparse = lidarsgm::sampleGroundTruth(f.groundTruth, 0.01, seed);
         for (size_t k = 0; k < modes.size(); k++)
         {
             Ptr<Matcher> m = makeMatcher(o, modeFromName(modes[k]), check, ndisp);
@@ -84,7 +90,7 @@ int runMiddlebury(const Options& o)
             m->compute(f.left, f.right, f.sparse, disp);
             tm.stop();
             rows[k].ms.push_back(tm.getTimeMilli());
-            const lidarsgm::DisparityErrors st = lidarsgm::evaluateDisparity(disp, f.gt, lidarsgm::METRIC_BAD, badN,
+            const lidarsgm::DisparityErrors st = lidarsgm::evaluateDisparity(disp, f.groundTruth, lidarsgm::METRIC_BAD, badN,
                                                                               m->getMinDisparity());
             rows[k].stats.add(st);
             printf("| %-20s | %5d | %-6s | %6.2f %% | %9.2f %% | %7.2f %% | %8.1f |\n", f.name.c_str(),
@@ -94,7 +100,7 @@ int runMiddlebury(const Options& o)
             if (!frameOut.empty())
             {
                 Frame noErrorPicture = f;   // KITTI's error colours do not fit bad-N: no error picture here
-                noErrorPicture.gt.release();
+                noErrorPicture.groundTruth.release();
                 writeDisparity(o, frameOut, "_" + modes[k], disp, m->getMinDisparity(), m->getNumDisparities(),
                                noErrorPicture);
                 if (k == 0)

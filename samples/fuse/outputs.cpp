@@ -11,7 +11,6 @@
 #include <unistd.h>
 
 using namespace cv;
-using namespace lidarsgm_data;
 
 namespace lidarsgm_fuse {
 
@@ -57,31 +56,33 @@ static void writeImage(const std::string& path, const Mat& img)
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const Mat& disp16,
                     int minD, int numD, const Frame& f)
 {
-    const Mat d = disparityToFloat(disp16, minD), &gt = f.gt;
+    const Mat d = disparityToFloat(disp16, minD), &gt = f.groundTruth;
     const std::string base = dir + "/disparity" + suffix;
     for (const std::string& format : o.list("format", "kitti"))
     {
-        if ((format == "depth" || format == "ply") && !(f.focalBaseline > 0))
+        if ((format == "depth" || format == "ply") && !(f.calibration.focalBaseline > 0))
             CV_Error(Error::StsBadArg, "--format " + format + " needs a calibration, and " + f.name + " has none");
         if (format == "kitti")
-            writeImage(base + ".png", toKittiPng(d));
+            writeImage(base + ".png", lidarsgm::encodeKittiDisparity(d));
         else if (format == "pfm")
-            writeAtomically(base + ".pfm", [&](const std::string& tmp) { return writePfm(tmp, d); });
+            writeAtomically(base + ".pfm", [&](const std::string& tmp) { lidarsgm::writePfm(tmp, d); return true; });
         else if (format == "s16")
             writeAtomically(base + ".s16", [&](const std::string& tmp) { return writeRawS16(tmp, disp16); });
         else if (format == "depth")
         {
             Mat depth;
-            lidarsgm::disparityToDepth(disp16, f.focalBaseline, depth, minD);
-            writeImage(dir + "/depth" + suffix + ".png", toKittiDepthPng(depth));
+            lidarsgm::disparityToDepth(disp16, f.calibration.focalBaseline, depth, minD);
+            writeImage(dir + "/depth" + suffix + ".png", lidarsgm::encodeKittiDepth(depth));
         }
         else if (format == "ply")
         {
             Mat points;
-            lidarsgm::disparityToPoints(disp16, lidarsgm::reprojectionMatrix(f.P2, f.focalBaseline), points, minD);
+            const lidarsgm::KittiCalibration& c = f.calibration;
+            lidarsgm::disparityToPoints(disp16, lidarsgm::reprojectionMatrix(c.projection, c.focalBaseline), points,
+                                        minD);
             const Mat& colour = f.leftImage.empty() ? f.left : f.leftImage;
             writeAtomically(dir + "/points" + suffix + ".ply",
-                            [&](const std::string& tmp) { return writePly(tmp, points, colour); });
+                            [&](const std::string& tmp) { lidarsgm::writePly(tmp, points, colour); return true; });
         }
     }
     Mat colour;
@@ -104,12 +105,14 @@ void writeInputs(const std::string& dir, const Frame& f, int minD, int numD, con
     f.sparse.convertTo(s, CV_32F, f.sparse.depth() == CV_16U ? 1.0 / 256 : 1.0);
     s.setTo(0.f, ~(s > 0));
     const float maxD = (float)(minD + numD);
-    writeImage(dir + "/lidar_points.png", overlayPoints(f.left, s, maxD));
+    Mat overlay;
+    lidarsgm::drawSparseDisparity(f.left, s, overlay, maxD);
+    writeImage(dir + "/lidar_points.png", overlay);
     if (!semidense16.empty())
     {
         Mat colour;
         const Mat sf = disparityToFloat(semidense16, minD);
-        writeImage(dir + "/semidense.png", toKittiPng(sf));
+        writeImage(dir + "/semidense.png", lidarsgm::encodeKittiDisparity(sf));
         lidarsgm::colorizeDisparity(sf, colour, maxD);
         writeImage(dir + "/semidense_color.png", colour);
     }

@@ -3,13 +3,16 @@
 
 // lidarsgm_fuse, the command-line tool: what its parts share. options.cpp (the option table, parsing, checks, the
 // matcher), outputs.cpp (files and summary tables), frame.cpp (one frame), kitti.cpp (a KITTI-layout folder),
-// middlebury.cpp (a Middlebury folder), timing.cpp (CPU and GPU speed against OpenCV's matchers), main.cpp.
+// middlebury.cpp (a Middlebury folder), timing.cpp (CPU and GPU speed against OpenCV's matchers), files.cpp (the
+// files beyond the module's datasets API), main.cpp.
 
 #ifndef LIDARSGM_FUSE_TOOL_HPP
 #define LIDARSGM_FUSE_TOOL_HPP
 
 #include "opencv2/lidarsgm.hpp"
-#include "lidarsgm_datasets.hpp"
+#include "opencv2/imgproc.hpp"
+#include "opencv2/imgcodecs.hpp"
+#include "files.hpp"
 #include <functional>
 #include <map>
 #include <string>
@@ -17,7 +20,7 @@
 
 namespace lidarsgm_fuse {
 
-using lidarsgm_data::Frame;
+using Frame = cv::lidarsgm::StereoLidarFrame;
 typedef cv::lidarsgm::StereoLidarSGM Matcher;
 
 //! The command line, option name (without "--") to value; values are checked by checkOptions before any work.

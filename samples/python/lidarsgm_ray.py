@@ -20,7 +20,6 @@ import sys
 import tempfile
 import time
 
-import numpy as np
 import cv2 as cv
 
 import lidarsgm_folder as lfo
@@ -67,11 +66,13 @@ class FrameFuser:
 
     def fuse(self, root, fid, frame_out, key):
         """Computes frame fid of folder root, writes the tool's outputs to frame_out, metrics.yml last; its rows."""
-        left, right, sparse, gt_png = lf.load_kitti_frame(root, fid)
-        if gt_png is None:
+        try:
+            frame = cv.lidarsgm.loadKittiFrame(root, fid)
+        except cv.error as e:
+            raise IOError(e.err) from None   # the reader's message, without OpenCV's source location
+        left, right, sparse, gt = frame.left, frame.right, frame.sparse, frame.groundTruth
+        if gt is None or not gt.size:
             raise IOError("no ground truth %s/disp_occ_0/%s_10.png" % (root, fid))
-        gt = gt_png.astype(np.float32) / np.float32(256)
-        gt[gt_png == 0] = -1
         os.makedirs(frame_out, exist_ok=True)
         for name in os.listdir(frame_out):  # partial files of a run killed mid-write
             if name.startswith(".") and ".partial-" in name:
@@ -92,9 +93,9 @@ class FrameFuser:
 
         min_d = self.sdsgm.getMinDisparity()
         max_d = min_d + self.sdsgm.getNumDisparities()
-        lfo.imwrite_atomically(os.path.join(frame_out, "lidar_points.png"), lf.draw_lidar_points(left, sparse, max_d))
+        lfo.imwrite_atomically(os.path.join(frame_out, "lidar_points.png"), cv.lidarsgm.drawSparseDisparity(left, sparse, max_d))
         semi = lf.disparity_to_float(semi16, min_d)
-        lfo.imwrite_atomically(os.path.join(frame_out, "semidense.png"), lf.to_kitti_png(semi))
+        lfo.imwrite_atomically(os.path.join(frame_out, "semidense.png"), cv.lidarsgm.encodeKittiDisparity(semi))
         lfo.imwrite_atomically(os.path.join(frame_out, "semidense_color.png"),
                                cv.lidarsgm.colorizeDisparity(semi, max_d))
         lfo.write_metrics(os.path.join(frame_out, "metrics.yml"), key, rows)
@@ -111,7 +112,7 @@ class FrameFuser:
         min_d = m.getMinDisparity()
         disp = lf.disparity_to_float(disp16, min_d)
         base = os.path.join(folder, "disparity" + suffix)
-        lfo.imwrite_atomically(base + ".png", lf.to_kitti_png(disp))
+        lfo.imwrite_atomically(base + ".png", cv.lidarsgm.encodeKittiDisparity(disp))
         lfo.imwrite_atomically(base + "_color.png", cv.lidarsgm.colorizeDisparity(disp, min_d + m.getNumDisparities()))
         err = cv.lidarsgm.colorizeDisparityError(cv.lidarsgm.interpolateBackground(disp), gt)
         lfo.imwrite_atomically(os.path.join(folder, "error" + suffix + ".png"), err)

@@ -23,8 +23,6 @@ DATA = os.environ.get("LIDARSGM_TESTDATA", os.path.join(os.path.dirname(__file__
 KITTI = os.path.join(DATA, "kitti")
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 FRAMES = {"0000000000": "000002", "0000000001": "000046"}   # raw frame name: KITTI 2015 frame (make_raw_drive.sh)
-sys.path.insert(0, os.path.join(ROOT, "samples", "python"))
-from lidarsgm_fuse import read_calib  # noqa: E402  (the Python sample's KITTI calibration reader)
 
 
 def run(cmd):
@@ -41,7 +39,8 @@ def d1_outliers(d, gt):
 class RawDriveTest(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.mkdtemp(prefix="lidarsgm_raw_")
-        self.P2, _, self.fb = read_calib(os.path.join(KITTI, "calib.txt"))
+        calib = cv.lidarsgm.readKittiCalibration(os.path.join(KITTI, "calib.txt"))
+        self.P2, self.fb = calib.projection, calib.focalBaseline
         # <date>/<date>_drive_0001_sync/{image_02,image_03,velodyne_points}/data, calibration files in <date>/,
         # made from testdata/kitti (the script reads the repository's testdata: the same frames as KITTI here).
         p = subprocess.run(["bash", os.path.join(ROOT, "tools", "make_raw_drive.sh"), self.tmp],

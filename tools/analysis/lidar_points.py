@@ -22,33 +22,13 @@ DATA = os.path.join(_args[0] if _args else os.path.join(os.path.dirname(os.path.
                                                          "shared", "data"), "kitti2015_lidar")
 
 
-def calib():
-    c = {}
-    with open(os.path.join(DATA, "calib.txt")) as f:
-        for line in f:
-            if ":" in line:
-                k, v = line.split(":", 1)
-                c[k.strip()] = np.array([float(x) for x in v.split()])
-    r0, tr = np.eye(4), np.eye(4)
-    r0[:3, :3] = c["R0_rect"].reshape(3, 3)
-    tr[:3, :4] = c["Tr_velo_to_cam"].reshape(3, 4)
-    return c["P2"].reshape(3, 4), r0 @ tr, c["P2"][3] - c["P3"][3]
-
-
-def grey(path):
-    return cv.cvtColor(cv.imread(path, cv.IMREAD_UNCHANGED), cv.COLOR_BGR2GRAY)   # as the tool reads them
-
-
 def frames():
-    P2, l2c, fb = calib()
-    for i in open(os.path.join(DATA, "frames.txt")).read().split():
-        l = grey(os.path.join(DATA, "image_2", i + "_10.png"))
-        r = grey(os.path.join(DATA, "image_3", i + "_10.png"))
-        pts = np.fromfile(os.path.join(DATA, "velodyne", i + ".bin"), dtype=np.float32).reshape(-1, 4)
-        sp = cv.lidarsgm.projectPointsToDisparity(pts, P2, l2c, fb, (l.shape[1], l.shape[0]))
+    """Each shared frame as the tool reads it (cv2.lidarsgm.loadKittiFrame), with its stored ground truth and object map."""
+    for i in cv.lidarsgm.readKittiFrameIds(DATA):
+        f = cv.lidarsgm.loadKittiFrame(DATA, i)
         g16 = cv.imread(os.path.join(DATA, "disp_occ_0", i + "_10.png"), cv.IMREAD_UNCHANGED)
         obj = cv.imread(os.path.join(DATA, "obj_map", i + "_10.png"), cv.IMREAD_UNCHANGED)
-        yield l, r, sp, g16, obj
+        yield f.left, f.right, f.sparse, g16, obj
 
 
 def d1(d, g):

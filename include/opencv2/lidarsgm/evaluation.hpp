@@ -83,6 +83,16 @@ total error).
  */
 CV_EXPORTS_W void colorizeDisparityError(InputArray disparity, InputArray groundTruth, OutputArray color);
 
+/** @brief Sparse disparities over an image (for example a projected LiDAR scan, to see how it lines up): the image in
+grey, each sparse disparity a 3x3 dot in the colours of colorizeDisparity, the nearest points (largest disparity) on
+top.
+@param image grey or BGR, 8 or 16 bits.
+@param sparse CV_32FC1 pixels of the image's size, > 0 = a point.
+@param dst output, CV_8UC3 (BGR).
+@param maxDisparity the disparity drawn white.
+ */
+CV_EXPORTS_W void drawSparseDisparity(InputArray image, InputArray sparse, OutputArray dst, double maxDisparity);
+
 //! @}
 
 }} // namespace cv::lidarsgm

@@ -22,33 +22,34 @@ def data_dir():
     return d
 
 
-def read_calib(path):
-    calib = {}
-    with open(path) as f:
-        for line in f:
-            if ':' in line:
-                k, v = line.split(':', 1)
-                calib[k] = np.array([float(x) for x in v.split()])
-    p2 = calib['P2'].reshape(3, 4)
-    r0 = np.eye(4)
-    r0[:3, :3] = calib['R0_rect'].reshape(3, 3)
-    tr = np.eye(4)
-    tr[:3, :4] = calib['Tr_velo_to_cam'].reshape(3, 4)
-    fb = calib['P2'][3] - calib['P3'][3]
-    return p2, r0 @ tr, fb
-
-
 class lidarsgm_test(NewOpenCVTests):
 
     def load_frame(self):
         d = os.path.join(data_dir(), 'kitti')
-        left = cv.imread(os.path.join(d, 'image_2', '000002_10.png'), cv.IMREAD_GRAYSCALE)
-        right = cv.imread(os.path.join(d, 'image_3', '000002_10.png'), cv.IMREAD_GRAYSCALE)
-        pts = np.fromfile(os.path.join(d, 'velodyne', '000002.bin'), dtype=np.float32).reshape(-1, 4)
-        p2, l2c, fb = read_calib(os.path.join(d, 'calib.txt'))
-        sparse = cv.lidarsgm.projectPointsToDisparity(pts, p2, l2c, fb, (left.shape[1], left.shape[0]))
+        f = cv.lidarsgm.loadKittiFrame(d, '000002')
         gt = cv.imread(os.path.join(d, 'disp_occ_0', '000002_10.png'), cv.IMREAD_UNCHANGED)
-        return left, right, sparse, gt
+        return f.left, f.right, f.sparse, gt
+
+    def test_datasets(self):
+        d = os.path.join(data_dir(), 'kitti')
+        c = cv.lidarsgm.readKittiCalibration(os.path.join(d, 'calib.txt'))
+        self.assertEqual(c.projection.shape, (3, 4))
+        self.assertEqual(c.lidarToCamera.shape, (4, 4))
+        self.assertAlmostEqual(c.focalBaseline, 384.38148, places=9)   # P2[0,3] - P3[0,3]
+        self.assertEqual(list(cv.lidarsgm.readKittiFrameIds(d)), ['000002', '000046'])
+        f = cv.lidarsgm.loadKittiFrame(d, '000046', 4)   # every 4th ring: a 16-line LiDAR
+        self.assertEqual(f.name, '000046')
+        self.assertEqual(f.left.shape, f.right.shape)
+        self.assertEqual(f.sparse.dtype, np.float32)
+        self.assertEqual(f.groundTruth.shape, f.left.shape)
+        self.assertAlmostEqual(f.calibration.focalBaseline, c.focalBaseline)
+        scan = cv.lidarsgm.readVelodyneScan(os.path.join(d, 'velodyne', '000046.bin'))
+        self.assertEqual(cv.lidarsgm.countLidarRings(scan), 64)
+        png = cv.lidarsgm.encodeKittiDisparity(np.array([[-1, 0, 2.3125]], np.float32))
+        np.testing.assert_array_equal(png, [[0, 0, 592]])
+        with self.assertRaises(cv.error) as e:
+            cv.lidarsgm.loadKittiFrame(d, '999999')
+        self.assertIn('999999', str(e.exception))
 
     def test_defaults_and_setters(self):
         m = cv.lidarsgm.StereoLidarSGM.create()
@@ -88,9 +89,10 @@ class lidarsgm_test(NewOpenCVTests):
     def test_calibration_refinement(self):
         d = os.path.join(data_dir(), 'kitti')
         left, right, _, _ = self.load_frame()
-        pts = np.fromfile(os.path.join(d, 'velodyne', '000002.bin'), dtype=np.float32).reshape(-1, 4)
-        p2, l2c, fb = read_calib(os.path.join(d, 'calib.txt'))
-        cal = cv.lidarsgm.LidarCalibration.create(p2, fb)
+        pts = cv.lidarsgm.readVelodyneScan(os.path.join(d, 'velodyne', '000002.bin'))
+        calib = cv.lidarsgm.readKittiCalibration(os.path.join(d, 'calib.txt'))
+        l2c = calib.lidarToCamera
+        cal = cv.lidarsgm.LidarCalibration.create(calib.projection, calib.focalBaseline)
         cal.addFrame(left, right, pts)
         self.assertEqual(cal.getNumFrames(), 1)
         # A 0.5 degree pitch error: the residual grows, and the correction takes it back out.
@@ -107,7 +109,7 @@ class lidarsgm_test(NewOpenCVTests):
         np.testing.assert_allclose(c.lidarToCamera, exact.lidarToCamera, atol=1e-3)
         self.assertLess(c.residualAfter, c.residualBefore)
         with self.assertRaises(cv.error):
-            cv.lidarsgm.LidarCalibration.create(p2, fb).refine(l2c)   # no frames
+            cv.lidarsgm.LidarCalibration.create(calib.projection, calib.focalBaseline).refine(l2c)   # no frames
 
     def test_save_load(self):
         m = cv.lidarsgm.StereoLidarSGM.create(numDisparities=64, P1=12, alpha=0.5)

@@ -1,0 +1,441 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The datasets a user of the module evaluates on (KITTI 2015 folders, KITTI raw drives, Middlebury scenes) and the
+// file formats of their results: opencv2/lidarsgm/datasets.hpp. The tool, the tests, the perf tests and the Python
+// samples read them with this one copy.
+
+#include "precomp.hpp"
+#include "opencv2/imgproc.hpp"
+#include "opencv2/imgcodecs.hpp"
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace cv { namespace lidarsgm {
+
+namespace {
+
+//! The numeric entries of a KITTI calibration file ("NAME: v0 v1 ..." per line).
+class CalibFile
+{
+public:
+    explicit CalibFile(const String& path) : path_(path)
+    {
+        std::ifstream f(path.c_str());
+        if (!f)
+            CV_Error(Error::StsObjectNotFound, "cannot open calibration file " + path);
+        std::string line;
+        while (std::getline(f, line))
+        {
+            const size_t colon = line.find(':');
+            if (colon == std::string::npos)
+                continue;
+            std::istringstream vals(line.substr(colon + 1));
+            std::vector<double>& v = entries_[line.substr(0, colon)];
+            double x;
+            while (vals >> x)
+                v.push_back(x);
+        }
+    }
+
+    //! Entry `name` as a rows x cols CV_64F matrix.
+    Mat matrix(const std::string& name, int rows, int cols) const
+    {
+        auto it = entries_.find(name);
+        if (it == entries_.end())
+            CV_Error(Error::StsParseError, "calibration file " + path_ + " has no key " + name);
+        if ((int)it->second.size() != rows * cols)
+            CV_Error_(Error::StsParseError, ("calibration entry %s in %s has %d numbers, expected %d",
+                                             name.c_str(), path_.c_str(), (int)it->second.size(), rows * cols));
+        return Mat(rows, cols, CV_64F, (void*)it->second.data()).clone();
+    }
+
+private:
+    String path_;
+    std::map<std::string, std::vector<double> > entries_;
+};
+
+//! [R | t] (3x3, 3x1 or 3x4) as a 4x4 rigid transform.
+Mat homogeneous(const Mat& R, const Mat& t = Mat())
+{
+    Mat T = Mat::eye(4, 4, CV_64F);
+    R.copyTo(T(Rect(0, 0, R.cols, 3)));
+    if (!t.empty())
+        t.reshape(1, 3).copyTo(T(Rect(3, 0, 1, 3)));
+    return T;
+}
+
+KittiCalibration calibrationOf(const Mat& P2, const Mat& P3, const Mat& lidarToCamera)
+{
+    KittiCalibration k;
+    k.projection = P2;
+    k.lidarToCamera = lidarToCamera;
+    k.focalBaseline = P2.at<double>(0, 3) - P3.at<double>(0, 3);
+    return k;
+}
+
+Mat readImage(const String& path)
+{
+    Mat img = imread(path, IMREAD_UNCHANGED);
+    if (img.empty())
+        CV_Error(Error::StsObjectNotFound, "cannot read image " + path);
+    return img;
+}
+
+Mat toGrey(const Mat& img)
+{
+    Mat g;
+    if (img.channels() == 3)
+        cvtColor(img, g, COLOR_BGR2GRAY);
+    else if (img.channels() == 4)
+        cvtColor(img, g, COLOR_BGRA2GRAY);
+    else
+        g = img;
+    return g;
+}
+
+bool fileExists(const String& path) { return std::ifstream(path.c_str()).good(); }
+
+/* A frame from its three files: the grey pair, the images' sizes checked, the scan projected with *given or, where
+ none is given, the calibration read from calibPath (after the images, so that a missing folder names its first
+ image). */
+StereoLidarFrame loadFrame(const String& name, const String& leftPath, const String& rightPath,
+                           const String& scanPath, const KittiCalibration* given, const String& calibPath,
+                           int lidarEvery, int firstRing)
+{
+    StereoLidarFrame f;
+    f.name = name;
+    f.leftImage = readImage(leftPath);
+    f.left = toGrey(f.leftImage);
+    f.right = toGrey(readImage(rightPath));
+    if (f.right.size() != f.left.size())
+        CV_Error(Error::StsBadSize, "the images " + leftPath + " and " + rightPath + " differ in size");
+    f.calibration = given ? *given : readKittiCalibration(calibPath);
+    const KittiCalibration& c = f.calibration;
+    const Mat pts = selectLidarRings(readVelodyneScan(scanPath), lidarEvery, firstRing);
+    projectPointsToDisparity(pts, c.projection, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
+    return f;
+}
+
+//! The start of each ring of a scan in the driver's order, and the end: ring r is rows [start[r], start[r + 1]).
+std::vector<int> ringStarts(const Mat& points)
+{
+    CV_CheckTypeEQ(points.type(), CV_32FC1, "lidarsgm: the scan must be CV_32FC1");
+    CV_CheckGE(points.cols, 3, "lidarsgm: the scan needs x, y, z columns");
+    std::vector<int> start(1, 0);
+    double prev = 0;
+    for (int i = 0; i < points.rows; i++)
+    {
+        const float* p = points.ptr<float>(i);
+        double az = std::atan2((double)p[1], (double)p[0]) * 180.0 / CV_PI;
+        if (az < 0)
+            az += 360.0;
+        if (i > 0 && az < prev - 90.0)
+            start.push_back(i);
+        prev = az;
+    }
+    start.push_back(points.rows);
+    return start;
+}
+
+} // namespace
+
+KittiCalibration readKittiCalibration(const String& path)
+{
+    const CalibFile c(path);
+    return calibrationOf(c.matrix("P2", 3, 4), c.matrix("P3", 3, 4),
+                         homogeneous(c.matrix("R0_rect", 3, 3)) * homogeneous(c.matrix("Tr_velo_to_cam", 3, 4)));
+}
+
+KittiCalibration readKittiRawCalibration(const String& camToCamPath, const String& veloToCamPath)
+{
+    const CalibFile cam(camToCamPath), velo(veloToCamPath);
+    return calibrationOf(cam.matrix("P_rect_02", 3, 4), cam.matrix("P_rect_03", 3, 4),
+                         homogeneous(cam.matrix("R_rect_00", 3, 3)) *
+                             homogeneous(velo.matrix("R", 3, 3), velo.matrix("T", 3, 1)));
+}
+
+KittiCalibration readKittiRawDriveCalibration(const String& drive)
+{
+    std::string d = drive;
+    while (d.size() > 1 && (d.back() == '/' || d.back() == '\\'))
+        d.pop_back();
+    const size_t slash = d.find_last_of("/\\");
+    const std::string parent = slash == std::string::npos ? std::string(".") : d.substr(0, slash == 0 ? 1 : slash);
+    return readKittiRawCalibration(parent + "/calib_cam_to_cam.txt", parent + "/calib_velo_to_cam.txt");
+}
+
+Mat readVelodyneScan(const String& path)
+{
+    std::ifstream f(path.c_str(), std::ios::binary | std::ios::ate);
+    if (!f)
+        CV_Error(Error::StsObjectNotFound, "cannot open Velodyne scan " + path);
+    const std::streamsize bytes = f.tellg();
+    if (bytes % 16 != 0)
+        CV_Error(Error::StsParseError, "Velodyne scan " + path + " is not a whole number of 16-byte points");
+    Mat pts((int)(bytes / 16), 4, CV_32F);
+    f.seekg(0);
+    f.read((char*)pts.data, bytes);
+    if (!f)
+        CV_Error(Error::StsParseError, "cannot read Velodyne scan " + path);
+    return pts;
+}
+
+int countLidarRings(InputArray points_)
+{
+    return (int)ringStarts(points_.getMat()).size() - 1;
+}
+
+Mat selectLidarRings(InputArray points_, int keepEvery, int firstRing)
+{
+    const Mat points = points_.getMat();
+    CV_CheckGE(keepEvery, 1, "lidarsgm: keepEvery must be at least 1");
+    CV_CheckGE(firstRing, 0, "lidarsgm: firstRing must be in [0, keepEvery)");
+    CV_CheckLT(firstRing, keepEvery, "lidarsgm: firstRing must be in [0, keepEvery)");
+    const std::vector<int> start = ringStarts(points);
+    const int rings = (int)start.size() - 1;
+    if (keepEvery == 1)
+        return points.clone();
+    std::vector<std::pair<double, int> > order;   // (-median elevation, ring): top ring first
+    for (int r = 0; r < rings; r++)
+    {
+        std::vector<double> el;
+        for (int i = start[r]; i < start[r + 1]; i++)
+        {
+            const float* p = points.ptr<float>(i);
+            el.push_back(std::atan2((double)p[2], std::hypot((double)p[0], (double)p[1])));
+        }
+        std::nth_element(el.begin(), el.begin() + el.size() / 2, el.end());
+        order.push_back(std::make_pair(-el[el.size() / 2], r));
+    }
+    std::sort(order.begin(), order.end());
+    Mat out;
+    for (int k = firstRing; k < rings; k += keepEvery)
+        out.push_back(points.rowRange(start[order[k].second], start[order[k].second + 1]));
+    return out.empty() ? Mat(0, points.cols, CV_32FC1) : out;
+}
+
+Mat readKittiDisparity(const String& path)
+{
+    Mat raw = imread(path, IMREAD_UNCHANGED);
+    if (raw.empty() || raw.type() != CV_16UC1)
+        CV_Error(Error::StsObjectNotFound, "cannot read KITTI disparity PNG " + path);
+    Mat d;
+    raw.convertTo(d, CV_32F, 1.0 / 256);
+    d.setTo(-1.f, raw == 0);
+    return d;
+}
+
+Mat readKittiDepthAsDisparity(const String& path, double focalBaseline)
+{
+    Mat raw = imread(path, IMREAD_UNCHANGED);
+    if (raw.empty() || raw.type() != CV_16UC1)
+        CV_Error(Error::StsObjectNotFound, "cannot read KITTI depth PNG " + path);
+    Mat d(raw.size(), CV_32F);
+    for (int y = 0; y < raw.rows; y++)
+        for (int x = 0; x < raw.cols; x++)
+        {
+            const ushort v = raw.at<ushort>(y, x);
+            d.at<float>(y, x) = v ? (float)(focalBaseline * 256.0 / v) : -1.f;
+        }
+    return d;
+}
+
+std::vector<String> readKittiFrameIds(const String& dir)
+{
+    std::ifstream list((dir + "/frames.txt").c_str());
+    if (!list)
+        CV_Error(Error::StsObjectNotFound, "cannot open " + dir + "/frames.txt");
+    std::vector<String> ids;
+    std::string id;
+    while (list >> id)
+        ids.push_back(id);
+    return ids;
+}
+
+namespace {
+
+StereoLidarFrame kittiFrame(const String& dir, const String& id, const KittiCalibration* calibration, int lidarEvery,
+                            int firstRing)
+{
+    StereoLidarFrame f = loadFrame(id, dir + "/image_2/" + id + "_10.png", dir + "/image_3/" + id + "_10.png",
+                                   dir + "/velodyne/" + id + ".bin", calibration, dir + "/calib.txt", lidarEvery,
+                                   firstRing);
+    const String gt = dir + "/disp_occ_0/" + id + "_10.png";
+    if (fileExists(gt))
+        f.groundTruth = readKittiDisparity(gt);
+    return f;
+}
+
+} // namespace
+
+StereoLidarFrame loadKittiFrame(const String& dir, const String& id, const KittiCalibration& calibration,
+                                int lidarEvery, int firstRing)
+{
+    return kittiFrame(dir, id, &calibration, lidarEvery, firstRing);
+}
+
+StereoLidarFrame loadKittiFrame(const String& dir, const String& id, int lidarEvery, int firstRing)
+{
+    return kittiFrame(dir, id, nullptr, lidarEvery, firstRing);
+}
+
+std::vector<String> readKittiRawFrameNames(const String& drive)
+{
+    std::vector<String> files;
+    glob(drive + "/image_02/data/*.png", files, false);
+    std::vector<String> names;
+    for (const String& p : files)
+    {
+        const size_t slash = p.find_last_of("/\\");
+        const String file = p.substr(slash == String::npos ? 0 : slash + 1);
+        names.push_back(file.substr(0, file.size() - 4));
+    }
+    std::sort(names.begin(), names.end());
+    if (names.empty())
+        CV_Error(Error::StsObjectNotFound, "KITTI raw drive " + drive + " has no image_02/data/*.png");
+    return names;
+}
+
+StereoLidarFrame loadKittiRawFrame(const String& drive, const String& name, const KittiCalibration& calibration,
+                                   int lidarEvery, int firstRing)
+{
+    return loadFrame(name, drive + "/image_02/data/" + name + ".png", drive + "/image_03/data/" + name + ".png",
+                     drive + "/velodyne_points/data/" + name + ".bin", &calibration, String(), lidarEvery, firstRing);
+}
+
+void loadMiddleburyScene(const String& dir, OutputArray left, OutputArray right, OutputArray groundTruth)
+{
+    struct Layout { const char *l, *r, *gt; double scale; };
+    static const Layout layouts[] = { { "im2.png", "im6.png", "disp2.png", 4.0 },
+                                      { "view1.png", "view5.png", "disp1.png", 2.0 },
+                                      { "im0.png", "im1.png", "disp0.pfm", 1.0 },
+                                      { "aloeL.jpg", "aloeR.jpg", "aloeGT.png", 1.0 } };
+    for (const Layout& layout : layouts)
+    {
+        const String g = dir + "/" + layout.gt;
+        if (!fileExists(g))
+            continue;
+        const Mat raw = readImage(g);
+        imread(dir + "/" + layout.l, IMREAD_GRAYSCALE).copyTo(left);
+        imread(dir + "/" + layout.r, IMREAD_GRAYSCALE).copyTo(right);
+        if (left.empty() || right.empty())
+            CV_Error(Error::StsObjectNotFound, "lidarsgm: cannot read the images " + String(layout.l) + " and " +
+                                                   layout.r + " of the Middlebury scene " + dir);
+        Mat gt;
+        raw.convertTo(gt, CV_32F, 1.0 / layout.scale);
+        if (raw.depth() == CV_32F)
+            gt.setTo(-1.f, ~(raw < std::numeric_limits<float>::infinity()));   // PFM: inf = unknown
+        else
+            gt.setTo(-1.f, raw == 0);
+        gt.copyTo(groundTruth);
+        return;
+    }
+    CV_Error(Error::StsObjectNotFound, "lidarsgm: " + dir + " is not a Middlebury scene (no disp2.png, disp1.png, "
+                                       "disp0.pfm or aloeGT.png)");
+}
+
+Mat sampleGroundTruth(InputArray groundTruth, double fraction, int64 seed)
+{
+    const Mat gt = groundTruth.getMat();
+    CV_CheckTypeEQ(gt.type(), CV_32FC1, "lidarsgm: the ground truth must be CV_32FC1");
+    RNG rng((uint64)seed);
+    Mat sparse(gt.size(), CV_32F, Scalar::all(0));
+    for (int y = 0; y < gt.rows; y++)
+        for (int x = 0; x < gt.cols; x++)
+            if (gt.at<float>(y, x) > 0 && rng.uniform(0.0, 1.0) < fraction)
+                sparse.at<float>(y, x) = gt.at<float>(y, x);
+    return sparse;
+}
+
+Mat encodeKittiDisparity(InputArray disparity)
+{
+    const Mat d = disparity.getMat();
+    CV_CheckTypeEQ(d.type(), CV_32FC1, "lidarsgm: the disparity must be CV_32FC1 pixels");
+    Mat out(d.size(), CV_16UC1, Scalar::all(0));
+    for (int y = 0; y < d.rows; y++)
+        for (int x = 0; x < d.cols; x++)
+        {
+            const float v = d.at<float>(y, x);
+            if (v > 0)
+                out.at<ushort>(y, x) = saturate_cast<ushort>(std::max(1.0, std::floor(v * 256.0 + 0.5)));
+        }
+    return out;
+}
+
+Mat encodeKittiDepth(InputArray depth_)
+{
+    const Mat depth = depth_.getMat();
+    CV_CheckTypeEQ(depth.type(), CV_32FC1, "lidarsgm: the depth must be CV_32FC1 metres");
+    Mat out(depth.size(), CV_16UC1, Scalar::all(0));
+    for (int y = 0; y < depth.rows; y++)
+        for (int x = 0; x < depth.cols; x++)
+        {
+            const double v = std::floor(depth.at<float>(y, x) * 256.0 + 0.5);
+            if (v >= 1 && v <= 65535)
+                out.at<ushort>(y, x) = (ushort)v;
+        }
+    return out;
+}
+
+void writePfm(const String& path, InputArray disparity)
+{
+    const Mat src = disparity.getMat();
+    CV_CheckTypeEQ(src.type(), CV_32FC1, "lidarsgm: the disparity must be CV_32FC1 pixels");
+    Mat d = src.clone();
+    d.setTo(std::numeric_limits<float>::infinity(), src < 0);
+    if (!imwrite(path, d))
+        CV_Error(Error::StsError, "lidarsgm: cannot write " + path);
+}
+
+void writePly(const String& path, InputArray points_, InputArray colors)
+{
+    const Mat points = points_.getMat();
+    Mat bgr = colors.getMat();
+    CV_CheckTypeEQ(points.type(), CV_32FC3, "lidarsgm: the points must be CV_32FC3 (disparityToPoints)");
+    CV_Check(bgr.size(), bgr.size() == points.size(), "lidarsgm: the colours must be an image of the points' size");
+    if (bgr.depth() == CV_16U)
+        bgr.convertTo(bgr, CV_8U, 1.0 / 256);
+    if (bgr.channels() == 1)
+        cvtColor(bgr, bgr, COLOR_GRAY2BGR);
+    else if (bgr.channels() == 4)
+        cvtColor(bgr, bgr, COLOR_BGRA2BGR);
+    CV_CheckTypeEQ(bgr.type(), CV_8UC3, "lidarsgm: the colours must be grey or BGR(A), 8 or 16 bits");
+    size_t n = 0;
+    for (int y = 0; y < points.rows; y++)
+        for (int x = 0; x < points.cols; x++)
+        {
+            const Vec3f& p = points.at<Vec3f>(y, x);
+            n += std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+        }
+    std::ofstream out(path.c_str(), std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\ncomment lidarsgm: left camera frame, metres\n"
+        << "element vertex " << n << "\nproperty float x\nproperty float y\nproperty float z\n"
+        << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+    for (int y = 0; y < points.rows && out; y++)
+        for (int x = 0; x < points.cols; x++)
+        {
+            const Vec3f& p = points.at<Vec3f>(y, x);
+            if (!(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])))
+                continue;
+            const Vec3b& c = bgr.at<Vec3b>(y, x);
+            char rec[15];
+            for (int k = 0; k < 3; k++)   // little-endian float32, whatever the host's byte order
+            {
+                uint32_t bits;
+                std::memcpy(&bits, &p[k], 4);
+                for (int b = 0; b < 4; b++)
+                    rec[4 * k + b] = (char)((bits >> (8 * b)) & 0xFF);
+            }
+            rec[12] = (char)c[2];
+            rec[13] = (char)c[1];
+            rec[14] = (char)c[0];
+            out.write(rec, sizeof(rec));
+        }
+    if (!out)
+        CV_Error(Error::StsError, "lidarsgm: cannot write " + path);
+}
+
+}} // namespace cv::lidarsgm
