@@ -1,10 +1,12 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Builds without the CUDA sources (no CUDA, or no cudev): the CUDA pipeline exists (the front class holds one) and refuses every call.
+// Builds without the CUDA sources (no CUDA, or no cudev): the CUDA pipeline exists (the front class holds one) and
+// refuses every call; so do the CUDA stages of the per-stage tests (cuda_stages_host.hpp).
 
 #include "precomp.hpp"
 #include "pipeline.hpp"
+#include "cuda_stages_host.hpp"
 
 #ifndef LIDARSGM_CUDA
 namespace cv { namespace lidarsgm { namespace detail {
@@ -30,6 +32,33 @@ void CudaPipeline::projectPoints(const cuda::GpuMat&, int, int, const double*, d
 {
     noCuda();
 }
+
+namespace cuda_host {
+
+void convertSparse(const GpuMat&, int, int, GpuMat&) { noCuda(); }
+bool isLidarScan(const GpuMat&) { noCuda(); return false; }
+void filterHiddenPoints(const GpuMat&, const PipelineParams&, GpuMat&) { noCuda(); }
+void censusTransform(const GpuMat&, const GpuMat&, const PipelineParams&, GpuMat&, GpuMat&) { noCuda(); }
+void semidensify(const GpuMat&, const GpuMat&, const GpuMat&, const PipelineParams&, GpuMat&) { noCuda(); }
+void interpolateRings(const GpuMat&, const GpuMat&, const GpuMat&, const PipelineParams&, GpuMat&, GpuMat&, GpuMat&,
+                      int&)
+{
+    noCuda();
+}
+void aggregateCosts(const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const PipelineParams&, const GpuMat&,
+                    bool, GpuMat&)
+{
+    noCuda();
+}
+void winnerTakesAll(const GpuMat&, int, const PipelineParams&, GpuMat&, GpuMat&, GpuMat&, GpuMat&) { noCuda(); }
+void medianFilter(const GpuMat&, GpuMat&) { noCuda(); }
+void consistencyCheck(const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&,
+                      const GpuMat&, int, const PipelineParams&, GpuMat&)
+{
+    noCuda();
+}
+
+} // namespace cuda_host
 
 }}} // namespace cv::lidarsgm::detail
 #endif

@@ -19,7 +19,11 @@
 #  include "opencv2/core/cuda.hpp"
 #endif
 
-namespace cv { namespace lidarsgm { namespace detail {
+namespace cv { namespace lidarsgm {
+
+class StereoLidarSGM;
+
+namespace detail {
 
 //! Centre-symmetric census: a 9x7 window, each of the 31 pixel pairs (p + o, p - o) gives one bit.
 enum { CENSUS_WIDTH = 9, CENSUS_HEIGHT = 7, CENSUS_BITS = (CENSUS_WIDTH * CENSUS_HEIGHT - 1) / 2 };
@@ -78,6 +82,9 @@ struct PipelineParams
     CostWeights w;
     CostWeights wCopy;     //!< w with the DDC terms (q1, q2) scaled by semidenseWeight
 };
+
+//! A matcher's parameters as the stages take them (for the per-stage tests; the front class passes its own).
+CV_EXPORTS PipelineParams pipelineParamsOf(const StereoLidarSGM& matcher);
 
 // ---- Rules shared by both backends --------------------------------------------------------------------------------
 

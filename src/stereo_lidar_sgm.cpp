@@ -192,16 +192,8 @@ public:
         checkRelations();
     }
 
-private:
-    //! Constraints between parameters, checked when they are used (setters may be called in any order).
-    void checkRelations() const
-    {
-        if (P1_ > P2_)
-            CV_Error_(Error::StsOutOfRange, ("lidarsgm: P1 (%d) must not exceed P2 (%d)", P1_, P2_));
-        if (Q1_ > Q2_)
-            CV_Error_(Error::StsOutOfRange, ("lidarsgm: Q1 (%d) must not exceed Q2 (%d)", Q1_, Q2_));
-    }
-
+    /** The parameters as the stages take them (validated and converted to integers); also for the per-stage tests
+    (pipelineParamsOf). */
     PipelineParams pipelineParams() const
     {
         checkRelations();
@@ -231,6 +223,16 @@ private:
         p.weighCopies = p.semidense && semidenseWeight_ < 1.0;
         p.wCopy = scaleDdcWeights(p.w, alpha_, Q1_, Q2_, semidenseWeight_);
         return p;
+    }
+
+private:
+    //! Constraints between parameters, checked when they are used (setters may be called in any order).
+    void checkRelations() const
+    {
+        if (P1_ > P2_)
+            CV_Error_(Error::StsOutOfRange, ("lidarsgm: P1 (%d) must not exceed P2 (%d)", P1_, P2_));
+        if (Q1_ > Q2_)
+            CV_Error_(Error::StsOutOfRange, ("lidarsgm: Q1 (%d) must not exceed Q2 (%d)", Q1_, Q2_));
     }
 
     /* Every entry point: checks, then one backend. One call at a time per instance (the backends' work buffers are
@@ -277,6 +279,17 @@ Ptr<StereoLidarSGM> StereoLidarSGM::load(const String& filename, const String& o
 {
     return Algorithm::load<StereoLidarSGM>(filename, objname);
 }
+
+namespace detail {
+
+PipelineParams pipelineParamsOf(const StereoLidarSGM& matcher)
+{
+    const StereoLidarSGMImpl* impl = dynamic_cast<const StereoLidarSGMImpl*>(&matcher);
+    CV_Assert(impl);
+    return impl->pipelineParams();
+}
+
+} // namespace detail
 
 }} // namespace cv::lidarsgm
 

@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
@@ -297,6 +298,22 @@ TEST(Lidarsgm_Aggregation, stack_placement_does_not_change_results)
         shift = 4080; withStackShift<4080>(check);
     }
     setNumThreads(saved);
+}
+
+// The CUDA twin (src_cuda/aggregation.cu): the aggregated costs of every stage configuration (4 and 8 paths, with
+// and without a prior, the edge rule, the copied priors' weight) against the CPU's, before any winner is taken.
+TEST(Lidarsgm_CUDA_Aggregation, bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+    {
+        cuda::GpuMat gl, gr, sum;
+        cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), c.p, gl, gr);
+        const cuda::GpuMat prior = c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior);
+        const cuda::GpuMat own = c.own16.empty() ? cuda::GpuMat() : cuda::GpuMat(c.own16);
+        cuda_host::aggregateCosts(gl, gr, prior, cuda::GpuMat(c.left), c.p, own, c.scan, sum);
+        expectSameAsCpu(c.sum, sum, c.name);
+    }
 }
 
 }} // namespace

@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 
 namespace opencv_test { namespace {
 
@@ -221,6 +222,19 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     FileStorage fs("{\"name\": \"lidarsgm_StereoLidarSGM\", \"numDisparities\": 100}",
                    FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_JSON);
     EXPECT_THROW(n->read(fs.root()), cv::Exception);
+}
+
+// The stage calls of the per-stage CUDA tests (test_common.hpp, runCpuStages) give the matcher's own output on every
+// configuration: they feed each CUDA stage what the pipeline feeds it.
+TEST(Lidarsgm_Api, stage_by_stage_gives_the_output)
+{
+    for (const StageCase& c : stageCases())
+    {
+        Mat out;
+        c.matcher->compute(c.left, c.right, c.sparse, out);
+        ASSERT_EQ(out.type(), c.out.type()) << c.name;
+        EXPECT_EQ(0, cvtest::norm(out, c.out, NORM_INF)) << c.name;
+    }
 }
 
 }} // namespace

@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
@@ -106,6 +107,19 @@ TEST(Lidarsgm_Census, tiny_images)
             ASSERT_NO_THROW(censusTransform(img, census));
             EXPECT_EQ(img.size(), census.size());
         }
+}
+
+// The CUDA twin (src_cuda/census.cu): both images of every stage configuration, 8 and 16 bits.
+TEST(Lidarsgm_CUDA_Census, bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+    {
+        cuda::GpuMat gl, gr;
+        cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), c.p, gl, gr);
+        expectSameAsCpu(c.censusL, gl, c.name + " (left)");
+        expectSameAsCpu(c.censusR, gr, c.name + " (right)");
+    }
 }
 
 }} // namespace

@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
@@ -59,6 +60,33 @@ TEST(Lidarsgm_ConsistencyCheck, left_right_pass_and_camera_lidar_rejection)
     EXPECT_EQ(80, runCheck(SLS::CHECK_STEREO, 15, 184).at<short>(0, 40));
     EXPECT_EQ(80, runCheck(SLS::CHECK_STEREO_LIDAR, 15, 184).at<short>(0, 40));
     EXPECT_EQ(NO_DISP, runCheck(SLS::CHECK_CAMERA_LIDAR, 15, 184).at<short>(0, 40));
+}
+
+// The CUDA twin (src_cuda/consistency_check.cu) on the CPU's filtered maps of every stage configuration, under
+// every check and both output types.
+TEST(Lidarsgm_CUDA_ConsistencyCheck, bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+        for (int check = 0; check < 4; check++)
+            for (bool floatOutput : { false, true })
+            {
+                PipelineParams p = c.p;
+                p.stereoCheck = check == 1 || check == 3;
+                p.lidarCheck = check >= 2;
+                p.floatOutput = floatOutput;
+                Mat cpu;
+                consistencyCheck(c.med16, c.medInt, c.medRight, c.sparse16, c.nonUnique16, c.rings, p, cpu);
+                const bool rings = c.rings.valid && ringCheckOn(p);
+                cuda::GpuMat g;
+                cuda_host::consistencyCheck(cuda::GpuMat(c.med16), cuda::GpuMat(c.medInt), cuda::GpuMat(c.medRight),
+                                            cuda::GpuMat(c.sparse16),
+                                            rings ? cuda::GpuMat(c.nonUnique16) : cuda::GpuMat(),
+                                            rings ? cuda::GpuMat(c.rings.above16) : cuda::GpuMat(),
+                                            rings ? cuda::GpuMat(c.rings.below16) : cuda::GpuMat(),
+                                            c.rings.gap, p, g);
+                expectSameAsCpu(cpu, g, c.name + format(", check %d, %s", check, floatOutput ? "CV_32F" : "CV_16S"));
+            }
 }
 
 }} // namespace

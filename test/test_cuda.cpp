@@ -11,16 +11,6 @@ namespace opencv_test { namespace {
 
 using cv::lidarsgm::StereoLidarSGM;
 
-static void requireCudaDevice()
-{
-#ifndef HAVE_CUDA
-    throw SkipTestException("lidarsgm was built without CUDA");
-#else
-    if (cv::cuda::getCudaEnabledDeviceCount() <= 0)
-        throw SkipTestException("no CUDA device");
-#endif
-}
-
 //! More than 256 disparities: the CUDA path refuses with a message that names the CPU path (the CPU path takes 512).
 TEST(Lidarsgm_CUDA, refuses_more_than_256_disparities)
 {

@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
@@ -58,6 +59,23 @@ TEST(Lidarsgm_MedianFilter, holes_and_outliers)
     EXPECT_EQ(160, dst.at<short>(2, 10));
     EXPECT_EQ(160, dst.at<short>(1, 15));
     EXPECT_EQ(NO_DISP, dst.at<short>(2, 21));
+}
+
+// The CUDA twin (src_cuda/median_filter.cu) on the three maps of every stage configuration (holes included).
+TEST(Lidarsgm_CUDA_MedianFilter, bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+    {
+        const Mat* in[] = { &c.disp16, &c.dispInt, &c.dispRight };
+        const Mat* cpu[] = { &c.med16, &c.medInt, &c.medRight };
+        for (int k = 0; k < 3; k++)
+        {
+            cuda::GpuMat g;
+            cuda_host::medianFilter(cuda::GpuMat(*in[k]), g);
+            expectSameAsCpu(*cpu[k], g, c.name + format(" (map %d)", k));
+        }
+    }
 }
 
 }} // namespace

@@ -169,4 +169,31 @@ TEST(Lidarsgm_RingInterpolationApi, parameter)
     EXPECT_GT(countNonZero(on >= 0), countNonZero(off >= 0) + 500);   // 62000 + 879 measured
 }
 
+// The CUDA twin (src_cuda/ring_interpolation.cu): the filled semidense map, the maps the ring check reads and the
+// gap limit, on the configurations with ring interpolation on.
+TEST(Lidarsgm_CUDA_RingInterpolation, bit_exact)
+{
+    requireCudaDevice();
+    int tested = 0;
+    for (const StageCase& c : stageCases())
+    {
+        if (c.p.ringGapFactor16 <= 0)
+            continue;
+        cuda::GpuMat gl, gr, above, below;
+        cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), c.p, gl, gr);
+        cuda::GpuMat gs(c.semidense0);
+        int gap = -1;
+        cuda_host::interpolateRings(gl, gr, cuda::GpuMat(c.sparse16), c.p, gs, above, below, gap);
+        Mat semidense = c.semidense0.clone();
+        RingMaps rings;
+        interpolateRings(c.censusL, c.censusR, c.sparse16, c.p, semidense, rings);
+        expectSameAsCpu(semidense, gs, c.name);
+        expectSameAsCpu(rings.above16, above, c.name + " (above)");
+        expectSameAsCpu(rings.below16, below, c.name + " (below)");
+        EXPECT_EQ(rings.gap, gap) << c.name;
+        tested++;
+    }
+    EXPECT_EQ(2, tested);
+}
+
 }} // namespace

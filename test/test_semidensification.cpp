@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
@@ -91,6 +92,19 @@ TEST_F(Lidarsgm_Semidensification, key_order_is_the_lexicographic_order)
             ASSERT_EQ(lex, semidenseKey(c1, dx1, dy1, rs) < semidenseKey(c2, dx2, dy2, rs));
             ASSERT_EQ(c1, semidenseKeyCost(semidenseKey(c1, dx1, dy1, rs)));
         }
+}
+
+// The CUDA twin (src_cuda/semidensification.cu) on every stage configuration, from the CUDA census strings.
+TEST(Lidarsgm_CUDA_Semidensification, bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+    {
+        cuda::GpuMat gl, gr, gs;
+        cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), c.p, gl, gr);
+        cuda_host::semidensify(gl, gr, cuda::GpuMat(c.sparse16), c.p, gs);
+        expectSameAsCpu(c.semidense0, gs, c.name);
+    }
 }
 
 }} // namespace

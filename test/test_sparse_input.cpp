@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
@@ -42,6 +43,23 @@ TEST(Lidarsgm_SparseInput, conversion_rules)
     EXPECT_EQ(407, s16.at<short>(0, 3));      // 407.2 -> 407, rounds to 25
     EXPECT_EQ(NO_DISP, s16.at<short>(0, 4));  // 408 rounds to 26: outside the search range
     EXPECT_EQ(160, s16.at<short>(0, 5));      // 159.52 -> 160 (to 1/16 first): exactly minDisparity, kept
+}
+
+// The CUDA twin (src_cuda/sparse_input.cu) on every stage configuration, as CV_32F pixels and as KITTI's x256 encoding.
+TEST(Lidarsgm_CUDA_SparseInput, bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+    {
+        Mat s16u, cpu16u;
+        c.sparse.convertTo(s16u, CV_16U, 256);
+        convertSparse(s16u, c.p.minDisparity, c.p.numDisparities, cpu16u);
+        cuda::GpuMat g;
+        cuda_host::convertSparse(cuda::GpuMat(c.sparse), c.p.minDisparity, c.p.numDisparities, g);
+        expectSameAsCpu(c.converted16, g, c.name);
+        cuda_host::convertSparse(cuda::GpuMat(s16u), c.p.minDisparity, c.p.numDisparities, g);
+        expectSameAsCpu(cpu16u, g, c.name + " (x256)");
+    }
 }
 
 }} // namespace

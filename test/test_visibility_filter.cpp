@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
@@ -139,6 +140,30 @@ TEST(Lidarsgm_VisibilityFilter, matcher_drops_hidden_points_before_every_stage)
     m->setVisibilityParallax(0);
     m->compute(l, r, visible, byHand);
     EXPECT_EQ(0, cvtest::norm(withFilter, byHand, NORM_INF));
+}
+
+// The CUDA twins (src_cuda/visibility_filter.cu): the scan test, and the filter with and without the window's
+// parallax growth, on every stage configuration.
+TEST(Lidarsgm_CUDA_VisibilityFilter, bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+    {
+        const cuda::GpuMat g(c.converted16);
+        EXPECT_EQ(c.scan, cuda_host::isLidarScan(g)) << c.name;
+        for (int parallax256 : { 0, 46 })
+        {
+            PipelineParams p = c.p;
+            p.visibilityRadiusX = 2;
+            p.visibilityRadiusY = 4;
+            p.visibilityParallax256 = parallax256;
+            Mat cpu;
+            filterHiddenPoints(c.converted16, p, cpu, c.scan);
+            cuda::GpuMat gv;
+            cuda_host::filterHiddenPoints(g, p, gv);
+            expectSameAsCpu(cpu, gv, c.name + format(", parallax %d/256", parallax256));
+        }
+    }
 }
 
 }} // namespace

@@ -1,5 +1,6 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "cpu_stages.hpp"
 
 namespace opencv_test { namespace {
@@ -59,6 +60,23 @@ TEST(Lidarsgm_WinnerTakesAll, right_view_disparity)
     EXPECT_EQ(1, dr.at<short>(0, 0));
     // Right pixel 2 is seen only by (x=2,k=0).
     EXPECT_EQ(0, dr.at<short>(0, 2));
+}
+
+// The CUDA twin (src_cuda/winner_takes_all.cu) on the CPU's aggregated costs of every stage configuration: the left
+// and right disparities and the non-unique winners the ring check reads.
+TEST(Lidarsgm_CUDA_WinnerTakesAll, bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+    {
+        cuda::GpuMat d16, dInt, dRight, nonUnique;
+        cuda_host::winnerTakesAll(cuda::GpuMat(c.sum), c.left.cols, c.p, d16, dInt, dRight, nonUnique);
+        expectSameAsCpu(c.disp16, d16, c.name + " (disp16)");
+        expectSameAsCpu(c.dispInt, dInt, c.name + " (dispInt)");
+        expectSameAsCpu(c.dispRight, dRight, c.name + " (dispRight)");
+        if (!c.nonUnique16.empty())
+            expectSameAsCpu(c.nonUnique16, nonUnique, c.name + " (nonUnique16)");
+    }
 }
 
 }} // namespace

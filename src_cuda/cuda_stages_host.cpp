@@ -1,0 +1,162 @@
+// This file is part of the lidarsgm module (an OpenCV extra module).
+// It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
+
+// The CUDA stages one at a time (src/cuda_stages_host.hpp): each allocates what the pipeline's buffers would hold,
+// calls the stage on the default stream and waits for it.
+
+#include "precomp.hpp"
+#include "cuda_stages_host.hpp"
+#include "cuda_stages.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail { namespace cuda_host {
+
+namespace ci = cuda_impl;
+
+namespace {
+
+void finish()
+{
+    const cudaError_t err = cudaDeviceSynchronize();
+    if (err == cudaSuccess)
+        return;
+    CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
+}
+
+//! The scan test's result on the device: stats as the pipeline holds them, the result at stats[2 SCAN_GAP_BINS].
+GpuMat scanStats(const GpuMat& sparse16)
+{
+    GpuMat stats(1, 2 * SCAN_GAP_BINS + 1, CV_32SC1);
+    ci::testScan(sparse16, stats.ptr<int>(), 0);
+    return stats;
+}
+
+} // namespace
+
+void convertSparse(const GpuMat& sparse, int minDisparity, int numDisparities, GpuMat& sparse16)
+{
+    CV_Assert(sparse.type() == CV_16UC1 || sparse.type() == CV_32FC1);
+    sparse16.create(sparse.size(), CV_16SC1);
+    if (sparse.type() == CV_16UC1)
+        ci::convertSparse(cuda::PtrStepSz<ushort>(sparse), minDisparity, numDisparities, sparse16, 0);
+    else
+        ci::convertSparse(cuda::PtrStepSz<float>(sparse), minDisparity, numDisparities, sparse16, 0);
+    finish();
+}
+
+bool isLidarScan(const GpuMat& sparse16)
+{
+    const GpuMat stats = scanStats(sparse16);
+    finish();
+    Mat s;
+    stats.download(s);
+    return s.at<int>(0, 2 * SCAN_GAP_BINS) != 0;
+}
+
+void filterHiddenPoints(const GpuMat& sparse16, const PipelineParams& p, GpuMat& visible16)
+{
+    const GpuMat stats = scanStats(sparse16);
+    visible16.create(sparse16.size(), CV_16SC1);
+    ci::filterHiddenPoints(sparse16, p, visible16, stats.ptr<int>(), 0);
+    finish();
+}
+
+void censusTransform(const GpuMat& left, const GpuMat& right, const PipelineParams& p, GpuMat& censusL,
+                     GpuMat& censusR)
+{
+    CV_Assert(left.type() == right.type() && left.size() == right.size());
+    CV_Assert(left.type() == CV_8UC1 || left.type() == CV_16UC1);
+    const int before = ci::rightCensusPadBefore(p), after = ci::rightCensusPadAfter(p);
+    censusL.create(left.size(), CV_32SC1);
+    GpuMat padded(left.rows, before + left.cols + after, CV_32SC1);
+    censusR = padded.colRange(before, before + left.cols);
+    if (left.type() == CV_8UC1)
+        ci::censusTransform(cuda::PtrStepSz<uchar>(left), cuda::PtrStepSz<uchar>(right), censusL, censusR, before,
+                            after, 0);
+    else
+        ci::censusTransform(cuda::PtrStepSz<ushort>(left), cuda::PtrStepSz<ushort>(right), censusL, censusR, before,
+                            after, 0);
+    finish();
+}
+
+void semidensify(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& sparse16, const PipelineParams& p,
+                 GpuMat& semidense16)
+{
+    semidense16.create(sparse16.size(), CV_16SC1);
+    ci::semidensify(censusL, censusR, sparse16, p, semidense16, 0);
+    finish();
+}
+
+void interpolateRings(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& sparse16, const PipelineParams& p,
+                      GpuMat& semidense16, GpuMat& above16, GpuMat& below16, int& gap)
+{
+    above16.create(sparse16.size(), CV_16SC1);
+    below16.create(sparse16.size(), CV_16SC1);
+    GpuMat stats(1, RING_GAP_BINS + 1, CV_32SC1);
+    ci::interpolateRings(censusL, censusR, sparse16, p, semidense16, above16, below16, stats.ptr<int>(), 0);
+    finish();
+    Mat s;
+    stats.download(s);
+    gap = s.at<int>(0, RING_GAP_BINS);
+}
+
+void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& prior16, const GpuMat& left,
+                    const PipelineParams& p, const GpuMat& own16, bool scan, GpuMat& sum)
+{
+    sum.create(left.rows, left.cols * p.numDisparities, CV_16UC1);
+    GpuMat scanFlag(1, 1, CV_32SC1, Scalar::all(scan ? 1 : 0));
+    const cuda::PtrStepSz<short> prior = prior16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior16);
+    const cuda::PtrStepSz<short> own = own16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(own16);
+    const int* flag = own16.empty() ? nullptr : scanFlag.ptr<int>();
+    if (left.type() == CV_8UC1)
+        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, sum, 0);
+    else
+        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, sum, 0);
+    finish();
+}
+
+void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMat& disp16, GpuMat& dispInt,
+                    GpuMat& dispRight, GpuMat& nonUnique16)
+{
+    const Size sz(width, sum.rows);
+    disp16.create(sz, CV_16SC1);
+    dispInt.create(sz, CV_16SC1);
+    dispRight.create(sz, CV_16SC1);
+    GpuMat rightKey(sz, CV_32SC1);
+    if (ringCheckOn(p))
+        nonUnique16.create(sz, CV_16SC1);
+    else
+        nonUnique16.release();
+    ci::winnerTakesAll(sum, width, p, disp16, dispInt, rightKey, dispRight,
+                       nonUnique16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(nonUnique16), 0);
+    finish();
+}
+
+void medianFilter(const GpuMat& src, GpuMat& dst)
+{
+    CV_Assert(src.type() == CV_16SC1);
+    dst.create(src.size(), CV_16SC1);
+    ci::MedianMaps maps = {};
+    maps.src[0] = src;
+    maps.dst[0] = dst;
+    ci::medianFilter(maps, 1, 0);
+    finish();
+}
+
+void consistencyCheck(const GpuMat& disp16, const GpuMat& dispInt, const GpuMat& dispRight, const GpuMat& sparse16,
+                      const GpuMat& nonUnique16, const GpuMat& above16, const GpuMat& below16, int gap,
+                      const PipelineParams& p, GpuMat& out)
+{
+    GpuMat gapBuf(1, 1, CV_32SC1, Scalar::all(gap));
+    ci::RingCheckMaps rings = {};
+    if (!above16.empty() && ringCheckOn(p))
+        rings = { above16, below16, nonUnique16, gapBuf.ptr<int>() };
+    const cuda::PtrStepSz<short> sparse = sparse16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(sparse16);
+    out.create(disp16.size(), p.floatOutput ? CV_32FC1 : CV_16SC1);
+    if (p.floatOutput)
+        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rings, p, cuda::PtrStepSz<float>(out), 0);
+    else
+        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rings, p, cuda::PtrStepSz<short>(out), 0);
+    finish();
+}
+
+}}}} // namespace cv::lidarsgm::detail::cuda_host
