@@ -4,6 +4,7 @@
 // Stereo-LiDAR consistency check (paper Sec. IV-C, Eq. 6), fused with the conversion to the output format. The LiDAR
 // view uses the original sparse map, not the semidense one: propagated values need not obey the sensors' geometry
 // (the paper's note under Eq. 6). With ring interpolation the LiDAR test includes the ring check (pipeline.hpp).
+// Where asked, each output pixel's confidence (outputConfidence, pipeline.hpp) is written beside it.
 
 #include "precomp.hpp"
 #include "cpu_stages.hpp"
@@ -33,11 +34,15 @@ void encodeRow(const short* d16, int W, const PipelineParams& p, Mat& out, int y
 } // namespace
 
 void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
-                      const Mat& nonUnique16, const RingMaps& rings, const PipelineParams& p, OutputArray _out)
+                      const Mat& nonUnique16, const RingMaps& rings, const PipelineParams& p, OutputArray _out,
+                      OutputArray _confidence)
 {
     const int W = disp16.cols, H = disp16.rows;
-    const bool useStereo = p.stereoCheck, useLidar = p.lidarCheck;
+    const bool useStereo = p.stereoCheck, useLidar = p.lidarCheck, conf = p.confidence;
     CV_Assert(!useLidar || (sparse16.type() == CV_16SC1 && sparse16.size() == disp16.size()));
+    // The confidence's evidence runs both tests wherever it can, whatever the check keeps.
+    const bool lidarTest = useLidar || (conf && !sparse16.empty());
+    CV_Assert(!lidarTest || (sparse16.type() == CV_16SC1 && sparse16.size() == disp16.size()));
     const bool useRings = ringCheckOn(p) && rings.valid;
     CV_Assert(!useRings || (nonUnique16.type() == CV_16SC1 && nonUnique16.size() == disp16.size() &&
                             rings.above16.size() == disp16.size() && rings.below16.size() == disp16.size() &&
@@ -49,52 +54,77 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
         return ringLineSupports(v, above, below, ringStep, sparse16.ptr<short>(), sparseStep, x, y, W, rings.gap,
                                 p.checkThreshold16);
     };
+    const auto range16 = [&](int x, int y) {
+        return confidenceRange16([&](int u, int v) { return (int)disp16.at<short>(v, u); }, x, y, W, H);
+    };
     _out.create(disp16.size(), p.floatOutput ? CV_32FC1 : CV_16SC1);
-    Mat out = _out.getMat();
-    const SparseColumns cols(useLidar ? sparse16 : Mat(1, 1, CV_16SC1, Scalar::all(NO_DISP)));
+    Mat out = _out.getMat(), confidence;
+    if (conf)
+    {
+        _confidence.create(disp16.size(), CV_32FC1);
+        confidence = _confidence.getMat();
+    }
+    const SparseColumns cols(lidarTest ? sparse16 : Mat(1, 1, CV_16SC1, Scalar::all(NO_DISP)));
     const int rc = p.checkRadius, tc = p.checkThreshold16;
 
     parallel_for_(Range(0, H), [&](const Range& r) {
-        WindowCursor cur(cols, rc, useLidar ? r.start : 0);
+        WindowCursor cur(cols, rc, lidarTest ? r.start : 0);
         AutoBuffer<short> rowBuf(W);
         short* res = rowBuf.data();
         for (int y = r.start; y < r.end; y++)
         {
-            if (useLidar)
+            if (lidarTest)
                 cur.moveTo(y);
             const short* d16 = disp16.ptr<short>(y);
             const short* di = dispInt.ptr<short>(y);
             const short* dr = dispRight.ptr<short>(y);
             const short* nu = useRings ? nonUnique16.ptr<short>(y) : nullptr;
+            float* co = conf ? confidence.ptr<float>(y) : nullptr;
             for (int x = 0; x < W; x++)
             {
                 res[x] = d16[x];
-                if (d16[x] == NO_DISP && nu && nu[x] != NO_DISP && ringSupports(nu[x], x, y))
-                    res[x] = nu[x];
-                if (d16[x] == NO_DISP || (!useStereo && !useLidar))
+                if (d16[x] == NO_DISP)
+                {
+                    // A non-unique winner that the ring check keeps: LiDAR evidence alone.
+                    const bool rescued = nu && nu[x] != NO_DISP && ringSupports(nu[x], x, y);
+                    if (rescued)
+                        res[x] = nu[x];
+                    if (co)
+                        co[x] = rescued ? confidenceValue(outputConfidence(checkEvidence(false, true), range16(x, y)))
+                                        : 0.f;
                     continue;
-                bool ok = false;
-                if (useStereo)
+                }
+                bool lr = false, li = false;
+                if (useStereo || conf)
                 {
                     // A match outside the right image cannot be verified: it fails (the LiDAR test may keep it).
                     const int xr = x - di[x];
-                    ok = xr >= 0 && xr < W && dr[xr] != NO_DISP && std::abs(di[x] - dr[xr]) <= p.lrMaxDiff;
+                    lr = xr >= 0 && xr < W && dr[xr] != NO_DISP && std::abs(di[x] - dr[xr]) <= p.lrMaxDiff;
                 }
-                if (!ok && useLidar)
+                if (lidarTest && (conf || !(useStereo && lr)))
                 {
+                    // Columns outward from x (x, x - 1, x + 1, ...): a confirming value is likeliest near the pixel,
+                    // and the test stops at the first one (an existence test: the order cannot change it).
                     const int v = d16[x];
-                    const int c0 = std::max(0, x - rc), c1 = std::min(W - 1, x + rc);
-                    for (int c = c0; c <= c1 && !ok; c++)
+                    for (int k = 0; k <= 2 * rc && !li; k++)
+                    {
+                        const int c = x + ((k & 1) ? -((k + 1) >> 1) : (k >> 1));
+                        if (c < 0 || c >= W)
+                            continue;
                         for (int i = cur.lo[c]; i < cur.hi[c]; i++)
                             if (std::abs(v - cols.value[i]) <= tc)
                             {
-                                ok = true;
+                                li = true;
                                 break;
                             }
-                    ok = ok || (useRings && ringSupports(v, x, y));
+                    }
+                    li = li || (useRings && ringSupports(v, x, y));
                 }
+                const bool ok = (!useStereo && !useLidar) || (useStereo && lr) || (useLidar && li);
                 if (!ok)
                     res[x] = NO_DISP;
+                if (co)
+                    co[x] = ok ? confidenceValue(outputConfidence(checkEvidence(lr, li), range16(x, y))) : 0.f;
             }
             encodeRow(res, W, p, out, y);
         }

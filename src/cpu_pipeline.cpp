@@ -10,7 +10,7 @@
 namespace cv { namespace lidarsgm { namespace detail {
 
 void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p,
-                      bool semidenseOnly, OutputArray out)
+                      bool semidenseOnly, OutputArray out, OutputArray confidence)
 {
     censusTransform(left, censusL_);
     censusTransform(right, censusR_);
@@ -49,10 +49,10 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
         medianFilter(disp16_, med16_);
         medianFilter(dispInt_, medInt_);
         medianFilter(dispRight_, medRight_);
-        consistencyCheck(med16_, medInt_, medRight_, sparse16_, nonUnique16_, rings_, p, out);
+        consistencyCheck(med16_, medInt_, medRight_, sparse16_, nonUnique16_, rings_, p, out, confidence);
     }
     else
-        consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, nonUnique16_, rings_, p, out);
+        consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, nonUnique16_, rings_, p, out, confidence);
 }
 
 }}} // namespace cv::lidarsgm::detail

@@ -79,10 +79,11 @@ CV_EXPORTS void medianFilter(const Mat& src, Mat& dst);
 (|dL - dR(x - dL)| <= lrMaxDiff, dispInt against dispRight) and/or the LiDAR test (some sparse16 value within the
 (2 rc + 1)^2 window is within checkThreshold16 of it), as p says; out receives the encoded result (encodeOutput).
 With ringCheckOn(p) and valid rings, the LiDAR test includes the ring check (pipeline.hpp), which may also keep the
-value of nonUnique16 where disp16 has none. */
+value of nonUnique16 where disp16 has none. With p.confidence, confidence receives each output pixel's confidence
+(outputConfidence, CV_32FC1, 0 where out has no disparity). */
 CV_EXPORTS void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
                                  const Mat& nonUnique16, const RingMaps& rings, const PipelineParams& p,
-                                 OutputArray out);
+                                 OutputArray out, OutputArray confidence = noArray());
 
 //! A 1/16-pixel map in the output format without any check (the semidense map of semidensify()).
 CV_EXPORTS void encodeOutput(const Mat& disp16, const PipelineParams& p, OutputArray out);

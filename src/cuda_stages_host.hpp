@@ -42,10 +42,12 @@ CV_EXPORTS void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, con
 CV_EXPORTS void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMat& disp16,
                                GpuMat& dispInt, GpuMat& dispRight, GpuMat& nonUnique16);
 CV_EXPORTS void medianFilter(const GpuMat& src, GpuMat& dst);
-//! rings: above16, below16 and gap of interpolateRings, or empty maps for none (as RingMaps with valid false).
+/** rings: above16, below16 and gap of interpolateRings, or empty maps for none (as RingMaps with valid false).
+confidence: written where p.confidence. */
 CV_EXPORTS void consistencyCheck(const GpuMat& disp16, const GpuMat& dispInt, const GpuMat& dispRight,
                                  const GpuMat& sparse16, const GpuMat& nonUnique16, const GpuMat& above16,
-                                 const GpuMat& below16, int gap, const PipelineParams& p, GpuMat& out);
+                                 const GpuMat& below16, int gap, const PipelineParams& p, GpuMat& out,
+                                 GpuMat& confidence);
 
 }}}} // namespace cv::lidarsgm::detail::cuda_host
 

@@ -22,7 +22,7 @@ CudaPipeline::CudaPipeline() : b_(nullptr) {}
 CudaPipeline::~CudaPipeline() {}
 
 void CudaPipeline::run(const cuda::GpuMat&, const cuda::GpuMat&, const cuda::GpuMat&, const PipelineParams&, bool,
-                       OutputArray, cuda::Stream*)
+                       OutputArray, cuda::Stream*, OutputArray)
 {
     noCuda();
 }
@@ -53,7 +53,7 @@ void aggregateCosts(const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, 
 void winnerTakesAll(const GpuMat&, int, const PipelineParams&, GpuMat&, GpuMat&, GpuMat&, GpuMat&) { noCuda(); }
 void medianFilter(const GpuMat&, GpuMat&) { noCuda(); }
 void consistencyCheck(const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&,
-                      const GpuMat&, int, const PipelineParams&, GpuMat&)
+                      const GpuMat&, int, const PipelineParams&, GpuMat&, GpuMat&)
 {
     noCuda();
 }

@@ -79,6 +79,7 @@ struct PipelineParams
     bool lidarCheck;       //!< the test against the sparse map (alone: camera-LiDAR; with stereoCheck: either passes)
     bool floatOutput;      //!< CV_32F pixels instead of CV_16S x16
     bool weighCopies;      //!< SDSGM with semidenseWeight < 1: copied priors take wCopy on LiDAR scans (copiedPrior)
+    bool confidence;       //!< the check also writes each output pixel's confidence (outputConfidence)
     CostWeights w;
     CostWeights wCopy;     //!< w with the DDC terms (q1, q2) scaled by semidenseWeight
 };
@@ -437,6 +438,48 @@ static LIDARSGM_HD T medianOfColumns(T l0, T l1, T l2, T m0, T m1, T m2, T h0, T
 }
 
 //! Output encodings (cv::StereoSGBM's): CV_16S x16 with (minD - 1) * 16 for "none", or CV_32F pixels with minD - 1.
+/** The confidence of an output disparity, from what the check knows of it (the rule of the confidence map, see
+StereoLidarSGM::compute and doc/design.md):
+- its evidence: 4 where both tests confirm it (the left-right test and a LiDAR value within Tc in the check's window,
+  or the ring check), 3 the LiDAR test alone, 2 the left-right test alone, 1 neither (kept without a check), 0 no
+  disparity. Two independent confirmations before one; a LiDAR measurement before the left-right test, which shares
+  the matching cost's failure modes (repetitive texture, the same occluded surface);
+- its neighbourhood's agreement: range16, the largest minus the smallest disparity (1/16 px) among the disparities of
+  its 3x3 neighbourhood in the check's input (confidenceRange16): a pixel whose neighbours disagree lies on a depth
+  edge or in noise, where matching fails most.
+confidence = evidence / 4 * 32 / (32 + min(range16, 2048)): a range of 2 px halves it. In integers, out of
+CONFIDENCE_MAX; the output map is that over CONFIDENCE_MAX, in [0, 1]. */
+enum { CONFIDENCE_MAX = 4 * 16383 };
+static LIDARSGM_HD int outputConfidence(int evidence, int range16)
+{
+    const int r = range16 < 2048 ? range16 : 2048;
+    return evidence * 16383 * 32 / (32 + r);
+}
+static LIDARSGM_HD int checkEvidence(bool lrPass, bool lidarPass)
+{
+    return lrPass ? (lidarPass ? 4 : 2) : (lidarPass ? 3 : 1);
+}
+static LIDARSGM_HD float confidenceValue(int confidence) { return (float)confidence / (float)CONFIDENCE_MAX; }
+/** range16 of outputConfidence at (x, y): over the 3x3 neighbourhood within the image, NO_DISP values left out; at(x,
+y) reads the map. */
+template <typename At> static LIDARSGM_HD int confidenceRange16(const At& at, int x, int y, int W, int H)
+{
+    int lo = SHRT_MAX, hi = SHRT_MIN + 1;
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++)
+        {
+            const int u = x + dx, v = y + dy;
+            if (u < 0 || v < 0 || u >= W || v >= H)
+                continue;
+            const int d = at(u, v);
+            if (d == NO_DISP)
+                continue;
+            lo = d < lo ? d : lo;
+            hi = d > hi ? d : hi;
+        }
+    return hi >= lo ? hi - lo : 0;
+}
+
 static LIDARSGM_HD short encodeOutput16(int d16, int minD) { return (short)(d16 == NO_DISP ? (minD - 1) * 16 : d16); }
 static LIDARSGM_HD float encodeOutput32(int d16, int minD)
 {
@@ -502,8 +545,9 @@ the front class. semidenseOnly stops after semidensification and writes the semi
 class CpuPipeline
 {
 public:
+    //! confidence: written where p.confidence (consistencyCheck).
     void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
-             OutputArray out);
+             OutputArray out, OutputArray confidence = noArray());
 private:
     Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, disp16_, dispInt_, dispRight_, nonUnique16_;
     RingMaps rings_;
@@ -520,7 +564,7 @@ public:
     ~CudaPipeline();
     //! stream == nullptr: the default stream.
     void run(const cuda::GpuMat& left, const cuda::GpuMat& right, const cuda::GpuMat& sparse, const PipelineParams& p,
-             bool semidenseOnly, OutputArray out, cuda::Stream* stream);
+             bool semidenseOnly, OutputArray out, cuda::Stream* stream, OutputArray confidence = noArray());
     //! cv::cuda::projectPointsToDisparity's device work; PT = projection * lidarToCamera, row-major 3x4.
     static void projectPoints(const cuda::GpuMat& points, int n, int strideFloats, const double PT[12],
                               double focalBaseline, Size imageSize, int dtype, OutputArray out, cuda::Stream& stream);

@@ -147,6 +147,16 @@ public:
     {
         run(left, right, sparse, disparity, &stream, false);
     }
+    void compute(InputArray left, InputArray right, InputArray sparse, OutputArray disparity,
+                 OutputArray confidence) CV_OVERRIDE
+    {
+        run(left, right, sparse, disparity, nullptr, false, confidence);
+    }
+    void compute(InputArray left, InputArray right, InputArray sparse, OutputArray disparity, OutputArray confidence,
+                 cuda::Stream& stream) CV_OVERRIDE
+    {
+        run(left, right, sparse, disparity, &stream, false, confidence);
+    }
     void semidensify(InputArray left, InputArray right, InputArray sparse, OutputArray semidense) CV_OVERRIDE
     {
         run(left, right, sparse, semidense, nullptr, true);
@@ -222,6 +232,7 @@ public:
         p.w = computeCostWeights(P1_, P2_, Q1_, Q2_, alpha_, numPaths_, p.ddc, edgeP2Ratio_);
         p.weighCopies = p.semidense && semidenseWeight_ < 1.0;
         p.wCopy = scaleDdcWeights(p.w, alpha_, Q1_, Q2_, semidenseWeight_);
+        p.confidence = false;
         return p;
     }
 
@@ -238,14 +249,19 @@ private:
     /* Every entry point: checks, then one backend. One call at a time per instance (the backends' work buffers are
     members). stream == nullptr: the caller gave none (the default stream on the GPU). */
     void run(InputArray left, InputArray right, InputArray sparse, OutputArray out, cuda::Stream* stream,
-             bool semidenseOnly)
+             bool semidenseOnly, OutputArray confidence = noArray())
     {
         CV_INSTRUMENT_REGION();
-        const PipelineParams p = pipelineParams();
+        PipelineParams p = pipelineParams();
+        p.confidence = confidence.needed();
         const bool needSparse = semidenseOnly || p.ddc || p.lidarCheck;
         const String needer = semidenseOnly ? String("semidensify")
                                             : format("%s with consistency check %d", modeName(mode_), consistencyCheck_);
         const bool gpu = checkInputs(left, right, sparse, out, needSparse, needer.c_str());
+        if (p.confidence && gpu != (confidence.kind() == _InputArray::CUDA_GPU_MAT))
+            CV_Error(Error::StsBadArg, gpu ? "lidarsgm: the CUDA path writes the confidence to a cv::cuda::GpuMat; "
+                                             "pass one"
+                                           : "lidarsgm: cv::Mat inputs give the confidence in a cv::Mat; pass one");
         if (!gpu && stream)
             CV_Error(Error::StsBadArg, "lidarsgm: the Stream overloads take cv::cuda::GpuMat inputs");
         if (gpu && p.numDisparities > CUDA_MAX_DISPARITIES)
@@ -255,9 +271,9 @@ private:
         AutoLock lock(mutex_);
         if (gpu)
             gpu_.run(left.getGpuMat(), right.getGpuMat(), sparse.empty() ? cuda::GpuMat() : sparse.getGpuMat(), p,
-                     semidenseOnly, out, stream);
+                     semidenseOnly, out, stream, confidence);
         else
-            cpu_.run(left.getMat(), right.getMat(), sparse.getMat(), p, semidenseOnly, out);
+            cpu_.run(left.getMat(), right.getMat(), sparse.getMat(), p, semidenseOnly, out, confidence);
     }
 
 #define LIDARSGM_MEMBER(type, Name, key, def, valid, range, what) type key##_ = def;
@@ -300,6 +316,14 @@ void computeStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, Inp
 {
     CV_CheckFalse(matcher.empty(), "lidarsgm: the matcher is empty");
     matcher->compute(left, right, sparseDisparity, disparity, stream);
+}
+
+void computeStereoLidarSGMWithConfidence(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left,
+                                         InputArray right, InputArray sparseDisparity, OutputArray disparity,
+                                         OutputArray confidence, Stream& stream)
+{
+    CV_CheckFalse(matcher.empty(), "lidarsgm: the matcher is empty");
+    matcher->compute(left, right, sparseDisparity, disparity, confidence, stream);
 }
 
 void semidensifyStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left, InputArray right,

@@ -2,8 +2,8 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Stereo-LiDAR consistency check fused with the conversion to the output format, CUDA twin of
-// src/consistency_check.cpp (with the ring check of pipeline.hpp); encodeOutput converts without checking
-// (semidensify).
+// src/consistency_check.cpp (with the ring check of pipeline.hpp and the confidence); encodeOutput converts without
+// checking (semidensify).
 // Tile coordinates are packed in 16 bits each (images below 32768 pixels a side).
 
 #include "sparse_window.cuh"
@@ -23,66 +23,74 @@ __device__ __forceinline__ void store(PtrStepSz<float>& out, int x, int y, int d
 }
 
 /* One block = 32 x 8 pixels. For the LiDAR test each pixel scans the sparse points of its block's tile
- (sparse_window.cuh). The test is "does any point qualify", so the list's order cannot change the result. */
+ (sparse_window.cuh). The test is "does any point qualify", so the list's order cannot change the result. With
+ p.confidence both tests run wherever they can (the confidence's evidence), whatever the check keeps. */
 template <typename T>
 __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                            PtrStepSz<short> sparse16, RingCheckMaps rings, PipelineParams p, PtrStepSz<T> out)
+                            PtrStepSz<short> sparse16, RingCheckMaps rings, PipelineParams p, PtrStepSz<T> out,
+                            PtrStepSz<float> confidence)
 {
     extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
     __shared__ int count;
     const int W = disp16.cols, H = disp16.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     const int rc = p.checkRadius, tc = p.checkThreshold16;
-    const int n = p.lidarCheck ? listTilePoints(sparse16, rc, points, &count) : 0;
+    const bool conf = p.confidence, lidarTest = p.lidarCheck || (conf && sparse16.data);
+    const int n = lidarTest ? listTilePoints(sparse16, rc, points, &count) : 0;
     if (x >= W || y >= H)
         return;
-    int v = disp16(y, x);
+    const int d = disp16(y, x);
+    int v = d;
     const bool useRings = rings.gap != nullptr;
     const auto ringSupports = [&](int v16) {
         return ringLineSupports(v16, rings.above.data, rings.below.data, rings.above.step / sizeof(short),
                                 sparse16.data, sparse16.step / sizeof(short), x, y, W, *rings.gap, tc);
     };
-    if (v == NO_DISP && useRings)
+    const auto range16 = [&]() {
+        return confidenceRange16([&](int u, int r) { return (int)disp16(r, u); }, x, y, W, H);
+    };
+    if (v == NO_DISP)
     {
-        const int nu = rings.nonUnique16(y, x);
-        if (nu != NO_DISP && ringSupports(nu))
+        // A non-unique winner that the ring check keeps: LiDAR evidence alone.
+        const int nu = useRings ? rings.nonUnique16(y, x) : NO_DISP;
+        const bool rescued = nu != NO_DISP && ringSupports(nu);
+        store(out, x, y, rescued ? nu : NO_DISP, p.minDisparity);
+        if (conf)
+            confidence(y, x) = rescued ? confidenceValue(outputConfidence(checkEvidence(false, true), range16())) : 0.f;
+        return;
+    }
+    bool lr = false, li = false;
+    if (p.stereoCheck || conf)
+    {
+        // A match outside the right image cannot be verified: it fails (the LiDAR test may keep it).
+        const int di = dispInt(y, x);
+        const int xr = x - di;
+        if (xr >= 0 && xr < W)
         {
-            store(out, x, y, nu, p.minDisparity);
-            return;
+            const int dr = dispRight(y, xr);
+            lr = dr != NO_DISP && abs(di - dr) <= p.lrMaxDiff;
         }
     }
-    if (v != NO_DISP && (p.stereoCheck || p.lidarCheck))
+    if (lidarTest && (conf || !(p.stereoCheck && lr)))
     {
-        bool ok = false;
-        if (p.stereoCheck)
+        for (int k = 0; k < n; k++)
         {
-            // A match outside the right image cannot be verified: it fails (the LiDAR test may keep it).
-            const int di = dispInt(y, x);
-            const int xr = x - di;
-            if (xr >= 0 && xr < W)
+            const int pos = points[2 * k];
+            const int px = pos & 0xFFFF, py = pos >> 16;
+            if (abs(px - x) <= rc && abs(py - y) <= rc && abs(v - points[2 * k + 1]) <= tc)
             {
-                const int dr = dispRight(y, xr);
-                ok = dr != NO_DISP && abs(di - dr) <= p.lrMaxDiff;
+                li = true;
+                break;
             }
         }
-        if (!ok && p.lidarCheck)
-        {
-            for (int k = 0; k < n; k++)
-            {
-                const int pos = points[2 * k];
-                const int px = pos & 0xFFFF, py = pos >> 16;
-                if (abs(px - x) <= rc && abs(py - y) <= rc && abs(v - points[2 * k + 1]) <= tc)
-                {
-                    ok = true;
-                    break;
-                }
-            }
-            ok = ok || (useRings && ringSupports(v));
-        }
-        if (!ok)
-            v = NO_DISP;
+        li = li || (useRings && ringSupports(v));
     }
+    const bool ok = (!p.stereoCheck && !p.lidarCheck) || (p.stereoCheck && lr) || (p.lidarCheck && li);
+    if (!ok)
+        v = NO_DISP;
     store(out, x, y, v, p.minDisparity);
+    if (conf)
+        confidence(y, x) = ok ? confidenceValue(outputConfidence(checkEvidence(lr, li), range16())) : 0.f;
 }
 
 template <typename T>
@@ -103,11 +111,12 @@ static dim3 gridFor(int cols, int rows)
 template <typename T>
 void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
               PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p, PtrStepSz<T> out,
-              cudaStream_t stream)
+              PtrStepSz<float> confidence, cudaStream_t stream)
 {
-    const size_t smem = p.lidarCheck ? tileKernelSmem(checkKernel<T>, BLOCK, p.checkRadius) : 0;
+    const bool lidarTest = p.lidarCheck || (p.confidence && sparse16.data);
+    const size_t smem = lidarTest ? tileKernelSmem(checkKernel<T>, BLOCK, p.checkRadius) : 0;
     checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
-                                                                                rings, p, out);
+                                                                                rings, p, out, confidence);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
@@ -122,16 +131,16 @@ void runEncode(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out, cudaStream_t
 
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
                       PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
-                      PtrStepSz<short> out, cudaStream_t stream)
+                      PtrStepSz<short> out, PtrStepSz<float> confidence, cudaStream_t stream)
 {
-    runCheck(disp16, dispInt, dispRight, sparse16, rings, p, out, stream);
+    runCheck(disp16, dispInt, dispRight, sparse16, rings, p, out, confidence, stream);
 }
 
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
                       PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
-                      PtrStepSz<float> out, cudaStream_t stream)
+                      PtrStepSz<float> out, PtrStepSz<float> confidence, cudaStream_t stream)
 {
-    runCheck(disp16, dispInt, dispRight, sparse16, rings, p, out, stream);
+    runCheck(disp16, dispInt, dispRight, sparse16, rings, p, out, confidence, stream);
 }
 
 void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<short> out, cudaStream_t stream)

@@ -89,7 +89,7 @@ CudaPipeline::~CudaPipeline()
 }
 
 void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda::GpuMat& Sp, const PipelineParams& p,
-                       bool semidenseOnly, OutputArray out, cuda::Stream* stream)
+                       bool semidenseOnly, OutputArray out, cuda::Stream* stream, OutputArray confidence)
 {
     // No stream given: the default stream (not cuda::Stream::Null() up front: that needs a working driver).
     cudaStream_t st = stream ? cuda::StreamAccessor::getStream(*stream) : 0;
@@ -184,10 +184,16 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     }
     const cuda::PtrStepSz<short> sparse = b.sparse16.empty() || Sp.empty() ? cuda::PtrStepSz<short>()
                                                                            : cuda::PtrStepSz<short>(b.sparse16);
+    cuda::PtrStepSz<float> conf;
+    if (p.confidence)
+    {
+        confidence.create(sz, CV_32FC1);
+        conf = confidence.getGpuMat();
+    }
     if (p.floatOutput)
-        ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<float>(o), st);
+        ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<float>(o), conf, st);
     else
-        ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<short>(o), st);
+        ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<short>(o), conf, st);
     b.markCallEnd(st, capturing);
 }
 

@@ -95,13 +95,14 @@ struct RingCheckMaps
     const int* gap;
 };
 
-//! The check and the conversion to the output format, in one pass (one overload per output type).
+/** The check and the conversion to the output format, in one pass (one overload per output type). confidence:
+written where p.confidence (outputConfidence, 0 where out has no disparity). */
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
                       PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
-                      PtrStepSz<short> out, cudaStream_t stream);
+                      PtrStepSz<short> out, PtrStepSz<float> confidence, cudaStream_t stream);
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
                       PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
-                      PtrStepSz<float> out, cudaStream_t stream);
+                      PtrStepSz<float> out, PtrStepSz<float> confidence, cudaStream_t stream);
 
 //! A 1/16-pixel map in the output format without any check (the semidense map of semidensify()).
 void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<short> out, cudaStream_t stream);

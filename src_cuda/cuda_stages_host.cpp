@@ -144,7 +144,7 @@ void medianFilter(const GpuMat& src, GpuMat& dst)
 
 void consistencyCheck(const GpuMat& disp16, const GpuMat& dispInt, const GpuMat& dispRight, const GpuMat& sparse16,
                       const GpuMat& nonUnique16, const GpuMat& above16, const GpuMat& below16, int gap,
-                      const PipelineParams& p, GpuMat& out)
+                      const PipelineParams& p, GpuMat& out, GpuMat& confidence)
 {
     GpuMat gapBuf(1, 1, CV_32SC1, Scalar::all(gap));
     ci::RingCheckMaps rings = {};
@@ -152,10 +152,16 @@ void consistencyCheck(const GpuMat& disp16, const GpuMat& dispInt, const GpuMat&
         rings = { above16, below16, nonUnique16, gapBuf.ptr<int>() };
     const cuda::PtrStepSz<short> sparse = sparse16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(sparse16);
     out.create(disp16.size(), p.floatOutput ? CV_32FC1 : CV_16SC1);
+    cuda::PtrStepSz<float> conf;
+    if (p.confidence)
+    {
+        confidence.create(disp16.size(), CV_32FC1);
+        conf = confidence;
+    }
     if (p.floatOutput)
-        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rings, p, cuda::PtrStepSz<float>(out), 0);
+        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rings, p, cuda::PtrStepSz<float>(out), conf, 0);
     else
-        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rings, p, cuda::PtrStepSz<short>(out), 0);
+        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rings, p, cuda::PtrStepSz<short>(out), conf, 0);
     finish();
 }
 

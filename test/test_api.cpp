@@ -5,6 +5,7 @@
 namespace opencv_test { namespace {
 
 using cv::lidarsgm::StereoLidarSGM;
+typedef cv::lidarsgm::StereoLidarSGM SLS;
 
 static void randomPair(Size sz, Mat& l, Mat& r, Mat& sparse, int seed = 1)
 {
@@ -235,6 +236,57 @@ TEST(Lidarsgm_Api, stage_by_stage_gives_the_output)
         ASSERT_EQ(out.type(), c.out.type()) << c.name;
         EXPECT_EQ(0, cvtest::norm(out, c.out, NORM_INF)) << c.name;
     }
+}
+
+// The confidence overload: the disparity map bit for bit compute()'s in every mode and check; the confidence in
+// [0, 1], 0 exactly where there is no disparity; the 10 % least confident pixels hold the outliers' larger share.
+TEST(Lidarsgm_Api, confidence_leaves_the_disparity_unchanged)
+{
+    Mat l, r, s;
+    loadKittiTestFrame("000002", l, r, s);
+    const Mat gt = cv::lidarsgm::loadKittiFrame(cvtest::findDataDirectory("kitti"), "000002").groundTruth;
+    for (int mode = 0; mode < 3; mode++)
+        for (int check = 0; check < 4; check++)
+        {
+            Ptr<SLS> m = SLS::create(0, 128, 10, 120, 5, 160, 0.7, mode, check);
+            Mat d, d2, conf;
+            m->compute(l, r, s, d);
+            m->compute(l, r, s, d2, conf);
+            const std::string what = format("mode %d check %d", mode, check);
+            ASSERT_EQ(0, cvtest::norm(d, d2, NORM_INF)) << what;
+            ASSERT_EQ(CV_32FC1, conf.type()) << what;
+            double lo = 0, hi = 0;
+            minMaxLoc(conf, &lo, &hi);
+            EXPECT_GE(lo, 0.0) << what;
+            EXPECT_LE(hi, 1.0) << what;
+            EXPECT_EQ(0, countNonZero((d == -16) != (conf == 0))) << what;
+            if (mode != 2 || check != 3)
+                continue;
+            // The errors concentrate in the least confident pixels (SDSGM, the default check).
+            std::vector<std::pair<float, bool> > px;
+            for (int y = 0; y < d.rows; y++)
+                for (int x = 0; x < d.cols; x++)
+                    if (d.at<short>(y, x) > -16 && gt.at<float>(y, x) > 0)
+                    {
+                        const float e = std::abs(d.at<short>(y, x) / 16.f - gt.at<float>(y, x));
+                        px.push_back(std::make_pair(conf.at<float>(y, x), e > 3 && e > 0.05f * gt.at<float>(y, x)));
+                    }
+            std::stable_sort(px.begin(), px.end(),
+                             [](const std::pair<float, bool>& a, const std::pair<float, bool>& b) { return a.first < b.first; });
+            size_t all = 0, low = 0;
+            for (size_t i = 0; i < px.size(); i++)
+            {
+                all += px[i].second;
+                low += px[i].second && i < px.size() / 10;
+            }
+            ASSERT_GT(all, 0u);
+            EXPECT_GT((double)low / all, 0.4) << low << " of " << all << " outliers in the least confident 10 %";
+        }
+    // The confidence's container follows the inputs'.
+    Ptr<SLS> m = SLS::create();
+    Mat d;
+    cuda::GpuMat gconf;
+    EXPECT_THROW(m->compute(l, r, s, d, gconf), cv::Exception);
 }
 
 }} // namespace

@@ -62,6 +62,56 @@ TEST(Lidarsgm_ConsistencyCheck, left_right_pass_and_camera_lidar_rejection)
     EXPECT_EQ(NO_DISP, runCheck(SLS::CHECK_CAMERA_LIDAR, 15, 184).at<short>(0, 40));
 }
 
+
+/* The confidence (outputConfidence): one row of isolated pixels, so that each one's 3x3 neighbourhood holds only
+itself (range 0) unless a neighbour is set. Pixel 10: left-right and LiDAR confirm it (1); 20: the LiDAR only (3/4);
+30: the left-right test only (1/2); 40: both, with a neighbour 2 px away (a range of 32/16 px halves it); 50:
+neither, dropped by the check (0) and, with the check off, kept at 1/4. */
+TEST(Lidarsgm_ConsistencyCheck, confidence_rule)
+{
+    const int W = 60;
+    Mat d16(1, W, CV_16SC1, Scalar::all(NO_DISP)), di(1, W, CV_16SC1, Scalar::all(NO_DISP));
+    Mat dr(1, W, CV_16SC1, Scalar::all(NO_DISP)), sparse(1, W, CV_16SC1, Scalar::all(NO_DISP));
+    const auto setPixel = [&](int x, int d, bool lr, bool lidar) {
+        d16.at<short>(0, x) = (short)(16 * d);
+        di.at<short>(0, x) = (short)d;
+        dr.at<short>(0, x - d) = (short)(lr ? d : d + 5);
+        if (lidar)
+            sparse.at<short>(0, x) = (short)(16 * d + 8);
+    };
+    setPixel(10, 4, true, true);
+    setPixel(20, 3, false, true);
+    setPixel(30, 6, true, false);
+    setPixel(40, 2, true, true);
+    d16.at<short>(0, 41) = 16 * 4;   // a neighbour 2 px away, itself unverified
+    setPixel(50, 7, false, false);
+    PipelineParams p = PipelineParams();
+    p.lrMaxDiff = 1;
+    p.checkRadius = 1;
+    p.checkThreshold16 = 16;
+    p.confidence = true;
+    for (int check : { (int)SLS::CHECK_STEREO_LIDAR, (int)SLS::CHECK_NONE })
+    {
+        p.stereoCheck = check == SLS::CHECK_STEREO_LIDAR;
+        p.lidarCheck = check == SLS::CHECK_STEREO_LIDAR;
+        Mat out, conf, outPlain;
+        consistencyCheck(d16, di, dr, sparse, Mat(), RingMaps(), p, out, conf);
+        ASSERT_EQ(CV_32FC1, conf.type());
+        EXPECT_EQ(1.f, conf.at<float>(0, 10)) << check;
+        EXPECT_EQ(0.75f, conf.at<float>(0, 20)) << check;
+        EXPECT_EQ(0.5f, conf.at<float>(0, 30)) << check;
+        EXPECT_EQ(confidenceValue(4 * 16383 * 32 / 64), conf.at<float>(0, 40)) << check;
+        EXPECT_NEAR(0.5, conf.at<float>(0, 40), 1e-4) << check;
+        EXPECT_EQ(check == SLS::CHECK_NONE ? 0.25f : 0.f, conf.at<float>(0, 50)) << check;
+        EXPECT_EQ(0.f, conf.at<float>(0, 0)) << check;   // no disparity
+        // The disparity map does not change when the confidence is asked for.
+        PipelineParams q = p;
+        q.confidence = false;
+        consistencyCheck(d16, di, dr, sparse, Mat(), RingMaps(), q, outPlain);
+        EXPECT_EQ(0, cvtest::norm(out, outPlain, NORM_INF)) << check;
+    }
+}
+
 // The CUDA twin (src_cuda/consistency_check.cu) on the CPU's filtered maps of every stage configuration, under
 // every check and both output types.
 TEST(Lidarsgm_CUDA_ConsistencyCheck, bit_exact)
@@ -75,17 +125,20 @@ TEST(Lidarsgm_CUDA_ConsistencyCheck, bit_exact)
                 p.stereoCheck = check == 1 || check == 3;
                 p.lidarCheck = check >= 2;
                 p.floatOutput = floatOutput;
-                Mat cpu;
-                consistencyCheck(c.med16, c.medInt, c.medRight, c.sparse16, c.nonUnique16, c.rings, p, cpu);
+                p.confidence = floatOutput;   // with and without the confidence map
+                Mat cpu, cpuConf;
+                consistencyCheck(c.med16, c.medInt, c.medRight, c.sparse16, c.nonUnique16, c.rings, p, cpu, cpuConf);
                 const bool rings = c.rings.valid && ringCheckOn(p);
-                cuda::GpuMat g;
+                cuda::GpuMat g, gConf;
                 cuda_host::consistencyCheck(cuda::GpuMat(c.med16), cuda::GpuMat(c.medInt), cuda::GpuMat(c.medRight),
                                             cuda::GpuMat(c.sparse16),
                                             rings ? cuda::GpuMat(c.nonUnique16) : cuda::GpuMat(),
                                             rings ? cuda::GpuMat(c.rings.above16) : cuda::GpuMat(),
                                             rings ? cuda::GpuMat(c.rings.below16) : cuda::GpuMat(),
-                                            c.rings.gap, p, g);
+                                            c.rings.gap, p, g, gConf);
                 expectSameAsCpu(cpu, g, c.name + format(", check %d, %s", check, floatOutput ? "CV_32F" : "CV_16S"));
+                if (p.confidence)
+                    expectSameAsCpu(cpuConf, gConf, c.name + format(", check %d, confidence", check));
             }
 }
 

@@ -44,6 +44,17 @@ static void compareCpuGpu(const Ptr<StereoLidarSGM>& m, const Mat& l, const Mat&
     ASSERT_EQ(cpu.type(), gpuOut.type()) << what;
     ASSERT_EQ(cpu.size(), gpuOut.size()) << what;
     EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF)) << what;
+    // The confidence map, and the disparity beside it.
+    Mat confCpu, confGpu, cpu2, gpu2;
+    cuda::GpuMat gd2, gconf;
+    m->compute(l, r, s, cpu2, confCpu);
+    m->compute(gl, gr, gs, gd2, gconf);
+    gd2.download(gpu2);
+    gconf.download(confGpu);
+    EXPECT_EQ(0, cvtest::norm(cpu, cpu2, NORM_INF)) << what << " (with confidence, CPU)";
+    EXPECT_EQ(0, cvtest::norm(cpu, gpu2, NORM_INF)) << what << " (with confidence, CUDA)";
+    ASSERT_EQ(CV_32FC1, confGpu.type()) << what;
+    EXPECT_EQ(0, cvtest::norm(confCpu, confGpu, NORM_INF)) << what << " (confidence)";
     if (!s.empty())
     {
         Mat semiCpu, semiGpu;

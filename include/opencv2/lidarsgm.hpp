@@ -167,6 +167,26 @@ public:
     virtual void compute(InputArray left, InputArray right, InputArray sparseDisparity,
                          OutputArray disparity, cuda::Stream& stream) = 0;
 
+    /** @brief Computes the fused disparity map and each pixel's confidence in it.
+
+    The disparity map is the one compute() gives (the same bits). The confidence is in [0, 1], 0 where there is no
+    disparity, from what the consistency check knows of each output pixel: its evidence (both the left-right test
+    and a LiDAR value within the check's threshold and window confirm it: 1; the LiDAR alone: 3/4; the left-right
+    test alone: 1/2; neither, with the check off: 1/4), times 32 / (32 + r) with r the spread of the disparities of
+    its 3x3 neighbourhood in 1/16 pixel (a pixel on a depth edge, where matching fails most, counts less; a spread of
+    2 px halves it). Both tests run for the confidence whatever setConsistencyCheck keeps; the LiDAR evidence needs
+    sparseDisparity. Sort or threshold it: most errors lie in the least confident pixels (doc/accuracy.md).
+    @param left, right, sparseDisparity, disparity as compute().
+    @param confidence output, CV_32FC1 (a GpuMat for GpuMat inputs), the size of the images.
+     */
+    CV_WRAP_AS(computeWithConfidence) virtual void compute(InputArray left, InputArray right,
+                                                          InputArray sparseDisparity, OutputArray disparity,
+                                                          OutputArray confidence) = 0;
+
+    /** @brief CUDA path of the confidence overload: asynchronous on the given stream. */
+    virtual void compute(InputArray left, InputArray right, InputArray sparseDisparity, OutputArray disparity,
+                         OutputArray confidence, cuda::Stream& stream) = 0;
+
     /** @brief The semidense disparity map on its own (the paper's Table IV).
     @param left left image, as for compute.
     @param right right image, as for compute.
@@ -338,6 +358,13 @@ C++ users call matcher->compute(...) with GpuMats directly. Inputs and output ar
 CV_EXPORTS_W void computeStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left,
                                         InputArray right, InputArray sparseDisparity, OutputArray disparity,
                                         Stream& stream = Stream::Null());
+
+/** @brief CUDA path of cv::lidarsgm::StereoLidarSGM::compute with the confidence map, for the Python bindings (see
+computeStereoLidarSGM): `disp, conf = cv2.cuda.computeStereoLidarSGMWithConfidence(matcher, gl, gr, gs)`. */
+CV_EXPORTS_W void computeStereoLidarSGMWithConfidence(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher,
+                                                      InputArray left, InputArray right, InputArray sparseDisparity,
+                                                      OutputArray disparity, OutputArray confidence,
+                                                      Stream& stream = Stream::Null());
 
 //! @brief CUDA path of cv::lidarsgm::StereoLidarSGM::semidensify, for the Python bindings (see computeStereoLidarSGM).
 CV_EXPORTS_W void semidensifyStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left,

@@ -20,27 +20,37 @@ int runFrame(const Options& o, Frame& f)
     const std::string out = o.str("out");
     if (!out.empty())
         makeDir(out);
+    const std::vector<std::string> formats = o.list("format", "kitti");
+    const bool wantConfidence = !out.empty() && std::find(formats.begin(), formats.end(), "confidence") != formats.end();
     for (const std::string& name : modes)
     {
         const int mode = modeFromName(name);
         Ptr<Matcher> m = makeMatcher(o, mode, check);
         const int minD = m->getMinDisparity();
-        Mat disp;
+        Mat disp, confidence;
         TickMeter tm;
         if (o.has("cuda"))
         {
-            cuda::GpuMat gl(f.left), gr(f.right), gs, gd;
+            cuda::GpuMat gl(f.left), gr(f.right), gs, gd, gc;
             if (!f.sparse.empty())
                 gs.upload(f.sparse);
             tm.start();
-            m->compute(gl, gr, gs, gd);
+            if (wantConfidence)
+                m->compute(gl, gr, gs, gd, gc);
+            else
+                m->compute(gl, gr, gs, gd);
             gd.download(disp);
+            if (wantConfidence)
+                gc.download(confidence);
             tm.stop();
         }
         else
         {
             tm.start();
-            m->compute(f.left, f.right, f.sparse, disp);
+            if (wantConfidence)
+                m->compute(f.left, f.right, f.sparse, disp, confidence);
+            else
+                m->compute(f.left, f.right, f.sparse, disp);
             tm.stop();
         }
         printf("%s %-6s check %-12s %s %8.1f ms", f.name.c_str(), modeLabel(mode), checkLabel(check),
@@ -53,7 +63,8 @@ int runFrame(const Options& o, Frame& f)
         }
         printf("\n");
         if (!out.empty())
-            writeDisparity(o, out, modes.size() > 1 ? "_" + name : "", disp, minD, m->getNumDisparities(), f);
+            writeDisparity(o, out, modes.size() > 1 ? "_" + name : "", disp, minD, m->getNumDisparities(), f,
+                           confidence);
     }
     if (!out.empty())
     {

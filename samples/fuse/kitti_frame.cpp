@@ -27,6 +27,7 @@ struct Job
     bool semidense;
     Mat out;
     double ms;
+    Mat confidence;   //!< where --format confidence asks for it (the modes' jobs)
 };
 
 //! The modes (3 at most), Table V's checks (4), the semidense map.
@@ -37,8 +38,8 @@ const int kMaxJobs = 8;
 struct FrameWorker::Gpu
 {
     cuda::Stream stream;
-    cuda::HostMem in[3], out[kMaxJobs];   // page-locked: left, right, sparse; one output per job
-    cuda::GpuMat gin[3], gout[kMaxJobs];
+    cuda::HostMem in[3], out[kMaxJobs], conf[kMaxJobs];   // page-locked: left, right, sparse; outputs per job
+    cuda::GpuMat gin[3], gout[kMaxJobs], gconf[kMaxJobs];
     cuda::Event start[kMaxJobs], stop[kMaxJobs];
 
     //! src in page-locked memory, then uploaded on the stream (returns at once).
@@ -70,12 +71,16 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
 {
     const std::vector<std::string> modes = o_.list("modes", "sgm,dsgm,sdsgm");
     const int check = checkFromName(o_.str("check", "stereo-lidar"));
+    const std::vector<std::string> formats = o_.list("format", "kitti");
+    const bool wantConfidence =
+        !frameOut.empty() && std::find(formats.begin(), formats.end(), "confidence") != formats.end();
     std::vector<Job> jobs;
     for (const std::string& name : modes)
-        jobs.push_back({ matcher(modeFromName(name), check), false, Mat(), 0.0 });
+        jobs.push_back({ matcher(modeFromName(name), check), false, Mat(), 0.0, Mat() });
     for (size_t c = 0; c < fr.table5.size(); c++)
-        jobs.push_back({ matcher(Matcher::MODE_SDSGM, (int)c), false, Mat(), 0.0 });
-    jobs.push_back({ matcher(Matcher::MODE_SDSGM, check), true, Mat(), 0.0 });
+        jobs.push_back({ matcher(Matcher::MODE_SDSGM, (int)c), false, Mat(), 0.0, Mat() });
+    jobs.push_back({ matcher(Matcher::MODE_SDSGM, check), true, Mat(), 0.0, Mat() });
+    const auto withConfidence = [&](size_t j) { return wantConfidence && j < modes.size(); };
     CV_Assert(jobs.size() <= (size_t)kMaxJobs);
     if (gpu_)
     {
@@ -89,27 +94,39 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
             g.start[j].record(g.stream);
             if (jobs[j].semidense)
                 jobs[j].m->semidensify(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.stream);
+            else if (withConfidence(j))
+                jobs[j].m->compute(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.gconf[j], g.stream);
             else
                 jobs[j].m->compute(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.stream);
             g.stop[j].record(g.stream);
             g.out[j].create(g.gout[j].size(), g.gout[j].type());
             g.gout[j].download(g.out[j], g.stream);
+            if (withConfidence(j))
+            {
+                g.conf[j].create(g.gconf[j].size(), g.gconf[j].type());
+                g.gconf[j].download(g.conf[j], g.stream);
+            }
         }
         g.stream.waitForCompletion();
         for (size_t j = 0; j < jobs.size(); j++)
         {
             jobs[j].out = g.out[j].createMatHeader();
             jobs[j].ms = cuda::Event::elapsedTime(g.start[j], g.stop[j]);
+            if (withConfidence(j))
+                jobs[j].confidence = g.conf[j].createMatHeader();
         }
     }
     else
     {
-        for (Job& j : jobs)
+        for (size_t k = 0; k < jobs.size(); k++)
         {
+            Job& j = jobs[k];
             TickMeter tm;
             tm.start();
             if (j.semidense)
                 j.m->semidensify(f.left, f.right, f.sparse, j.out);
+            else if (withConfidence(k))
+                j.m->compute(f.left, f.right, f.sparse, j.out, j.confidence);
             else
                 j.m->compute(f.left, f.right, f.sparse, j.out);
             tm.stop();
@@ -124,7 +141,8 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
             fr.modes[k].stats = score(j.out, f.groundTruth, j.m->getMinDisparity());
         fr.modes[k].ms.push_back(j.ms);
         if (!frameOut.empty())
-            writeDisparity(o_, frameOut, "_" + modes[k], j.out, j.m->getMinDisparity(), j.m->getNumDisparities(), f);
+            writeDisparity(o_, frameOut, "_" + modes[k], j.out, j.m->getMinDisparity(), j.m->getNumDisparities(), f,
+                           j.confidence);
     }
     const Job& semi = jobs.back();
     if (scored)

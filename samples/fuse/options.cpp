@@ -54,7 +54,9 @@ const OptionSpec kOptions[] = {
       "invalid = inf), s16 (the matcher's CV_16S x16, little-endian, no header), depth\n"
       "(depth[_mode].png: KITTI depth, uint16 metres x 256, 0 = none), ply (points[_mode].ply:\n"
       "binary PLY, x y z metres in the left camera frame and the left image's colour, one vertex\n"
-      "per valid pixel); default kitti. depth and ply need a calibration (KITTI inputs, --calib)", nullptr },
+      "per valid pixel), confidence (confidence[_mode].png: uint16, the confidence map x 65535, 0 =\n"
+      "no disparity; KITTI inputs); default kitti. depth and ply need a calibration (KITTI inputs,\n"
+      "--calib)", nullptr },
     { "quiet", 'i', "1", "no progress line on folder runs", nullptr },
     { "resume", 'f', nullptr, "(KITTI folder with --out) take the frames whose outputs are complete (their\n"
       "metrics.yml, written last) from the earlier run instead of computing them again", nullptr },
@@ -303,8 +305,11 @@ void checkOptions(const Options& o)
     const int check = checkFromName(o.str("check", "stereo-lidar"));
     for (const std::string& f : o.list("format", "kitti"))
     {
-        if (f != "kitti" && f != "pfm" && f != "s16" && f != "depth" && f != "ply")
-            CV_Error(Error::StsBadArg, "unknown --format '" + f + "' (kitti, pfm, s16, depth, ply)");
+        if (f != "kitti" && f != "pfm" && f != "s16" && f != "depth" && f != "ply" && f != "confidence")
+            CV_Error(Error::StsBadArg, "unknown --format '" + f + "' (kitti, pfm, s16, depth, ply, confidence)");
+        if (f == "confidence" && o.has("middlebury"))
+            CV_Error(Error::StsBadArg, "--format confidence is written for KITTI inputs; Middlebury runs score only "
+                                       "(tools/confidence_benchmark.py evaluates the confidence there)");
         if ((f == "depth" || f == "ply") && o.has("middlebury"))
             CV_Error(Error::StsBadArg, "--format " + f + " needs a calibration, which Middlebury runs do not read");
         if ((f == "depth" || f == "ply") && o.has("left") && !o.has("calib"))

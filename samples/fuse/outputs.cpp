@@ -54,7 +54,7 @@ static void writeImage(const std::string& path, const Mat& img)
 }
 
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const Mat& disp16,
-                    int minD, int numD, const Frame& f)
+                    int minD, int numD, const Frame& f, const Mat& confidence)
 {
     const Mat d = disparityToFloat(disp16, minD), &gt = f.groundTruth;
     const std::string base = dir + "/disparity" + suffix;
@@ -62,7 +62,15 @@ void writeDisparity(const Options& o, const std::string& dir, const std::string&
     {
         if ((format == "depth" || format == "ply") && !(f.calibration.focalBaseline > 0))
             CV_Error(Error::StsBadArg, "--format " + format + " needs a calibration, and " + f.name + " has none");
-        if (format == "kitti")
+        if (format == "confidence")
+        {
+            // 16 bits: round(confidence x 65535), 0 = no disparity.
+            CV_Assert(confidence.type() == CV_32FC1 && confidence.size() == disp16.size());
+            Mat c16;
+            confidence.convertTo(c16, CV_16U, 65535.0);
+            writeImage(dir + "/confidence" + suffix + ".png", c16);
+        }
+        else if (format == "kitti")
             writeImage(base + ".png", lidarsgm::encodeKittiDisparity(d));
         else if (format == "pfm")
             writeAtomically(base + ".pfm", [&](const std::string& tmp) { lidarsgm::writePfm(tmp, d); return true; });

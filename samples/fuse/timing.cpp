@@ -61,11 +61,15 @@ int runCpuTiming(const Options& o, const Frame& f, int reps)
     for (const Ptr<StereoSGBM>& s : sgbm)
         s->compute(f.left, f.right, disp);
     std::vector<std::vector<double> > t(1 + sgbm.size());
+    std::vector<double> withConfidence;
+    Mat confidence;
     for (int r = 0; r < reps; r++)
     {
-        TickMeter a;
+        TickMeter a, c;
         a.start(); m->compute(f.left, f.right, f.sparse, disp); a.stop();
         t[0].push_back(a.getTimeMilli());
+        c.start(); m->compute(f.left, f.right, f.sparse, disp, confidence); c.stop();
+        withConfidence.push_back(c.getTimeMilli());
         for (size_t k = 0; k < sgbm.size(); k++)
         {
             TickMeter b;
@@ -77,6 +81,9 @@ int runCpuTiming(const Options& o, const Frame& f, int reps)
     printf("timing (%d runs alternating in one process, %d threads, %dx%d, %d disparities, %d paths), medians:\n", reps,
            getNumThreads(), f.left.cols, f.left.rows, numD, m->getNumPaths());
     printf("| lidarsgm %-22s | %8.1f ms |                   |\n", modeLabel(m->getMode()), ours);
+    printf("| lidarsgm %-22s | %8.1f ms | %+.1f %%           |\n",
+           format("%s + confidence", modeLabel(m->getMode())).c_str(), medianMs(withConfidence),
+           100.0 * (medianMs(withConfidence) / ours - 1));
     if (rssBefore >= 0 && peakAfter >= 0)
         printf("working memory of one lidarsgm instance (peak resident growth over its first call): %.1f MB\n",
                peakAfter - rssBefore);
@@ -137,6 +144,14 @@ int runCudaTiming(const Options& o, const Frame& f, int reps)
         const double mb = heldMB(m, [&](const Ptr<Matcher>& x) { x->compute(gl, gr, gs, gd); });
         const double ms = eventMedian([&](cuda::Stream& st) { m->compute(gl, gr, gs, gd, st); }, reps);
         printf("| lidarsgm %-5s | %8.3f ms | device memory held %.1f MB |\n", modeLabel(modes[k % 3]), ms, mb);
+        if (k == 0)
+        {
+            // The same call with the confidence map.
+            cuda::GpuMat gc;
+            const double msc = eventMedian([&](cuda::Stream& st) { m->compute(gl, gr, gs, gd, gc, st); }, reps);
+            printf("| lidarsgm %-5s + confidence | %8.3f ms | %+.1f %% |\n", modeLabel(modes[k % 3]), msc,
+                   100.0 * (msc / ms - 1));
+        }
     }
     // Throughput: k instances, each on its own stream, frames handed round-robin; page-locked input and output, so
     // one instance's uploads and downloads overlap the others' kernels. Frames per second over 200 frames.

@@ -60,10 +60,11 @@ void makeDir(const std::string& dir);
 /** Writes path through a temporary name beside it, renamed when write() returned true: a run killed mid-write leaves
 no file under the final name. Raises cv::Exception naming path when writing fails. */
 void writeAtomically(const std::string& path, const std::function<bool(const std::string&)>& write);
-/** The disparity in the --format formats (depth and ply from f's calibration), its colour picture and, with f's ground
-truth, the error picture. */
+/** The disparity in the --format formats (depth and ply from f's calibration; confidence from confidence, the
+matcher's confidence map), its colour picture and, with f's ground truth, the error picture. */
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const cv::Mat& disp16,
-                    int minD, int numD, const Frame& f);
+                    int minD, int numD, const Frame& f,
+                    const cv::Mat& confidence = cv::Mat());
 //! LiDAR points over the left image and, where semidense16 (semidensify()'s output) is not empty, the semidense map.
 void writeInputs(const std::string& dir, const Frame& f, int minD, int numD, const cv::Mat& semidense16);
 

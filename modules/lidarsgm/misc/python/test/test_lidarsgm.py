@@ -30,6 +30,16 @@ class lidarsgm_test(NewOpenCVTests):
         gt = cv.imread(os.path.join(d, 'disp_occ_0', '000002_10.png'), cv.IMREAD_UNCHANGED)
         return f.left, f.right, f.sparse, gt
 
+    def test_confidence(self):
+        left, right, sparse, _ = self.load_frame()
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        disp = m.compute(left, right, sparse)
+        disp2, conf = m.computeWithConfidence(left, right, sparse)
+        np.testing.assert_array_equal(disp, disp2)
+        self.assertEqual(conf.dtype, np.float32)
+        self.assertTrue(np.all((conf >= 0) & (conf <= 1)))
+        np.testing.assert_array_equal(conf == 0, disp == -16)
+
     def test_datasets(self):
         d = os.path.join(data_dir(), 'kitti')
         c = cv.lidarsgm.readKittiCalibration(os.path.join(d, 'calib.txt'))
