@@ -54,8 +54,27 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
         return ringLineSupports(v, above, below, ringStep, sparse16.ptr<short>(), sparseStep, x, y, W, rings.gap,
                                 p.checkThreshold16);
     };
-    const auto range16 = [&](int x, int y) {
-        return confidenceRange16([&](int u, int v) { return (int)disp16.at<short>(v, u); }, x, y, W, H);
+    // confidenceRange16 of a whole row at once: each row's 3-wide minima and maxima (NO_DISP left out), then the
+    // three rows' combined; the same values as the rule's 3x3 loop, without its per-pixel bounds tests.
+    const auto rangeRow = [&](int y, short* lo, short* hi, int* range) {
+        for (int x = 0; x < W; x++)
+        {
+            lo[x] = SHRT_MAX;
+            hi[x] = SHRT_MIN;
+        }
+        for (int v = std::max(0, y - 1); v <= std::min(H - 1, y + 1); v++)
+        {
+            const short* d = disp16.ptr<short>(v);
+            for (int x = 0; x < W; x++)
+                for (int u = std::max(0, x - 1); u <= std::min(W - 1, x + 1); u++)
+                    if (d[u] != NO_DISP)
+                    {
+                        lo[x] = std::min(lo[x], d[u]);
+                        hi[x] = std::max(hi[x], d[u]);
+                    }
+        }
+        for (int x = 0; x < W; x++)
+            range[x] = hi[x] >= lo[x] ? hi[x] - lo[x] : 0;
     };
     _out.create(disp16.size(), p.floatOutput ? CV_32FC1 : CV_16SC1);
     Mat out = _out.getMat(), confidence;
@@ -69,8 +88,10 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
 
     parallel_for_(Range(0, H), [&](const Range& r) {
         WindowCursor cur(cols, rc, lidarTest ? r.start : 0);
-        AutoBuffer<short> rowBuf(W);
+        AutoBuffer<short> rowBuf(3 * W);
+        AutoBuffer<int> rangeBuf(conf ? W : 1);
         short* res = rowBuf.data();
+        int* range16 = rangeBuf.data();
         for (int y = r.start; y < r.end; y++)
         {
             if (lidarTest)
@@ -80,6 +101,8 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
             const short* dr = dispRight.ptr<short>(y);
             const short* nu = useRings ? nonUnique16.ptr<short>(y) : nullptr;
             float* co = conf ? confidence.ptr<float>(y) : nullptr;
+            if (conf)
+                rangeRow(y, res + W, res + 2 * W, range16);
             for (int x = 0; x < W; x++)
             {
                 res[x] = d16[x];
@@ -90,8 +113,7 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
                     if (rescued)
                         res[x] = nu[x];
                     if (co)
-                        co[x] = rescued ? confidenceValue(outputConfidence(checkEvidence(false, true), range16(x, y)))
-                                        : 0.f;
+                        co[x] = rescued ? confidenceValue(outputConfidence(checkEvidence(false, true), range16[x])) : 0.f;
                     continue;
                 }
                 bool lr = false, li = false;
@@ -124,7 +146,7 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
                 if (!ok)
                     res[x] = NO_DISP;
                 if (co)
-                    co[x] = ok ? confidenceValue(outputConfidence(checkEvidence(lr, li), range16(x, y))) : 0.f;
+                    co[x] = ok ? confidenceValue(outputConfidence(checkEvidence(lr, li), range16[x])) : 0.f;
             }
             encodeRow(res, W, p, out, y);
         }
