@@ -27,9 +27,9 @@ namespace detail {
 
 //! Centre-symmetric census: a 9x7 window, each of the 31 pixel pairs (p + o, p - o) gives one bit.
 enum { CENSUS_WIDTH = 9, CENSUS_HEIGHT = 7, CENSUS_BITS = (CENSUS_WIDTH * CENSUS_HEIGHT - 1) / 2 };
-//! The most disparities a call searches: the CPU path's limit, and the CUDA path's (its path kernel holds at most
-//! four pairs of disparities per lane of a warp).
-enum { MAX_DISPARITIES = 512, CUDA_MAX_DISPARITIES = 256 };
+//! The most disparities a call searches, on both paths (the CUDA path kernel holds at most eight pairs of
+//! disparities per lane of a warp).
+enum { MAX_DISPARITIES = 512 };
 
 //! Marks "no disparity" in the internal 1/16-pixel maps (CV_16SC1).
 const short NO_DISP = SHRT_MIN;

@@ -17,7 +17,7 @@ table makes the members, getters, setters, write() and read(); the public header
 #define LIDARSGM_PARAMETERS(X) \
     X(int, MinDisparity, minDisparity, 0, v >= -1024 && v <= 1024, "in [-1024, 1024]", "the smallest disparity") \
     X(int, NumDisparities, numDisparities, 128, v >= 16 && v <= MAX_DISPARITIES && v % 16 == 0, \
-      "a multiple of 16 in [16, 512] (the CUDA path: at most 256)", \
+      "a multiple of 16 in [16, 512]", \
       "the number of disparities") \
     X(int, P1, P1, 10, v >= 0 && v <= 1000, "in [0, 1000]", "the penalty of a disparity step of 1") \
     X(int, P2, P2, 120, v >= 0 && v <= 1000, "in [0, 1000]", "the penalty of larger steps") \
@@ -264,10 +264,6 @@ private:
                                            : "lidarsgm: cv::Mat inputs give the confidence in a cv::Mat; pass one");
         if (!gpu && stream)
             CV_Error(Error::StsBadArg, "lidarsgm: the Stream overloads take cv::cuda::GpuMat inputs");
-        if (gpu && p.numDisparities > CUDA_MAX_DISPARITIES)
-            CV_Error_(Error::StsNotImplemented, ("lidarsgm: the CUDA path searches at most %d disparities "
-                                                 "(numDisparities is %d); the CPU path (cv::Mat inputs) takes up to %d",
-                                                 (int)CUDA_MAX_DISPARITIES, p.numDisparities, (int)MAX_DISPARITIES));
         AutoLock lock(mutex_);
         if (gpu)
             gpu_.run(left.getGpuMat(), right.getGpuMat(), sparse.empty() ? cuda::GpuMat() : sparse.getGpuMat(), p,

@@ -269,7 +269,11 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
     case 1: run<1>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
     case 2: run<2>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
     case 3: run<3>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
-    default: run<4>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    case 4: run<4>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    case 5: run<5>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    case 6: run<6>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    case 7: run<7>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    default: run<8>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
     }
 }
 

@@ -60,7 +60,13 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
  lane's run may pass D: n < PPT). */
 template <int PPT> __device__ __forceinline__ void loadPairs(const unsigned* S, int n, unsigned (&v)[PPT])
 {
-    if (PPT == 4)
+    if (PPT == 8)
+    {
+        const uint4 a = *(const uint4*)S, b = *(const uint4*)(S + 4);
+        v[0] = a.x; v[1 % PPT] = a.y; v[2 % PPT] = a.z; v[3 % PPT] = a.w;
+        v[4 % PPT] = b.x; v[5 % PPT] = b.y; v[6 % PPT] = b.z; v[7 % PPT] = b.w;
+    }
+    else if (PPT == 4)
     {
         const uint4 a = *(const uint4*)S;
         v[0] = a.x; v[1 % PPT] = a.y; v[2 % PPT] = a.z; v[3 % PPT] = a.w;

@@ -16,7 +16,7 @@ namespace {
 using aggregation::loadPairs;
 
 const int WARPS = 8, PIXELS_PER_WARP = 4, SEG = WARPS * PIXELS_PER_WARP;  // a block: 32 pixels of one row
-const int MAX_D = 256;
+const int MAX_D = MAX_DISPARITIES;
 
 //! Index of right-pixel offset i in the block's key array: one pad word per 32 keeps the lanes' atomics (which
 //! step DPT words apart) on distinct banks.
@@ -172,7 +172,11 @@ void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, P
     case 1: launch(wtaKernel<1>); break;
     case 2: launch(wtaKernel<2>); break;
     case 3: launch(wtaKernel<3>); break;
-    default: launch(wtaKernel<4>); break;
+    case 4: launch(wtaKernel<4>); break;
+    case 5: launch(wtaKernel<5>); break;
+    case 6: launch(wtaKernel<6>); break;
+    case 7: launch(wtaKernel<7>); break;
+    default: launch(wtaKernel<8>); break;
     }
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
     const dim3 block(32, 8);

@@ -37,7 +37,7 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 | parameter | meaning | range | default (paper) |
 | --- | --- | --- | --- |
 | minDisparity | smallest disparity searched | [-1024, 1024] | 0 |
-| numDisparities | disparities searched | multiple of 16 in [16, 512]; the CUDA path takes at most 256 | 128 |
+| numDisparities | disparities searched | multiple of 16 in [16, 512] | 128 |
 | P1, P2 | SGM penalties for a disparity change of 1 / more than 1 (census-bit units) | 0 <= P1 <= P2 <= 1000 | 10, 120 |
 | Q1, Q2 | DDC penalties for abs(d - s) = 1 / > 1 | 0 <= Q1 <= Q2 <= 1000 | 5, 160 |
 | alpha | weight of the DDC against the census cost | [0, 1] | 0.7 |
@@ -137,8 +137,7 @@ public:
 
     /** @brief Creates the matcher with the paper's parameters.
     @param minDisparity smallest disparity searched.
-    @param numDisparities number of disparities searched: a multiple of 16 in [16, 512] (the CUDA path refuses more
-    than 256 with cv::Error::StsNotImplemented).
+    @param numDisparities number of disparities searched: a multiple of 16 in [16, 512], on both paths.
     @param P1 penalty for a disparity change of 1 between neighbours (census-bit units), 0 <= P1 <= P2.
     @param P2 penalty for larger changes, P1 <= P2 <= 1000.
     @param Q1 DDC penalty for |d - sparse| = 1, 0 <= Q1 <= Q2.
@@ -203,7 +202,7 @@ public:
     //! Smallest disparity searched (any integer in [-1024, 1024]; default 0).
     CV_WRAP virtual int getMinDisparity() const = 0;
     CV_WRAP virtual void setMinDisparity(int minDisparity) = 0;
-    //! Number of disparities: a multiple of 16 in [16, 512] (default 128); the CUDA path takes at most 256.
+    //! Number of disparities: a multiple of 16 in [16, 512] (default 128).
     CV_WRAP virtual int getNumDisparities() const = 0;
     CV_WRAP virtual void setNumDisparities(int numDisparities) = 0;
     //! SGM penalty for a disparity step of 1, in census-bit units: 0 <= P1 <= P2 (paper: 10).
