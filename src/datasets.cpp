@@ -6,6 +6,7 @@
 // samples read them with this one copy.
 
 #include "precomp.hpp"
+#include "pipeline.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
 #include <cstring>
@@ -354,14 +355,10 @@ Mat encodeKittiDisparity(InputArray disparity)
 {
     const Mat d = disparity.getMat();
     CV_CheckTypeEQ(d.type(), CV_32FC1, "lidarsgm: the disparity must be CV_32FC1 pixels");
-    Mat out(d.size(), CV_16UC1, Scalar::all(0));
+    Mat out(d.size(), CV_16UC1);
     for (int y = 0; y < d.rows; y++)
         for (int x = 0; x < d.cols; x++)
-        {
-            const float v = d.at<float>(y, x);
-            if (v > 0)
-                out.at<ushort>(y, x) = saturate_cast<ushort>(std::max(1.0, std::floor(v * 256.0 + 0.5)));
-        }
+            out.at<ushort>(y, x) = detail::kittiEncode(d.at<float>(y, x));   // the projection's encoding
     return out;
 }
 

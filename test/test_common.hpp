@@ -19,6 +19,32 @@ inline void loadKittiTestFrame(const std::string& id, Mat& l, Mat& r, Mat& s)
     s = f.sparse;
 }
 
+//! A row vector of floats.
+inline Mat floatRow(std::initializer_list<float> v)
+{
+    return Mat(std::vector<float>(v), true).reshape(1, 1);
+}
+
+//! Float maps equal element by element (infinities included).
+inline void expectSameFloats(const Mat& expected, const Mat& actual)
+{
+    ASSERT_EQ(expected.size(), actual.size());
+    for (int y = 0; y < expected.rows; y++)
+        for (int x = 0; x < expected.cols; x++)
+            EXPECT_EQ(expected.at<float>(y, x), actual.at<float>(y, x)) << "at (" << x << ", " << y << ")";
+}
+
+//! The steps beyond the paper that doc/params/kitti_best.yml switches on (its values), on a matcher.
+inline void setKittiBestSteps(cv::lidarsgm::StereoLidarSGM& m)
+{
+    m.setVisibilityRadiusX(2);
+    m.setVisibilityRadiusY(4);
+    m.setVisibilityParallax(0.18);
+    m.setEdgeThreshold(32);
+    m.setRingGapFactor(2);
+    m.setSemidenseWeight(0.5);
+}
+
 //! Uncorrelated 8-bit images and a sparse map with about 4 % of the pixels set to disparities in [1, 60).
 inline void randomInputs(Size sz, RNG& rng, Mat& l, Mat& r, Mat& s)
 {
@@ -128,12 +154,7 @@ inline const std::vector<StageCase>& stageCases()
     {
         const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(kitti, "000046", 4);
         Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
-        m->setVisibilityRadiusX(2);
-        m->setVisibilityRadiusY(4);
-        m->setVisibilityParallax(0.18);
-        m->setEdgeThreshold(32);
-        m->setRingGapFactor(2);
-        m->setSemidenseWeight(0.5);
+        setKittiBestSteps(*m);
         m->setNumPaths(4);
         cases.push_back(runCpuStages("KITTI 000046, kitti_best steps, 16 lines, 4 paths", f.left, f.right, f.sparse, m));
     }

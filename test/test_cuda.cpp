@@ -102,12 +102,7 @@ TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
             for (int paths : { 4, 8 })
             {
                 Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode);
-                m->setVisibilityRadiusX(2);
-                m->setVisibilityRadiusY(4);
-                m->setVisibilityParallax(0.18);
-                m->setEdgeThreshold(32);
-                m->setRingGapFactor(2);
-                m->setSemidenseWeight(0.5);
+                setKittiBestSteps(*m);
                 m->setNumPaths(paths);
                 compareCpuGpu(m, l, r, s, format("frame %s mode %d paths %d, kitti_best steps", id, mode, paths));
             }

@@ -3,6 +3,7 @@
 // scenes, the LiDAR ring selection, the output encodings (KITTI disparity and depth PNGs, PFM, PLY), and the errors a
 // user gets for a missing or malformed file.
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
 #include <fstream>
 #include <set>
@@ -10,20 +11,6 @@
 namespace opencv_test { namespace {
 
 using namespace cv::lidarsgm;
-
-static Mat row(std::initializer_list<float> v)
-{
-    return Mat(std::vector<float>(v), true).reshape(1, 1);
-}
-
-//! Float maps equal element by element (infinities included).
-static void expectMat(const Mat& expected, const Mat& actual)
-{
-    ASSERT_EQ(expected.size(), actual.size());
-    for (int y = 0; y < expected.rows; y++)
-        for (int x = 0; x < expected.cols; x++)
-            EXPECT_EQ(expected.at<float>(y, x), actual.at<float>(y, x)) << "at (" << x << ", " << y << ")";
-}
 
 //! A file in a fresh temporary folder, removed with it.
 struct TempDir
@@ -141,7 +128,7 @@ TEST(Lidarsgm_Datasets, middlebury_scene_and_sampling)
 TEST(Lidarsgm_Datasets, kitti_png_and_pfm)
 {
     // KITTI PNG: round(d * 256), 0 = invalid (so d = 0 cannot be stored and becomes invalid).
-    Mat png = encodeKittiDisparity(row({ -1, 0, 2.3125f, 127.5f, 0.001f }));
+    Mat png = encodeKittiDisparity(floatRow({ -1, 0, 2.3125f, 127.5f, 0.001f }));
     EXPECT_EQ(0, png.at<ushort>(0, 0));
     EXPECT_EQ(0, png.at<ushort>(0, 1));
     EXPECT_EQ(592, png.at<ushort>(0, 2));
@@ -153,7 +140,7 @@ TEST(Lidarsgm_Datasets, kitti_png_and_pfm)
     ASSERT_NO_THROW(writePfm(pfm, Mat((Mat_<float>(2, 3) << -1, 0.5f, 37.0625f, 4, 5, 6))));
     Mat back = imread(pfm, IMREAD_UNCHANGED);
     ASSERT_EQ(CV_32FC1, back.type());
-    expectMat((Mat_<float>(2, 3) << std::numeric_limits<float>::infinity(), 0.5f, 37.0625f, 4, 5, 6), back);
+    expectSameFloats((Mat_<float>(2, 3) << std::numeric_limits<float>::infinity(), 0.5f, 37.0625f, 4, 5, 6), back);
     remove(pfm.c_str());
 }
 

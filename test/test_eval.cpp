@@ -2,6 +2,7 @@
 // The evaluator (opencv2/lidarsgm/evaluation.hpp), checked against small cases computed by hand: the KITTI devkit's
 // background interpolation and D1 rule, Middlebury bad-N, the colour maps and the sparse overlay.
 #include "test_precomp.hpp"
+#include "test_common.hpp"
 
 namespace opencv_test { namespace {
 
@@ -20,28 +21,16 @@ static bool isD1Outlier(float d, float gt)
     return evaluateDisparity(Mat(1, 1, CV_32F, Scalar(d)), Mat(1, 1, CV_32F, Scalar(gt))).estimatedOutliers == 1;
 }
 
-static Mat row(std::initializer_list<float> v)
-{
-    return Mat(std::vector<float>(v), true).reshape(1, 1);
-}
-
-static void expectMat(const Mat& expected, const Mat& actual)
-{
-    ASSERT_EQ(expected.size(), actual.size());
-    for (int y = 0; y < expected.rows; y++)
-        for (int x = 0; x < expected.cols; x++)
-            EXPECT_EQ(expected.at<float>(y, x), actual.at<float>(y, x)) << "at (" << x << ", " << y << ")";
-}
 
 TEST(Lidarsgm_Eval, background_interpolation_rows)
 {
     // A gap with valid pixels on both sides takes the smaller of the two; the ends copy the nearest valid value.
-    expectMat(row({ 5, 5, 3, 3, 3, 3 }), interpolateBackground(row({ -1, 5, -1, -1, 3, -1 })));
-    expectMat(row({ 4, 4, 4, 4 }), interpolateBackground(row({ -1, -1, 4, -1 })));
-    expectMat(row({ 2, 2, 2, 9, 9 }), interpolateBackground(row({ 2, -1, -1, 9, -1 })));
-    expectMat(row({ 7, 1, 1, 8 }), interpolateBackground(row({ 7, -1, 1, 8 })));
+    expectSameFloats(floatRow({ 5, 5, 3, 3, 3, 3 }), interpolateBackground(floatRow({ -1, 5, -1, -1, 3, -1 })));
+    expectSameFloats(floatRow({ 4, 4, 4, 4 }), interpolateBackground(floatRow({ -1, -1, 4, -1 })));
+    expectSameFloats(floatRow({ 2, 2, 2, 9, 9 }), interpolateBackground(floatRow({ 2, -1, -1, 9, -1 })));
+    expectSameFloats(floatRow({ 7, 1, 1, 8 }), interpolateBackground(floatRow({ 7, -1, 1, 8 })));
     // Nothing valid in the whole map: stays empty.
-    expectMat(row({ -1, -1, -1 }), interpolateBackground(row({ -1, -1, -1 })));
+    expectSameFloats(floatRow({ -1, -1, -1 }), interpolateBackground(floatRow({ -1, -1, -1 })));
 }
 
 TEST(Lidarsgm_Eval, background_interpolation_columns)
@@ -59,7 +48,7 @@ TEST(Lidarsgm_Eval, background_interpolation_columns)
     // Row 1: the gap between 1 and 3 takes min = 1; row 3 is extrapolated to 6 6 6. Columns: row 0 copies row 1.
     // The devkit only extrapolates columns to the top and bottom ends, so row 2, between two filled rows, stays empty.
     Mat got = interpolateBackground(d);
-    expectMat(e, got);
+    expectSameFloats(e, got);
 }
 
 TEST(Lidarsgm_Eval, d1_rule_and_totals)
@@ -75,7 +64,7 @@ TEST(Lidarsgm_Eval, d1_rule_and_totals)
     // est: 13.5 none 104   50   7
     // est covers 3 of the 4 GT pixels (75 %), one of them an outlier (33.33 %). Interpolated: the gap at x = 1 takes
     // min(13.5, 104) = 13.5, an outlier against 10: total 2 of 4 (50 %).
-    DisparityErrors s = evaluateDisparity(row({ 13.5f, -1, 104, 50, 7 }), row({ 10, 10, 100, 50, -1 }));
+    DisparityErrors s = evaluateDisparity(floatRow({ 13.5f, -1, 104, 50, 7 }), floatRow({ 10, 10, 100, 50, -1 }));
     EXPECT_EQ(4, s.groundTruthPixels);
     EXPECT_EQ(3, s.estimatedPixels);
     EXPECT_EQ(1, s.estimatedOutliers);
@@ -86,7 +75,7 @@ TEST(Lidarsgm_Eval, d1_rule_and_totals)
 
     // An empty estimate stays empty after interpolation; as in the devkit, its pixels are scored with d = -1:
     // against gt 5 and 6 that is an outlier (6 and 7 px), against gt 1.5 it is not (2.5 px).
-    DisparityErrors e = evaluateDisparity(row({ -1, -1, -1 }), row({ 5, 6, 1.5f }));
+    DisparityErrors e = evaluateDisparity(floatRow({ -1, -1, -1 }), floatRow({ 5, 6, 1.5f }));
     EXPECT_EQ(0, e.estimatedPixels);
     EXPECT_EQ(2, e.totalOutliers);
     EXPECT_DOUBLE_EQ(0.0, e.coveredError());
@@ -102,8 +91,8 @@ TEST(Lidarsgm_Eval, d1_rule_and_totals)
 TEST(Lidarsgm_Eval, bad_n_and_nonfinite_ground_truth)
 {
     // gt: 5, inf (unknown, as in Middlebury PFM), 20, NaN; est: 7.5 (bad), 1, 21 (good), 3.
-    DisparityErrors s = evaluateDisparity(row({ 7.5f, 1, 21, 3 }),
-                                          row({ 5, std::numeric_limits<float>::infinity(), 20,
+    DisparityErrors s = evaluateDisparity(floatRow({ 7.5f, 1, 21, 3 }),
+                                          floatRow({ 5, std::numeric_limits<float>::infinity(), 20,
                                                 std::numeric_limits<float>::quiet_NaN() }),
                                           cv::lidarsgm::METRIC_BAD, 2.0);
     EXPECT_EQ(2, s.groundTruthPixels);
@@ -119,18 +108,18 @@ TEST(Lidarsgm_Eval, matcher_output_and_kitti_ground_truth)
     Mat d16 = (Mat_<short>(1, 4) << -16, 160, 1600, 328);
     Mat gt16 = (Mat_<ushort>(1, 4) << 2560, 2560, 0, 5120);
     DisparityErrors a = evaluateDisparity(d16, gt16);
-    DisparityErrors b = evaluateDisparity(row({ -1, 10, 100, 20.5f }), row({ 10, 10, -1, 20 }));
+    DisparityErrors b = evaluateDisparity(floatRow({ -1, 10, 100, 20.5f }), floatRow({ 10, 10, -1, 20 }));
     EXPECT_EQ(3, a.groundTruthPixels);
     EXPECT_EQ(2, a.estimatedPixels);
     EXPECT_EQ(b.estimatedPixels, a.estimatedPixels);
     EXPECT_EQ(b.estimatedOutliers, a.estimatedOutliers);
     EXPECT_EQ(b.totalOutliers, a.totalOutliers);
     // With minDisparity 12 the invalid value is 11 (x16: 176): below minDisparity means no estimate.
-    DisparityErrors c = evaluateDisparity(Mat((Mat_<short>(1, 2) << 176, 320)), row({ 11, 20 }),
+    DisparityErrors c = evaluateDisparity(Mat((Mat_<short>(1, 2) << 176, 320)), floatRow({ 11, 20 }),
                                           cv::lidarsgm::METRIC_KITTI_D1, 0, 12);
     EXPECT_EQ(1, c.estimatedPixels);
-    EXPECT_THROW(evaluateDisparity(Mat(1, 2, CV_8U), row({ 1, 2 })), cv::Exception);
-    EXPECT_THROW(evaluateDisparity(row({ 1, 2, 3 }), row({ 1, 2 })), cv::Exception);
+    EXPECT_THROW(evaluateDisparity(Mat(1, 2, CV_8U), floatRow({ 1, 2 })), cv::Exception);
+    EXPECT_THROW(evaluateDisparity(floatRow({ 1, 2, 3 }), floatRow({ 1, 2 })), cv::Exception);
 }
 
 TEST(Lidarsgm_Eval, colour_maps)
@@ -138,11 +127,11 @@ TEST(Lidarsgm_Eval, colour_maps)
     // KITTI disparity colours: invalid black, 0 black, max white; error colours: no GT black, tiny error blue,
     // an error of 10x the D1 threshold red-ish (scale entry [8, 16)).
     Mat c, e;
-    cv::lidarsgm::colorizeDisparity(row({ -1, 0, 128 }), c, 128.0);
+    cv::lidarsgm::colorizeDisparity(floatRow({ -1, 0, 128 }), c, 128.0);
     EXPECT_EQ(Vec3b(0, 0, 0), c.at<Vec3b>(0, 0));
     EXPECT_EQ(Vec3b(0, 0, 0), c.at<Vec3b>(0, 1));
     EXPECT_EQ(Vec3b(255, 255, 255), c.at<Vec3b>(0, 2));
-    cv::lidarsgm::colorizeDisparityError(row({ 10, 10.1f, 40 }), row({ -1, 10, 10 }), e);
+    cv::lidarsgm::colorizeDisparityError(floatRow({ 10, 10.1f, 40 }), floatRow({ -1, 10, 10 }), e);
     EXPECT_EQ(Vec3b(0, 0, 0), e.at<Vec3b>(0, 0));
     EXPECT_EQ(Vec3b(149, 54, 49), e.at<Vec3b>(0, 1));   // error 0.1 px: 0.033 of the threshold
     EXPECT_EQ(Vec3b(39, 48, 215), e.at<Vec3b>(0, 2));   // error 30 px: min(10, 60) = 10 of the threshold
