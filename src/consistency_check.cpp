@@ -31,6 +31,21 @@ void encodeRow(const short* d16, int W, const PipelineParams& p, Mat& out, int y
     }
 }
 
+/* confidenceValue(outputConfidence(e, r)) for every evidence e and spread r (r capped as the rule caps it): a table
+lookup per pixel instead of an integer and a float division, the same values. */
+struct ConfidenceTable
+{
+    enum { R = 2049 };
+    std::vector<float> v;
+    ConfidenceTable() : v(5 * R)
+    {
+        for (int e = 0; e <= 4; e++)
+            for (int r = 0; r < R; r++)
+                v[e * R + r] = confidenceValue(outputConfidence(e, r));
+    }
+    float operator()(int e, int r) const { return v[e * R + std::min(r, (int)R - 1)]; }
+};
+
 } // namespace
 
 void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
@@ -62,16 +77,27 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
             lo[x] = SHRT_MAX;
             hi[x] = SHRT_MIN;
         }
+        // Branch-free, so that the compiler vectorises it: NO_DISP is SHRT_MIN, below every value, so the maxima
+        // ignore it as they are; for the minima it is read as SHRT_MAX.
+        const auto asLow = [](short d) { return d == NO_DISP ? (short)SHRT_MAX : d; };
         for (int v = std::max(0, y - 1); v <= std::min(H - 1, y + 1); v++)
         {
             const short* d = disp16.ptr<short>(v);
             for (int x = 0; x < W; x++)
-                for (int u = std::max(0, x - 1); u <= std::min(W - 1, x + 1); u++)
-                    if (d[u] != NO_DISP)
-                    {
-                        lo[x] = std::min(lo[x], d[u]);
-                        hi[x] = std::max(hi[x], d[u]);
-                    }
+            {
+                lo[x] = std::min(lo[x], asLow(d[x]));
+                hi[x] = std::max(hi[x], d[x]);
+            }
+            for (int x = 1; x < W; x++)
+            {
+                lo[x] = std::min(lo[x], asLow(d[x - 1]));
+                hi[x] = std::max(hi[x], d[x - 1]);
+            }
+            for (int x = 0; x + 1 < W; x++)
+            {
+                lo[x] = std::min(lo[x], asLow(d[x + 1]));
+                hi[x] = std::max(hi[x], d[x + 1]);
+            }
         }
         for (int x = 0; x < W; x++)
             range[x] = hi[x] >= lo[x] ? hi[x] - lo[x] : 0;
@@ -83,6 +109,7 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
         _confidence.create(disp16.size(), CV_32FC1);
         confidence = _confidence.getMat();
     }
+    static const ConfidenceTable confidenceOf;
     const SparseColumns cols(lidarTest ? sparse16 : Mat(1, 1, CV_16SC1, Scalar::all(NO_DISP)));
     const int rc = p.checkRadius, tc = p.checkThreshold16;
 
@@ -113,7 +140,7 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
                     if (rescued)
                         res[x] = nu[x];
                     if (co)
-                        co[x] = rescued ? confidenceValue(outputConfidence(checkEvidence(false, true), range16[x])) : 0.f;
+                        co[x] = rescued ? confidenceOf(checkEvidence(false, true), range16[x]) : 0.f;
                     continue;
                 }
                 bool lr = false, li = false;
@@ -146,7 +173,7 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
                 if (!ok)
                     res[x] = NO_DISP;
                 if (co)
-                    co[x] = ok ? confidenceValue(outputConfidence(checkEvidence(lr, li), range16[x])) : 0.f;
+                    co[x] = ok ? confidenceOf(checkEvidence(lr, li), range16[x]) : 0.f;
             }
             encodeRow(res, W, p, out, y);
         }
