@@ -71,6 +71,28 @@ class ToolTest(unittest.TestCase):
         self.assertTrue(np.all(err[gt == 0] == 0))
         self.assertTrue(np.all(err[gt > 0].max(axis=1) > 0))
 
+    def test_confidence_format(self):
+        # The confidence map as a 16-bit PNG beside the disparity, in single-frame and folder runs: 0 exactly where
+        # the disparity has none; the disparity itself the same as without it.
+        out, plain = os.path.join(self.tmp, "conf"), os.path.join(self.tmp, "plain")
+        rc, so, se = run([TOOL, "--kitti-frame", KITTI, "--id", "000046", "--out", out, "--format",
+                          "kitti,pfm,confidence"])
+        self.assertEqual(rc, 0, se)
+        rc, _, se = run([TOOL, "--kitti-frame", KITTI, "--id", "000046", "--out", plain])
+        self.assertEqual(rc, 0, se)
+        conf = cv.imread(os.path.join(out, "confidence.png"), cv.IMREAD_UNCHANGED)
+        disp = cv.imread(os.path.join(out, "disparity.png"), cv.IMREAD_UNCHANGED)
+        self.assertEqual(conf.dtype, np.uint16)
+        np.testing.assert_array_equal(disp, cv.imread(os.path.join(plain, "disparity.png"), cv.IMREAD_UNCHANGED))
+        pfm = cv.imread(os.path.join(out, "disparity.pfm"), cv.IMREAD_UNCHANGED)   # inf = no disparity
+        np.testing.assert_array_equal(conf == 0, np.isinf(pfm))
+        self.assertEqual(conf.max(), 65535)   # both tests confirm most pixels, on flat ground
+        kitti = self.kitti_folder("000002\n")
+        folder = os.path.join(self.tmp, "folder")
+        rc, _, se = run([TOOL, "--kitti", kitti, "--out", folder, "--modes", "sdsgm", "--format", "confidence"])
+        self.assertEqual(rc, 0, se)
+        self.assertTrue(os.path.isfile(os.path.join(folder, "000002", "confidence_sdsgm.png")))
+
     def test_folder_summary_and_progress(self):
         kitti = self.kitti_folder("000002\n000046\n")
         out = os.path.join(self.tmp, "out")
@@ -276,6 +298,8 @@ class ToolTest(unittest.TestCase):
             (["--kitti-frame", KITTI, "--id", "000002", "--alpha", "1.5"], 1, "alpha"),
             (["--kitti-frame", KITTI, "--id", "000002", "--modes", "fast"], 1, "unknown mode"),
             (["--kitti-frame", KITTI, "--id", "000002", "--out", self.tmp, "--format", "jpg"], 1, "unknown --format"),
+            (["--middlebury", self.tmp, "--out", self.tmp, "--format", "confidence"], 1,
+             "--format confidence is written for KITTI inputs"),
             (["--kitti-frame", KITTI, "--id", "000002", "--colour", "1"], 2, "unknown option --colour"),
             (["--kitti-frame", KITTI, "--id", "000002", "--lidar-lines", "48"], 1, "--lidar-lines takes 64, 32 or 16"),
             (["--kitti-frame", KITTI, "--id", "000002", "--lidar-ring-offset", "-1"], 1, "--lidar-ring-offset takes"),
