@@ -113,8 +113,25 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
     const SparseColumns cols(lidarTest ? sparse16 : Mat(1, 1, CV_16SC1, Scalar::all(NO_DISP)));
     const int rc = p.checkRadius, tc = p.checkThreshold16;
 
+    const int rs = p.semidenseRadius;   // the confidence's LiDAR evidence window (outputConfidence)
+    // Whether a value within tc of v lies in the columns x - radius .. x + radius of the cursor's rows: outward from x
+    // (a confirming value is likeliest near the pixel), stopping at the first (an existence test: the order cannot
+    // change it).
+    const auto lidarConfirms = [&](const WindowCursor& cur, int radius, int x, int v) {
+        for (int k = 0; k <= 2 * radius; k++)
+        {
+            const int c = x + ((k & 1) ? -((k + 1) >> 1) : (k >> 1));
+            if (c < 0 || c >= W)
+                continue;
+            for (int i = cur.lo[c]; i < cur.hi[c]; i++)
+                if (std::abs(v - cols.value[i]) <= tc)
+                    return true;
+        }
+        return false;
+    };
     parallel_for_(Range(0, H), [&](const Range& r) {
         WindowCursor cur(cols, rc, lidarTest ? r.start : 0);
+        WindowCursor near(cols, rs, conf && lidarTest ? r.start : 0);
         AutoBuffer<short> rowBuf(3 * W);
         AutoBuffer<int> rangeBuf(conf ? W : 1);
         short* res = rowBuf.data();
@@ -123,6 +140,8 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
         {
             if (lidarTest)
                 cur.moveTo(y);
+            if (conf && lidarTest)
+                near.moveTo(y);
             const short* d16 = disp16.ptr<short>(y);
             const short* di = dispInt.ptr<short>(y);
             const short* dr = dispRight.ptr<short>(y);
@@ -143,37 +162,25 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
                         co[x] = rescued ? confidenceOf(checkEvidence(false, true), range16[x]) : 0.f;
                     continue;
                 }
-                bool lr = false, li = false;
+                bool lr = false, li = false, ln = false;   // left-right; LiDAR in the check's window; in rs's
                 if (useStereo || conf)
                 {
                     // A match outside the right image cannot be verified: it fails (the LiDAR test may keep it).
                     const int xr = x - di[x];
                     lr = xr >= 0 && xr < W && dr[xr] != NO_DISP && std::abs(di[x] - dr[xr]) <= p.lrMaxDiff;
                 }
-                if (lidarTest && (conf || !(useStereo && lr)))
-                {
-                    // Columns outward from x (x, x - 1, x + 1, ...): a confirming value is likeliest near the pixel,
-                    // and the test stops at the first one (an existence test: the order cannot change it).
-                    const int v = d16[x];
-                    for (int k = 0; k <= 2 * rc && !li; k++)
-                    {
-                        const int c = x + ((k & 1) ? -((k + 1) >> 1) : (k >> 1));
-                        if (c < 0 || c >= W)
-                            continue;
-                        for (int i = cur.lo[c]; i < cur.hi[c]; i++)
-                            if (std::abs(v - cols.value[i]) <= tc)
-                            {
-                                li = true;
-                                break;
-                            }
-                    }
-                    li = li || (useRings && ringSupports(v, x, y));
-                }
+                const int v = d16[x];
+                if (conf && lidarTest)
+                    ln = lidarConfirms(near, rs, x, v);
+                if (useLidar && !(useStereo && lr))
+                    li = (ln && rs <= rc) || lidarConfirms(cur, rc, x, v);
+                if (useRings && ((useLidar && !li && !(useStereo && lr)) || (conf && !ln)) && ringSupports(v, x, y))
+                    li = ln = true;
                 const bool ok = (!useStereo && !useLidar) || (useStereo && lr) || (useLidar && li);
                 if (!ok)
                     res[x] = NO_DISP;
                 if (co)
-                    co[x] = ok ? confidenceOf(checkEvidence(lr, li), range16[x]) : 0.f;
+                    co[x] = ok ? confidenceOf(checkEvidence(lr, ln), range16[x]) : 0.f;
             }
             encodeRow(res, W, p, out, y);
         }

@@ -440,10 +440,12 @@ static LIDARSGM_HD T medianOfColumns(T l0, T l1, T l2, T m0, T m1, T m2, T h0, T
 //! Output encodings (cv::StereoSGBM's): CV_16S x16 with (minD - 1) * 16 for "none", or CV_32F pixels with minD - 1.
 /** The confidence of an output disparity, from what the check knows of it (the rule of the confidence map, see
 StereoLidarSGM::compute and doc/design.md):
-- its evidence: 4 where both tests confirm it (the left-right test and a LiDAR value within Tc in the check's window,
-  or the ring check), 3 the LiDAR test alone, 2 the left-right test alone, 1 neither (kept without a check), 0 no
-  disparity. Two independent confirmations before one; a LiDAR measurement before the left-right test, which shares
-  the matching cost's failure modes (repetitive texture, the same occluded surface);
+- its evidence: 4 where both confirm it (the left-right test, and a LiDAR value within Tc in the (2 rs + 1)^2 window
+  of semidensification or the ring check), 3 the LiDAR alone, 2 the left-right test alone, 1 neither (kept without a
+  check), 0 no disparity. Two independent confirmations before one; a LiDAR measurement before the left-right test,
+  which shares the matching cost's failure modes (repetitive texture, the same occluded surface). The LiDAR evidence
+  takes the window within which semidensification hands a LiDAR value to a pixel, not the check's (2 rc + 1)^2,
+  which confirms almost any disparity (doc/decisions.md, "Uniqueness");
 - its neighbourhood's agreement: range16, the largest minus the smallest disparity (1/16 px) among the disparities of
   its 3x3 neighbourhood in the check's input (confidenceRange16): a pixel whose neighbours disagree lies on a depth
   edge or in noise, where matching fails most.

@@ -22,6 +22,12 @@ __device__ __forceinline__ void store(PtrStepSz<float>& out, int x, int y, int d
     out(y, x) = encodeOutput32(d16, minD);
 }
 
+//! The radius of the tile's point list: the check's window and, with the confidence, its evidence window.
+__host__ __device__ __forceinline__ int listRadius(const PipelineParams& p)
+{
+    return p.confidence && p.semidenseRadius > p.checkRadius ? p.semidenseRadius : p.checkRadius;
+}
+
 /* One block = 32 x 8 pixels. For the LiDAR test each pixel scans the sparse points of its block's tile
  (sparse_window.cuh). The test is "does any point qualify", so the list's order cannot change the result. With
  p.confidence both tests run wherever they can (the confidence's evidence), whatever the check keeps. */
@@ -34,9 +40,10 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
     __shared__ int count;
     const int W = disp16.cols, H = disp16.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    const int rc = p.checkRadius, tc = p.checkThreshold16;
+    const int rc = p.checkRadius, tc = p.checkThreshold16, rs = p.semidenseRadius;
     const bool conf = p.confidence, lidarTest = p.lidarCheck || (conf && sparse16.data);
-    const int n = lidarTest ? listTilePoints(sparse16, rc, points, &count) : 0;
+    // The tile's points within the larger of the two windows (the check's rc, the confidence's rs).
+    const int n = lidarTest ? listTilePoints(sparse16, listRadius(p), points, &count) : 0;
     if (x >= W || y >= H)
         return;
     const int d = disp16(y, x);
@@ -59,7 +66,7 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
             confidence(y, x) = rescued ? confidenceValue(outputConfidence(checkEvidence(false, true), range16())) : 0.f;
         return;
     }
-    bool lr = false, li = false;
+    bool lr = false, li = false, ln = false;   // left-right; LiDAR in the check's window; in rs's (outputConfidence)
     if (p.stereoCheck || conf)
     {
         // A match outside the right image cannot be verified: it fails (the LiDAR test may keep it).
@@ -71,26 +78,29 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
             lr = dr != NO_DISP && abs(di - dr) <= p.lrMaxDiff;
         }
     }
-    if (lidarTest && (conf || !(p.stereoCheck && lr)))
+    const bool needCheck = p.lidarCheck && !(p.stereoCheck && lr), needNear = conf && lidarTest;
+    if (needCheck || needNear)
     {
         for (int k = 0; k < n; k++)
         {
             const int pos = points[2 * k];
-            const int px = pos & 0xFFFF, py = pos >> 16;
-            if (abs(px - x) <= rc && abs(py - y) <= rc && abs(v - points[2 * k + 1]) <= tc)
-            {
-                li = true;
+            if (abs(v - points[2 * k + 1]) > tc)
+                continue;
+            const int dx = abs((pos & 0xFFFF) - x), dy = abs((pos >> 16) - y);
+            li = li || (dx <= rc && dy <= rc);
+            ln = ln || (dx <= rs && dy <= rs);
+            if ((li || !needCheck) && (ln || !needNear))
                 break;
-            }
         }
-        li = li || (useRings && ringSupports(v));
+        if (useRings && ((needCheck && !li) || (needNear && !ln)) && ringSupports(v))
+            li = ln = true;
     }
     const bool ok = (!p.stereoCheck && !p.lidarCheck) || (p.stereoCheck && lr) || (p.lidarCheck && li);
     if (!ok)
         v = NO_DISP;
     store(out, x, y, v, p.minDisparity);
     if (conf)
-        confidence(y, x) = ok ? confidenceValue(outputConfidence(checkEvidence(lr, li), range16())) : 0.f;
+        confidence(y, x) = ok ? confidenceValue(outputConfidence(checkEvidence(lr, ln), range16())) : 0.f;
 }
 
 template <typename T>
@@ -114,7 +124,7 @@ void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short
               PtrStepSz<float> confidence, cudaStream_t stream)
 {
     const bool lidarTest = p.lidarCheck || (p.confidence && sparse16.data);
-    const size_t smem = lidarTest ? tileKernelSmem(checkKernel<T>, BLOCK, p.checkRadius) : 0;
+    const size_t smem = lidarTest ? tileKernelSmem(checkKernel<T>, BLOCK, listRadius(p)) : 0;
     checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
                                                                                 rings, p, out, confidence);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
