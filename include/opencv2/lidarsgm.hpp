@@ -170,10 +170,10 @@ public:
 
     The disparity map is the one compute() gives (the same bits). The confidence is in [0, 1], 0 where there is no
     disparity, from what the consistency check knows of each output pixel: its evidence (both the left-right test
-    and a LiDAR value within the check's threshold and window confirm it: 1; the LiDAR alone: 3/4; the left-right
-    test alone: 1/2; neither, with the check off: 1/4), times 32 / (32 + r) with r the spread of the disparities of
-    its 3x3 neighbourhood in 1/16 pixel (a pixel on a depth edge, where matching fails most, counts less; a spread of
-    2 px halves it). Both tests run for the confidence whatever setConsistencyCheck keeps; the LiDAR evidence needs
+    and a LiDAR value within the check's threshold in the semidensification window (2 rs + 1)^2, or the ring check,
+    confirm it: 1; the LiDAR alone: 3/4; the left-right test alone: 1/2; neither, with the check off: 1/4), times
+    32 / (32 + r) with r the spread of the disparities of its 3x3 neighbourhood in 1/16 pixel (a pixel on a depth
+    edge, where matching fails most, counts less; a spread of 2 px halves it). Both tests run for the confidence whatever setConsistencyCheck keeps; the LiDAR evidence needs
     sparseDisparity. Sort or threshold it: most errors lie in the least confident pixels (doc/accuracy.md).
     @param left, right, sparseDisparity, disparity as compute().
     @param confidence output, CV_32FC1 (a GpuMat for GpuMat inputs), the size of the images.
