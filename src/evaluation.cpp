@@ -80,6 +80,123 @@ bool isOutlier(float d, float gt, int metric, float bad)
 
 } // namespace
 
+enum { CONFIDENCE_LEVELS = 65536 };
+
+void ConfidenceErrors::add(const ConfidenceErrors& o)
+{
+    if (o.pixels.empty())
+        return;
+    if (pixels.empty())
+    {
+        pixels.assign(CONFIDENCE_LEVELS, 0.0);
+        outliers.assign(CONFIDENCE_LEVELS, 0.0);
+    }
+    CV_CheckEQ(o.pixels.size(), pixels.size(), "lidarsgm: ConfidenceErrors of another layout");
+    CV_CheckEQ(o.outliers.size(), outliers.size(), "lidarsgm: ConfidenceErrors of another layout");
+    for (size_t i = 0; i < pixels.size(); i++)
+    {
+        pixels[i] += o.pixels[i];
+        outliers[i] += o.outliers[i];
+    }
+}
+
+double ConfidenceErrors::total() const
+{
+    double n = 0;
+    for (double v : pixels)
+        n += v;
+    return n;
+}
+
+double ConfidenceErrors::totalOutliers() const
+{
+    double n = 0;
+    for (double v : outliers)
+        n += v;
+    return n;
+}
+
+namespace {
+
+//! The outliers among the k most confident pixels: whole levels from the top, the last one in proportion.
+double outliersKept(const ConfidenceErrors& c, double k)
+{
+    double n = 0, e = 0;
+    for (size_t i = c.pixels.size(); i-- > 0 && n < k;)
+    {
+        const double take = std::min(c.pixels[i], k - n);
+        if (take > 0)
+            e += c.outliers[i] * take / c.pixels[i];
+        n += take;
+    }
+    return e;
+}
+
+} // namespace
+
+double ConfidenceErrors::leastConfidentShare(double fraction) const
+{
+    const double n = total(), e = totalOutliers();
+    return e > 0 ? 100.0 * (e - outliersKept(*this, (1.0 - fraction) * n)) / e : 0.0;
+}
+
+double ConfidenceErrors::keptError(double fraction) const
+{
+    const double k = fraction * total();
+    return k > 0 ? 100.0 * outliersKept(*this, k) / k : 0.0;
+}
+
+double ConfidenceErrors::auc() const
+{
+    // keptError at 1000 fractions, trapezoids from the first one (the curve is flat below it).
+    const int steps = 1000;
+    double a = 0, prev = keptError(1.0 / steps) / 100;
+    a += prev / steps;
+    for (int i = 2; i <= steps; i++)
+    {
+        const double v = keptError((double)i / steps) / 100;
+        a += 0.5 * (prev + v) / steps;
+        prev = v;
+    }
+    return a;
+}
+
+double ConfidenceErrors::oracleAuc() const
+{
+    const double n = total(), e = n > 0 ? totalOutliers() / n : 0.0;
+    return e >= 1 ? 1.0 : e + (1 - e) * std::log(1 - e);
+}
+
+ConfidenceErrors evaluateConfidence(InputArray disparity, InputArray confidence, InputArray groundTruth, int metric,
+                                    double badThreshold, int minDisparity)
+{
+    CV_CheckTrue(metric == METRIC_KITTI_D1 || metric == METRIC_BAD, "lidarsgm: metric must be METRIC_KITTI_D1 or METRIC_BAD");
+    CV_CheckTrue(disparity.size() == groundTruth.size(), "lidarsgm: the disparity and the ground truth differ in size");
+    CV_CheckTypeEQ(confidence.type(), CV_32FC1, "lidarsgm: the confidence must be CV_32FC1");
+    CV_CheckTrue(confidence.size() == disparity.size(), "lidarsgm: the confidence and the disparity differ in size");
+    const Mat est = estimateToFloat(disparity, minDisparity), gt = groundTruthToFloat(groundTruth);
+    const Mat conf = confidence.getMat();
+    const float bad = (float)badThreshold;
+    ConfidenceErrors c;
+    c.pixels.assign(CONFIDENCE_LEVELS, 0.0);
+    c.outliers.assign(CONFIDENCE_LEVELS, 0.0);
+    for (int y = 0; y < est.rows; y++)
+    {
+        const float* g = gt.ptr<float>(y);
+        const float* d = est.ptr<float>(y);
+        const float* q = conf.ptr<float>(y);
+        for (int x = 0; x < est.cols; x++)
+        {
+            if (g[x] < 0 || d[x] < 0)
+                continue;
+            const int level = cvRound(std::min(1.f, std::max(0.f, q[x])) * (CONFIDENCE_LEVELS - 1));
+            c.pixels[level]++;
+            c.outliers[level] += isOutlier(d[x], g[x], metric, bad);
+        }
+    }
+    return c;
+}
+
 void interpolateBackground(InputArray _disp, OutputArray _filled)
 {
     CV_CheckTrue(_disp.type() == CV_32FC1, "lidarsgm: interpolateBackground takes CV_32FC1 pixels");

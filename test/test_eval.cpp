@@ -145,4 +145,33 @@ TEST(Lidarsgm_Eval, colour_maps)
     EXPECT_EQ(Vec3b(255, 255, 255), o.at<Vec3b>(10, 15));
 }
 
+// The confidence's sparsification counts (evaluateConfidence, ConfidenceErrors): four covered pixels, one outlier at
+// the lowest confidence; a pixel without ground truth or estimate is left out; ties are removed in proportion.
+TEST(Lidarsgm_Eval, confidence_sparsification)
+{
+    const Mat d = floatRow({ 10, 10, 10, 10, 10, 10 }), gt = floatRow({ 10, 10, 10, 20, -1, 10 });
+    Mat est = d.clone();
+    est.at<float>(0, 5) = -1;   // no estimate
+    const Mat conf = floatRow({ 1.f, 1.f, 0.5f, 0.25f, 0.75f, 0.f });
+    cv::lidarsgm::ConfidenceErrors c = cv::lidarsgm::evaluateConfidence(est, conf, gt);
+    EXPECT_EQ(4.0, c.total());
+    EXPECT_EQ(1.0, c.totalOutliers());
+    EXPECT_EQ(1.0, c.outliers[cvRound(0.25 * 65535)]);
+    EXPECT_DOUBLE_EQ(100.0, c.leastConfidentShare(0.25));   // the least confident pixel is the outlier
+    EXPECT_DOUBLE_EQ(0.0, c.keptError(0.75));
+    EXPECT_DOUBLE_EQ(25.0, c.keptError(1.0));
+    // The oracle's area for an error rate e is e + (1 - e) ln(1 - e); this order is the oracle's.
+    EXPECT_NEAR(0.25 + 0.75 * std::log(0.75), c.oracleAuc(), 1e-12);
+    EXPECT_NEAR(c.oracleAuc(), c.auc(), 2e-3);
+    // Ties: two pixels of one level, one an outlier: keeping one of them keeps half an outlier.
+    cv::lidarsgm::ConfidenceErrors t = cv::lidarsgm::evaluateConfidence(floatRow({ 10, 10 }), floatRow({ 0.5f, 0.5f }),
+                                                                        floatRow({ 10, 20 }));
+    EXPECT_DOUBLE_EQ(50.0, t.keptError(0.5));
+    // Counts add up over frames.
+    c.add(t);
+    EXPECT_EQ(6.0, c.total());
+    EXPECT_EQ(2.0, c.totalOutliers());
+    EXPECT_THROW(cv::lidarsgm::evaluateConfidence(est, Mat(1, 6, CV_8UC1), gt), cv::Exception);
+}
+
 }} // namespace

@@ -62,6 +62,14 @@ int runFrame(const Options& o, Frame& f)
                    s.totalError());
         }
         printf("\n");
+        if (wantConfidence && !f.groundTruth.empty())
+        {
+            Row row;
+            row.label = std::string(modeLabel(mode)) + " (" + checkLabel(check) + ")";
+            row.confidence = lidarsgm::evaluateConfidence(disp, confidence, f.groundTruth, lidarsgm::METRIC_KITTI_D1,
+                                                          2.0, minD);
+            printConfidence(row, "D1", "frame " + f.name);
+        }
         if (!out.empty())
             writeDisparity(o, out, modes.size() > 1 ? "_" + name : "", disp, minD, m->getNumDisparities(), f,
                            confidence);

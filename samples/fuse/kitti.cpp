@@ -217,6 +217,7 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
         for (size_t i = 0; i < all.size(); i++)
         {
             all[i]->stats.add(one[i]->stats);
+            all[i]->confidence.add(one[i]->confidence);
             all[i]->ms.insert(all[i]->ms.end(), one[i]->ms.begin(), one[i]->ms.end());
         }
     }
@@ -239,6 +240,8 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
         printTimes(title.substr(0, title.find(", D1")) + ", no ground truth", table);
     if (scored && !sums.table5.empty())
         printTable("Consistency checks on SDSGM (the paper's Table V)", "D1", sums.table5);
+    for (const Row& r : sums.modes)
+        printConfidence(r, "D1", format("%zu computed frames", computed));
     printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed; %.2f frames/s over the pass\n",
            computed, resumed, failed, ids.size() / std::max(total.getTimeSec(), 1e-9));
 }

@@ -139,6 +139,9 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
         const Job& j = jobs[k];
         if (scored)
             fr.modes[k].stats = score(j.out, f.groundTruth, j.m->getMinDisparity());
+        if (scored && !j.confidence.empty())
+            fr.modes[k].confidence = lidarsgm::evaluateConfidence(j.out, j.confidence, f.groundTruth,
+                                                                  lidarsgm::METRIC_KITTI_D1, 2.0, j.m->getMinDisparity());
         fr.modes[k].ms.push_back(j.ms);
         if (!frameOut.empty())
             writeDisparity(o_, frameOut, "_" + modes[k], j.out, j.m->getMinDisparity(), j.m->getNumDisparities(), f,

@@ -141,6 +141,18 @@ void printTable(const std::string& title, const std::string& metric, const std::
     }
 }
 
+void printConfidence(const Row& r, const std::string& metric, const std::string& over)
+{
+    if (r.confidence.pixels.empty())
+        return;
+    printf("confidence of %s, %s: the 10 %% least confident hold %.1f %% of the %s outliers; AUC %.5f (oracle %.5f, "
+           "random %.5f); covered %s of the pixels kept:", r.label.c_str(), over.c_str(),
+           r.confidence.leastConfidentShare(0.1), metric.c_str(), r.confidence.auc(), r.confidence.oracleAuc(),
+           r.confidence.totalOutliers() / std::max(1.0, r.confidence.total()), metric.c_str());
+    for (int k = 10; k >= 1; k--)
+        printf(" %d %%: %.2f%s", 10 * k, r.confidence.keptError(k / 10.0), k > 1 ? "," : "\n");
+}
+
 void printTimes(const std::string& title, const std::vector<Row>& rows)
 {
     printf("\n%s\n", title.c_str());

@@ -74,10 +74,14 @@ struct Row
     std::string label;
     cv::lidarsgm::DisparityErrors stats;
     std::vector<double> ms;
+    cv::lidarsgm::ConfidenceErrors confidence;   //!< with --format confidence and ground truth (computed frames only)
 };
 void printTable(const std::string& title, const std::string& metric, const std::vector<Row>& rows);
 //! A summary table of times only (runs without ground truth).
 void printTimes(const std::string& title, const std::vector<Row>& rows);
+//! The sparsification figures of a row's confidence (nothing where it has none): the share of the outliers in the
+//! least confident 10 %, the AUC beside the oracle's, the covered error of the pixels kept at 100 % .. 10 %.
+void printConfidence(const Row& row, const std::string& metric, const std::string& over);
 
 // ---- kitti_frame.cpp --------------------------------------------------------------------------------------------
 //! The rows of one frame or of a pass: the modes, the LiDAR points, the semidense map, Table V.

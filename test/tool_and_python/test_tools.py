@@ -78,6 +78,8 @@ class ToolTest(unittest.TestCase):
         rc, so, se = run([TOOL, "--kitti-frame", KITTI, "--id", "000046", "--out", out, "--format",
                           "kitti,pfm,confidence"])
         self.assertEqual(rc, 0, se)
+        self.assertRegex(so, r"confidence of SDSGM \(stereo-lidar\), frame 000046: the 10 % least confident hold "
+                             r"[\d.]+ % of the D1 outliers; AUC [\d.]+ \(oracle [\d.]+")
         rc, _, se = run([TOOL, "--kitti-frame", KITTI, "--id", "000046", "--out", plain])
         self.assertEqual(rc, 0, se)
         conf = cv.imread(os.path.join(out, "confidence.png"), cv.IMREAD_UNCHANGED)
@@ -89,8 +91,9 @@ class ToolTest(unittest.TestCase):
         self.assertEqual(conf.max(), 65535)   # both tests confirm most pixels, on flat ground
         kitti = self.kitti_folder("000002\n")
         folder = os.path.join(self.tmp, "folder")
-        rc, _, se = run([TOOL, "--kitti", kitti, "--out", folder, "--modes", "sdsgm", "--format", "confidence"])
+        rc, so, se = run([TOOL, "--kitti", kitti, "--out", folder, "--modes", "sdsgm", "--format", "confidence"])
         self.assertEqual(rc, 0, se)
+        self.assertIn("confidence of SDSGM (stereo-lidar), 1 computed frames", so)
         self.assertTrue(os.path.isfile(os.path.join(folder, "000002", "confidence_sdsgm.png")))
 
     def test_folder_summary_and_progress(self):

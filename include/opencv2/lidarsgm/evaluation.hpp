@@ -57,6 +57,44 @@ CV_EXPORTS_W DisparityErrors evaluateDisparity(InputArray disparity, InputArray 
                                                int metric = METRIC_KITTI_D1, double badThreshold = 2.0,
                                                int minDisparity = 0);
 
+/** @brief How a confidence map ranks a disparity map's errors: the counts of its sparsification curve.
+
+The covered pixels (an estimate and ground truth) and their outliers, per confidence level (round(confidence x 65535),
+the levels of the tool's 16-bit confidence PNG); counts add up over frames (add()). The curve removes the least
+confident pixels first; pixels of one level are removed together in proportion, so that the order among ties cannot
+flatter it.
+ */
+struct CV_EXPORTS_W_SIMPLE ConfidenceErrors
+{
+    CV_WRAP ConfidenceErrors() {}
+    CV_PROP_RW std::vector<double> pixels;     //!< covered pixels per level (65536 levels; empty: none yet)
+    CV_PROP_RW std::vector<double> outliers;   //!< their outliers per level
+
+    //! Adds another frame's counts.
+    CV_WRAP void add(const ConfidenceErrors& other);
+    //! Covered pixels and outliers in all.
+    CV_WRAP double total() const;
+    CV_WRAP double totalOutliers() const;
+    //! The share of all outliers that the given fraction of least confident pixels holds, in percent.
+    CV_WRAP double leastConfidentShare(double fraction) const;
+    //! The covered error of the given fraction of most confident pixels, in percent.
+    CV_WRAP double keptError(double fraction) const;
+    //! The area under the curve of keptError (as a fraction, not percent) over the fraction kept, in (0, 1].
+    CV_WRAP double auc() const;
+    //! The same area for the oracle order (the outliers removed first): e + (1 - e) ln(1 - e), e the error rate.
+    CV_WRAP double oracleAuc() const;
+};
+
+/** @brief The counts of a confidence map's sparsification curve (ConfidenceErrors) for one disparity map.
+
+@param disparity, groundTruth, metric, badThreshold, minDisparity as evaluateDisparity (covered pixels and outliers
+by the same rules).
+@param confidence CV_32FC1 in [0, 1], the disparity's size (StereoLidarSGM::compute with a confidence output).
+ */
+CV_EXPORTS_W ConfidenceErrors evaluateConfidence(InputArray disparity, InputArray confidence, InputArray groundTruth,
+                                                 int metric = METRIC_KITTI_D1, double badThreshold = 2.0,
+                                                 int minDisparity = 0);
+
 /** @brief The KITTI devkit's background interpolation of missing disparities.
 
 In each row, a gap with estimates on both sides takes the smaller of the two (the background); then each row's first

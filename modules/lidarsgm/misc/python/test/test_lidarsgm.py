@@ -39,6 +39,11 @@ class lidarsgm_test(NewOpenCVTests):
         self.assertEqual(conf.dtype, np.float32)
         self.assertTrue(np.all((conf >= 0) & (conf <= 1)))
         np.testing.assert_array_equal(conf == 0, disp == -16)
+        gt = cv.imread(os.path.join(data_dir(), 'kitti', 'disp_occ_0', '000002_10.png'), cv.IMREAD_UNCHANGED)
+        c = cv.lidarsgm.evaluateConfidence(disp, conf, gt)
+        self.assertEqual(c.total(), cv.lidarsgm.evaluateDisparity(disp, gt).estimatedPixels)
+        self.assertGreater(c.leastConfidentShare(0.1), 40)   # the errors gather in the least confident tenth
+        self.assertLess(c.keptError(0.9), c.keptError(1.0))
 
     def test_datasets(self):
         d = os.path.join(data_dir(), 'kitti')
