@@ -55,8 +55,8 @@ const OptionSpec kOptions[] = {
       "(depth[_mode].png: KITTI depth, uint16 metres x 256, 0 = none), ply (points[_mode].ply:\n"
       "binary PLY, x y z metres in the left camera frame and the left image's colour, one vertex\n"
       "per valid pixel), confidence (confidence[_mode].png: uint16, the confidence map x 65535, 0 =\n"
-      "no disparity; KITTI inputs; with ground truth the run also prints its sparsification figures); default kitti. depth and ply need a calibration (KITTI inputs,\n"
-      "--calib)", nullptr },
+      "no disparity; KITTI inputs; with ground truth the run also prints its sparsification\n"
+      "figures); default kitti. depth and ply need a calibration (KITTI inputs, --calib)", nullptr },
     { "quiet", 'i', "1", "no progress line on folder runs", nullptr },
     { "resume", 'f', nullptr, "(KITTI folder with --out) take the frames whose outputs are complete (their\n"
       "metrics.yml, written last) from the earlier run instead of computing them again", nullptr },
