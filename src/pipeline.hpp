@@ -179,6 +179,15 @@ static LIDARSGM_HD int sparseFromFloat(float v, int lo, int hi)
 
 /** Parabola through the aggregated costs at d - 1, d, d + 1, as a 1/16-pixel offset:
 round(8 (S[d-1] - S[d+1]) / max(S[d-1] + S[d+1] - 2 S[d], 1)), halves away from zero. */
+/** The uniqueness check (uniqueness1024 < 1024): the winner's aggregated cost best against second, the lowest cost more
+than one disparity away (there is one: numDisparities >= 16). best * 1024 <= uniqueness1024 * second, and best
+strictly below second: a cost curve that is flat at its minimum (a textureless patch where every disparity costs 0)
+has no unique winner, though 0 <= ratio * 0. */
+static LIDARSGM_HD bool uniqueWinner(int best, int second, int uniqueness1024)
+{
+    return best * 1024 <= uniqueness1024 * second && best < second;
+}
+
 static LIDARSGM_HD int subpixelOffset16(int sm, int s0, int sp)
 {
     const int num = 8 * (sm - sp);

@@ -2,7 +2,7 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Winner-takes-all of one pixel (paper Eq. 3) from its aggregated costs, with
-//  - the uniqueness check: best * 1024 <= uniqueness1024 * (lowest cost more than one disparity away), else invalid
+//  - the uniqueness check (uniqueWinner, pipeline.hpp), else invalid
 //    (the winner goes to nonUnique where given: the ring check may keep it);
 //  - the parabola fit through the costs at d - 1, d, d + 1 (subpixelOffset16, pipeline.hpp);
 //  - the right view: the pixel offers its cost at d to the right pixel x - minD - d; each right pixel keeps the lowest
@@ -131,7 +131,7 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
         for (; d < D; d++)
             if (d < lo || d > hi)
                 second = std::min(second, s[d]);
-        if ((int)minv * 1024 > p.uniqueness1024 * (int)second)
+        if (!uniqueWinner((int)minv, (int)second, p.uniqueness1024))
         {
             if (nonUnique)
                 *nonUnique = (short)winner16(s, best, p);

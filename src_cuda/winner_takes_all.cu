@@ -108,7 +108,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
                         second = ::min(second, v[i][j] >> 16);
                 }
             second = __reduce_min_sync(0xFFFFFFFFu, second);
-            valid = second == 0xFFFFFFFFu || minv * 1024 <= p.uniqueness1024 * (int)second;
+            valid = uniqueWinner(minv, (int)second, p.uniqueness1024);   // D >= 16: second is a cost
         }
         // The parabola's neighbour costs from the lanes that hold them (warp-uniform: bd and valid are); a non-unique
         // winner needs them only for nonUnique16.

@@ -109,6 +109,21 @@ TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
     }
 }
 
+// A uniform pair (every cost 0: no unique winner anywhere) and a pair uniform in its left half.
+TEST(Lidarsgm_CUDA, flat_images_bit_exact)
+{
+    requireCudaDevice();
+    Mat l(40, 130, CV_8UC1, Scalar::all(128)), r = l.clone(), s(l.size(), CV_32FC1, Scalar::all(0));
+    s.at<float>(20, 60) = 12.f;
+    for (int mode = 0; mode < 3; mode++)
+        compareCpuGpu(StereoLidarSGM::create(0, 64, 10, 120, 5, 160, 0.7, mode), l, r, s, format("flat, mode %d", mode));
+    RNG rng(3);
+    rng.fill(l.colRange(65, 130), RNG::UNIFORM, 0, 256);
+    l.copyTo(r);
+    for (int mode = 0; mode < 3; mode++)
+        compareCpuGpu(StereoLidarSGM::create(0, 64, 10, 120, 5, 160, 0.7, mode), l, r, s, format("half flat, mode %d", mode));
+}
+
 typedef testing::TestWithParam<tuple<Size, int, int> > Lidarsgm_CUDA_Random;
 TEST_P(Lidarsgm_CUDA_Random, bit_exact)
 {

@@ -46,6 +46,31 @@ TEST(Lidarsgm_WinnerTakesAll, subpixel_parabola_and_uniqueness)
     EXPECT_EQ(5 * 16 + 3, d16.at<short>(0, 0));
 }
 
+/* A cost curve flat at zero (a textureless patch: every disparity costs 0) has no unique winner, though 0 <= ratio x 0;
+a zero best with a positive second is unique. The same on a whole flat image pair through the matcher. */
+TEST(Lidarsgm_WinnerTakesAll, flat_zero_costs_are_not_unique)
+{
+    const int D = 16;
+    Mat sum(1, D, CV_16UC1, Scalar::all(0));
+    Mat d16, di, dr, nu;
+    winnerTakesAll(sum, 1, wtaParams(0, D, true, 0.95), d16, di, dr, nu);
+    EXPECT_EQ(NO_DISP, d16.at<short>(0, 0));
+    winnerTakesAll(sum, 1, wtaParams(0, D, true, 1.0), d16, di, dr, nu);   // the check off: the first disparity
+    EXPECT_EQ(0, di.at<short>(0, 0));
+    sum.setTo(Scalar::all(5));
+    sum.at<ushort>(0, 7) = 0;
+    winnerTakesAll(sum, 1, wtaParams(0, D, true, 0.95), d16, di, dr, nu);
+    EXPECT_EQ(7, di.at<short>(0, 0));
+
+    // A uniform pair: every census string is 0, every cost 0. Plain SGM with the left-right check leaves no disparity
+    // (it used to report 0 at every pixel).
+    Ptr<cv::lidarsgm::StereoLidarSGM> m = cv::lidarsgm::StereoLidarSGM::create(
+        0, 64, 10, 120, 5, 160, 0.7, cv::lidarsgm::StereoLidarSGM::MODE_SGM, cv::lidarsgm::StereoLidarSGM::CHECK_STEREO);
+    Mat l(40, 90, CV_8UC1, Scalar::all(128)), out;
+    m->compute(l, l, Mat(), out);
+    EXPECT_EQ(0, countNonZero(out != -16));
+}
+
 TEST(Lidarsgm_WinnerTakesAll, right_view_disparity)
 {
     // Three left pixels, D = 16, minD = 0: pixel x at index k sees right pixel x - k.
