@@ -9,6 +9,7 @@
 #include "precomp.hpp"
 #include "cpu_stages.hpp"
 #include "sparse_window.hpp"
+#include <memory>
 
 namespace cv { namespace lidarsgm { namespace detail {
 
@@ -54,7 +55,6 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
 {
     const int W = disp16.cols, H = disp16.rows;
     const bool useStereo = p.stereoCheck, useLidar = p.lidarCheck, conf = p.confidence;
-    CV_Assert(!useLidar || (sparse16.type() == CV_16SC1 && sparse16.size() == disp16.size()));
     // The confidence's evidence runs both tests wherever it can, whatever the check keeps.
     const bool lidarTest = useLidar || (conf && !sparse16.empty());
     CV_Assert(!lidarTest || (sparse16.type() == CV_16SC1 && sparse16.size() == disp16.size()));
@@ -131,7 +131,8 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
     };
     parallel_for_(Range(0, H), [&](const Range& r) {
         WindowCursor cur(cols, rc, lidarTest ? r.start : 0);
-        WindowCursor near(cols, rs, conf && lidarTest ? r.start : 0);
+        // The evidence's window, only where the confidence is asked for (a cursor costs a search per column).
+        std::unique_ptr<WindowCursor> near(conf && lidarTest ? new WindowCursor(cols, rs, r.start) : nullptr);
         AutoBuffer<short> rowBuf(3 * W);
         AutoBuffer<int> rangeBuf(conf ? W : 1);
         short* res = rowBuf.data();
@@ -140,8 +141,8 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
         {
             if (lidarTest)
                 cur.moveTo(y);
-            if (conf && lidarTest)
-                near.moveTo(y);
+            if (near)
+                near->moveTo(y);
             const short* d16 = disp16.ptr<short>(y);
             const short* di = dispInt.ptr<short>(y);
             const short* dr = dispRight.ptr<short>(y);
@@ -170,8 +171,8 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
                     lr = xr >= 0 && xr < W && dr[xr] != NO_DISP && std::abs(di[x] - dr[xr]) <= p.lrMaxDiff;
                 }
                 const int v = d16[x];
-                if (conf && lidarTest)
-                    ln = lidarConfirms(near, rs, x, v);
+                if (near)
+                    ln = lidarConfirms(*near, rs, x, v);
                 if (useLidar && !(useStereo && lr))
                     li = (ln && rs <= rc) || lidarConfirms(cur, rc, x, v);
                 if (useRings && ((useLidar && !li && !(useStereo && lr)) || (conf && !ln)) && ringSupports(v, x, y))

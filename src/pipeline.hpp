@@ -177,8 +177,6 @@ static LIDARSGM_HD int sparseFromFloat(float v, int lo, int hi)
     return sparseInRange(d16, lo, hi) ? d16 : NO_DISP;
 }
 
-/** Parabola through the aggregated costs at d - 1, d, d + 1, as a 1/16-pixel offset:
-round(8 (S[d-1] - S[d+1]) / max(S[d-1] + S[d+1] - 2 S[d], 1)), halves away from zero. */
 /** The uniqueness check (uniqueness1024 < 1024): the winner's aggregated cost best against second, the lowest cost more
 than one disparity away (there is one: numDisparities >= 16). best * 1024 <= uniqueness1024 * second, and best
 strictly below second: a cost curve that is flat at its minimum (a textureless patch where every disparity costs 0)
@@ -188,6 +186,8 @@ static LIDARSGM_HD bool uniqueWinner(int best, int second, int uniqueness1024)
     return best * 1024 <= uniqueness1024 * second && best < second;
 }
 
+/** Parabola through the aggregated costs at d - 1, d, d + 1, as a 1/16-pixel offset:
+round(8 (S[d-1] - S[d+1]) / max(S[d-1] + S[d+1] - 2 S[d], 1)), halves away from zero. */
 static LIDARSGM_HD int subpixelOffset16(int sm, int s0, int sp)
 {
     const int num = 8 * (sm - sp);
@@ -446,7 +446,6 @@ static LIDARSGM_HD T medianOfColumns(T l0, T l1, T l2, T m0, T m1, T m2, T h0, T
     return median3<M>(maxLow, midMid, minHigh);
 }
 
-//! Output encodings (cv::StereoSGBM's): CV_16S x16 with (minD - 1) * 16 for "none", or CV_32F pixels with minD - 1.
 /** The confidence of an output disparity, from what the check knows of it (the rule of the confidence map, see
 StereoLidarSGM::compute and doc/design.md):
 - its evidence: 4 where both confirm it (the left-right test, and a LiDAR value within Tc in the (2 rs + 1)^2 window
@@ -491,6 +490,7 @@ template <typename At> static LIDARSGM_HD int confidenceRange16(const At& at, in
     return hi >= lo ? hi - lo : 0;
 }
 
+//! Output encodings (cv::StereoSGBM's): CV_16S x16 with (minD - 1) * 16 for "none", or CV_32F pixels with minD - 1.
 static LIDARSGM_HD short encodeOutput16(int d16, int minD) { return (short)(d16 == NO_DISP ? (minD - 1) * 16 : d16); }
 static LIDARSGM_HD float encodeOutput32(int d16, int minD)
 {

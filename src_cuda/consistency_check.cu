@@ -22,6 +22,12 @@ __device__ __forceinline__ void store(PtrStepSz<float>& out, int x, int y, int d
     out(y, x) = encodeOutput32(d16, minD);
 }
 
+//! Whether the kernel runs the LiDAR test: for the check, or for the confidence's evidence where there is a sparse map.
+__host__ __device__ __forceinline__ bool lidarTestOn(const PipelineParams& p, const PtrStepSz<short>& sparse16)
+{
+    return p.lidarCheck || (p.confidence && sparse16.data);
+}
+
 //! The radius of the tile's point list: the check's window and, with the confidence, its evidence window.
 __host__ __device__ __forceinline__ int listRadius(const PipelineParams& p)
 {
@@ -41,13 +47,12 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
     const int W = disp16.cols, H = disp16.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     const int rc = p.checkRadius, tc = p.checkThreshold16, rs = p.semidenseRadius;
-    const bool conf = p.confidence, lidarTest = p.lidarCheck || (conf && sparse16.data);
+    const bool conf = p.confidence, lidarTest = lidarTestOn(p, sparse16);
     // The tile's points within the larger of the two windows (the check's rc, the confidence's rs).
     const int n = lidarTest ? listTilePoints(sparse16, listRadius(p), points, &count) : 0;
     if (x >= W || y >= H)
         return;
-    const int d = disp16(y, x);
-    int v = d;
+    int v = disp16(y, x);
     const bool useRings = rings.gap != nullptr;
     const auto ringSupports = [&](int v16) {
         return ringLineSupports(v16, rings.above.data, rings.below.data, rings.above.step / sizeof(short),
@@ -123,8 +128,7 @@ void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short
               PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p, PtrStepSz<T> out,
               PtrStepSz<float> confidence, cudaStream_t stream)
 {
-    const bool lidarTest = p.lidarCheck || (p.confidence && sparse16.data);
-    const size_t smem = lidarTest ? tileKernelSmem(checkKernel<T>, BLOCK, listRadius(p)) : 0;
+    const size_t smem = lidarTestOn(p, sparse16) ? tileKernelSmem(checkKernel<T>, BLOCK, listRadius(p)) : 0;
     checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
                                                                                 rings, p, out, confidence);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());

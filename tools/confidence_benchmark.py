@@ -8,7 +8,8 @@ random order's (the error rate itself); and the share of all covered errors that
 KITTI: the 20 frames of kitti2015_lidar at 64, 32 and 16 LiDAR lines (every 1st, 2nd, 4th ring), D1 (KITTI devkit:
 |d - gt| > 3 px and > 5 % of gt). Middlebury: its scenes with 1 % of the ground truth as input (seed 1, as the tool's
 --middlebury), bad-2 (|d - gt| > 2 px). Pixels with equal confidence are removed together in expectation (a tie
-group's errors in proportion), so the order among ties cannot flatter the curve. Also the time of the call with and
+group's errors in proportion), so the order among ties cannot flatter the curve: the counts and figures are
+cv2.lidarsgm.evaluateConfidence's (ConfidenceErrors), the tool's too. Also the time of the call with and
 without the confidence on one KITTI frame (CPU, median of 15 alternating calls).
 """
 import argparse
@@ -22,46 +23,15 @@ import cv2 as cv
 KEPT = [1.0, 0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1]
 
 
-class Curve:
-    """Counts of covered pixels and errors per confidence value, summed over frames."""
-
-    def __init__(self):
-        self.conf, self.bad = [], []
-
-    def add(self, conf, bad):
-        self.conf.append(conf.astype(np.float64))
-        self.bad.append(bad.astype(np.float64))
-
-    def report(self, label):
-        c = np.concatenate(self.conf)
-        b = np.concatenate(self.bad)
-        values, inv = np.unique(c, return_inverse=True)
-        n_group = np.bincount(inv).astype(np.float64)[::-1]          # most confident group first
-        e_group = np.bincount(inv, weights=b)[::-1]
-        n, e = n_group.sum(), e_group.sum()
-        cum_n, cum_e = np.concatenate([[0], np.cumsum(n_group)]), np.concatenate([[0], np.cumsum(e_group)])
-
-        def errors_kept(k):   # expected errors among the k most confident pixels (ties in proportion)
-            g = np.searchsorted(cum_n, k, side="right") - 1
-            g = min(g, len(n_group) - 1)
-            return cum_e[g] + (k - cum_n[g]) * (e_group[g] / n_group[g] if n_group[g] else 0)
-
-        fr = np.linspace(1.0 / 1000, 1.0, 1000)
-        err = np.array([errors_kept(f * n) / (f * n) for f in fr])
-        auc = np.trapezoid(np.concatenate([[err[0]], err]), np.concatenate([[0], fr]))
-        eps = e / n
-        oracle = eps + (1 - eps) * np.log(1 - eps) if eps < 1 else 1.0
-        low10 = (e - errors_kept(0.9 * n)) / e if e else 0
-        curve = "  ".join("%3d%%: %5.2f" % (100 * k, 100 * errors_kept(k * n) / (k * n)) for k in KEPT)
-        print("%-34s covered px %8d, errors %6.2f %% | 10 %% least confident hold %5.1f %% of the errors | "
-              "AUC %.5f, oracle %.5f (%.1fx), random %.5f" % (label, n, 100 * eps, 100 * low10, auc, oracle,
-                                                              auc / oracle if oracle else 0, eps))
-        print("%-34s error of the kept pixels (%%), by fraction kept: %s" % ("", curve))
-
-
-def kitti_outliers(d, gt):
-    e = np.abs(d - gt)
-    return (e > 3) & (e > 0.05 * gt)
+def report(label, c):
+    """One data set's figures from its summed cv2.lidarsgm.ConfidenceErrors (the library's sparsification counts)."""
+    n, e = c.total(), c.totalOutliers()
+    oracle, auc = c.oracleAuc(), c.auc()
+    print("%-34s covered px %8d, errors %6.2f %% | 10 %% least confident hold %5.1f %% of the errors | "
+          "AUC %.5f, oracle %.5f (%.1fx), random %.5f" % (label, n, 100 * e / n, c.leastConfidentShare(0.1), auc,
+                                                          oracle, auc / oracle if oracle else 0, e / n))
+    curve = "  ".join("%3d%%: %5.2f" % (100 * k, c.keptError(k)) for k in KEPT)
+    print("%-34s error of the kept pixels (%%), by fraction kept: %s" % ("", curve))
 
 
 def main(argv):
@@ -78,17 +48,16 @@ def main(argv):
     kitti = os.path.join(a.data, "kitti2015_lidar")
     ids = list(cv.lidarsgm.readKittiFrameIds(kitti))
     for lines, every in ((64, 1), (32, 2), (16, 4)):
-        curve = Curve()
+        total = cv.lidarsgm.ConfidenceErrors()
         for i in ids:
             f = cv.lidarsgm.loadKittiFrame(kitti, i, every)
             disp, conf = m.computeWithConfidence(f.left, f.right, f.sparse)
-            d = disp.astype(np.float32) / 16
-            cov = (disp > (m.getMinDisparity() - 1) * 16) & (f.groundTruth > 0)
-            curve.add(conf[cov], kitti_outliers(d[cov], f.groundTruth[cov]))
-        curve.report("KITTI, %d frames, %d lines (D1)" % (len(ids), lines))
+            total.add(cv.lidarsgm.evaluateConfidence(disp, conf, f.groundTruth, cv.lidarsgm.METRIC_KITTI_D1, 2.0,
+                                                     m.getMinDisparity()))
+        report("KITTI, %d frames, %d lines (D1)" % (len(ids), lines), total)
 
     mb = os.path.join(a.data, "middlebury")
-    curve = Curve()
+    total = cv.lidarsgm.ConfidenceErrors()
     scenes = 0
     for name in sorted(os.listdir(mb)):
         try:
@@ -100,11 +69,9 @@ def main(argv):
         # As the tool's --middlebury: the scene's range in multiples of 16, 64 to 256.
         mm.setNumDisparities(min(256, max(64, (int(np.ceil(gt.max())) + 1 + 15) // 16 * 16)))
         disp, conf = mm.computeWithConfidence(left, right, sparse)
-        d = disp.astype(np.float32) / 16
-        cov = (disp > (mm.getMinDisparity() - 1) * 16) & (gt > 0)
-        curve.add(conf[cov], np.abs(d[cov] - gt[cov]) > 2)
+        total.add(cv.lidarsgm.evaluateConfidence(disp, conf, gt, cv.lidarsgm.METRIC_BAD, 2.0, mm.getMinDisparity()))
         scenes += 1
-    curve.report("Middlebury, %d scenes, 1 %% GT (bad-2)" % scenes)
+    report("Middlebury, %d scenes, 1 %% GT (bad-2)" % scenes, total)
 
     f = cv.lidarsgm.loadKittiFrame(kitti, ids[0])
     t_plain, t_conf = [], []

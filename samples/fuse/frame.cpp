@@ -20,8 +20,7 @@ int runFrame(const Options& o, Frame& f)
     const std::string out = o.str("out");
     if (!out.empty())
         makeDir(out);
-    const std::vector<std::string> formats = o.list("format", "kitti");
-    const bool wantConfidence = !out.empty() && std::find(formats.begin(), formats.end(), "confidence") != formats.end();
+    const bool wantConfidence = writesConfidence(o, out);
     for (const std::string& name : modes)
     {
         const int mode = modeFromName(name);

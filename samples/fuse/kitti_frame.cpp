@@ -71,9 +71,7 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
 {
     const std::vector<std::string> modes = o_.list("modes", "sgm,dsgm,sdsgm");
     const int check = checkFromName(o_.str("check", "stereo-lidar"));
-    const std::vector<std::string> formats = o_.list("format", "kitti");
-    const bool wantConfidence =
-        !frameOut.empty() && std::find(formats.begin(), formats.end(), "confidence") != formats.end();
+    const bool wantConfidence = writesConfidence(o_, frameOut);
     std::vector<Job> jobs;
     for (const std::string& name : modes)
         jobs.push_back({ matcher(modeFromName(name), check), false, Mat(), 0.0, Mat() });

@@ -141,6 +141,12 @@ void printTable(const std::string& title, const std::string& metric, const std::
     }
 }
 
+bool writesConfidence(const Options& o, const std::string& out)
+{
+    const std::vector<std::string> formats = o.list("format", "kitti");
+    return !out.empty() && std::find(formats.begin(), formats.end(), "confidence") != formats.end();
+}
+
 void printConfidence(const Row& r, const std::string& metric, const std::string& over)
 {
     if (r.confidence.pixels.empty())

@@ -82,6 +82,8 @@ void printTimes(const std::string& title, const std::vector<Row>& rows);
 //! The sparsification figures of a row's confidence (nothing where it has none): the share of the outliers in the
 //! least confident 10 %, the AUC beside the oracle's, the covered error of the pixels kept at 100 % .. 10 %.
 void printConfidence(const Row& row, const std::string& metric, const std::string& over);
+//! Whether the run writes the confidence map (--format confidence with --out), so its matchers compute it.
+bool writesConfidence(const Options& o, const std::string& out);
 
 // ---- kitti_frame.cpp --------------------------------------------------------------------------------------------
 //! The rows of one frame or of a pass: the modes, the LiDAR points, the semidense map, Table V.
