@@ -1,0 +1,26 @@
+# Installs the ROS 2 package (ros2/lidarsgm_ros: lidarsgm_node, lidarsgm_bag, lidarsgm_kitti_to_bag) and the pinned
+# ROS 2 wheels it runs on into the active virtual environment (after python_install.cmake has put cv2 there):
+#
+#   cmake -DREQUIREMENTS=<repo>/ros2/requirements.txt -DPACKAGE=<repo>/ros2/lidarsgm_ros -P ros2_install.cmake
+cmake_minimum_required(VERSION 3.20)
+if(DEFINED ENV{VIRTUAL_ENV})
+  set(PYTHON "$ENV{VIRTUAL_ENV}/bin/python")
+elseif(DEFINED ENV{CONDA_PREFIX})
+  set(PYTHON "$ENV{CONDA_PREFIX}/bin/python")
+else()
+  message(FATAL_ERROR "lidarsgm: no Python environment to install into: activate one (python3 -m venv ENV && "
+                      ". ENV/bin/activate) and run this again")
+endif()
+message(STATUS "lidarsgm: installing ${REQUIREMENTS} and ${PACKAGE} into $ENV{VIRTUAL_ENV}$ENV{CONDA_PREFIX}")
+execute_process(COMMAND "${PYTHON}" -m pip install --quiet -r "${REQUIREMENTS}" "${PACKAGE}[bags]" RESULT_VARIABLE _rc)
+if(NOT _rc EQUAL 0)
+  message(FATAL_ERROR "lidarsgm: pip could not install ${REQUIREMENTS} (the ROS 2 wheels exist for CPython 3.10-3.13 "
+                      "on x86_64 Linux) or ${PACKAGE}")
+endif()
+execute_process(COMMAND "${PYTHON}" -c "import cv2, rclpy, lidarsgm_ros.node; cv2.lidarsgm.StereoLidarSGM.create()"
+                RESULT_VARIABLE _rc)
+if(NOT _rc EQUAL 0)
+  message(FATAL_ERROR "lidarsgm: the environment has the packages but cannot import cv2.lidarsgm, rclpy or lidarsgm_ros")
+endif()
+message(STATUS "lidarsgm: done; run lidarsgm_node --ros-args --params-file ..., lidarsgm_bag IN OUT, "
+               "lidarsgm_kitti_to_bag DIR OUT")

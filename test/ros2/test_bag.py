@@ -1,0 +1,175 @@
+"""The bag command on rosbag2 bags of the shipped KITTI frames (written by lidarsgm_kitti_to_bag, MCAP and sqlite3):
+outputs read back with rosbags and with the mcap library's own ROS 2 decoder, pixel for pixel the tool's disparity;
+the transform from /tf_static or the command line; approximate sync of late scans; resume after an interruption;
+errors with their exit codes."""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+import cv2
+import numpy as np
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+from rosbags.highlevel import AnyReader
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PACKAGE = os.path.join(HERE, "..", "..", "ros2", "lidarsgm_ros")
+sys.path.insert(0, PACKAGE)
+from lidarsgm_ros import kitti  # noqa: E402
+
+TESTDATA = os.environ["LIDARSGM_TESTDATA"]
+TOOL = os.environ["LIDARSGM_TOOL"]
+PARAMS = os.path.abspath(os.path.join(HERE, "..", "..", "doc", "params", "kitti_best.yml"))
+KITTI = os.path.join(TESTDATA, "kitti")
+FRAMES = ("000002", "000046")
+
+
+def run(module, *args):
+    env = dict(os.environ, PYTHONPATH=PACKAGE + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    return subprocess.run([sys.executable, "-m", module] + list(args), capture_output=True, text=True, env=env)
+
+
+def disparities(out):
+    """{stamp: float32 disparity} of every <ns>/disparity in an output folder's segments, read with rosbags."""
+    parts = sorted(Path(out).glob("part_*"))
+    got = {}
+    with AnyReader(parts) as reader:
+        conns = [c for c in reader.connections if c.topic.endswith("/disparity")]
+        for conn, _, raw in reader.messages(connections=conns):
+            m = reader.deserialize(raw, conn.msgtype)
+            got[m.header.stamp.sec * 10**9 + m.header.stamp.nanosec] = \
+                np.frombuffer(m.image.data.tobytes(), np.float32).reshape(m.image.height, m.image.width)
+    return got
+
+
+class BagTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = tempfile.mkdtemp(prefix="lidarsgm_bag_")
+        cls.tool = {}
+        for fid in FRAMES:
+            out = os.path.join(cls.work, "tool_" + fid)
+            subprocess.run([TOOL, "--kitti-frame", KITTI, "--id", fid, "--params", PARAMS, "--modes", "sdsgm",
+                            "--out", out], check=True, stdout=subprocess.DEVNULL)
+            cls.tool[fid] = cv2.imread(os.path.join(out, "disparity.png"), cv2.IMREAD_UNCHANGED)
+        cls.mcap_in = os.path.join(cls.work, "kitti_mcap")
+        r = run("lidarsgm_ros.kitti", KITTI, cls.mcap_in, "--namespace", "/stereo")
+        assert r.returncode == 0, r.stderr
+
+    def expect_tool_output(self, out, stamps=(100000000, 200000000)):
+        got = disparities(out)
+        self.assertEqual(sorted(got), list(stamps))
+        for stamp, fid in zip(stamps, FRAMES):
+            np.testing.assert_array_equal(cv2.lidarsgm.encodeKittiDisparity(got[stamp]), self.tool[fid])
+
+    def test_mcap_in_outputs_out_readable_by_mcap(self):
+        out = os.path.join(self.work, "out_mcap")
+        r = run("lidarsgm_ros.bag", self.mcap_in, out, "--namespace", "/stereo", "--params-file", PARAMS,
+                "--with-inputs", "--confidence")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("set 2 of ~2 fused", r.stdout)
+        self.assertIn("2 sets fused, 0 skipped", r.stdout)
+        self.expect_tool_output(out)   # the transform came from the bag's /tf_static
+        # The mcap library's own ROS 2 decoder (what Foxglove's and rerun's importers build on) reads every topic.
+        topics = {}
+        with open(os.path.join(out, "part_0000", "part_0000.mcap"), "rb") as f:
+            for _, channel, _, msg in make_reader(f, decoder_factories=[DecoderFactory()]).iter_decoded_messages():
+                topics.setdefault(channel.topic, []).append(msg)
+        self.assertEqual(sorted(topics), sorted("/stereo/" + t for t in (
+            "disparity", "depth", "points2", "confidence", "left/image_rect", "left/camera_info", "right/image_rect",
+            "right/camera_info", "points")))
+        self.assertTrue(all(len(v) == 2 for v in topics.values()))
+        d = topics["/stereo/disparity"][1]
+        self.assertEqual((d.image.encoding, d.delta_d, d.min_disparity, d.max_disparity), ("32FC1", 1 / 16, 0, 127))
+        disp = np.frombuffer(bytes(d.image.data), np.float32).reshape(d.image.height, d.image.width)
+        np.testing.assert_array_equal(cv2.lidarsgm.encodeKittiDisparity(disp), self.tool[FRAMES[1]])
+        depth = topics["/stereo/depth"][1]
+        self.assertEqual(depth.encoding, "32FC1")
+        cloud = topics["/stereo/points2"][1]
+        self.assertEqual((cloud.height, cloud.width, cloud.point_step), (d.image.height, d.image.width, 16))
+
+    def test_sqlite3_with_the_transform_given_and_16_bit_depth(self):
+        bag = os.path.join(self.work, "kitti_db3")
+        self.assertEqual(run("lidarsgm_ros.kitti", KITTI, bag, "--storage", "sqlite3").returncode, 0)
+        frame = cv2.lidarsgm.loadKittiFrame(KITTI, FRAMES[0])
+        t = kitti.ros_calibration(frame.calibration)[3]
+        out = os.path.join(self.work, "out_db3")
+        r = run("lidarsgm_ros.bag", bag, out, "--params-file", PARAMS, "--depth-encoding", "16UC1",
+                "--lidar-to-camera", *[repr(float(v)) for v in t.ravel()])
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.expect_tool_output(out)
+        # A transform that puts the scan 1 km behind the camera: every set skipped with the reason, exit code 1.
+        flip = t.copy()
+        flip[2, 3] -= 1000
+        r = run("lidarsgm_ros.bag", bag, os.path.join(self.work, "out_db3_flipped"), "--params-file", PARAMS,
+                "--lidar-to-camera", *[repr(float(v)) for v in flip.ravel()])
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertIn("set 1 of ~2 (stamp 0.100000000) skipped: none of the cloud's 123223 points projects into the "
+                      "left image", r.stdout)
+        self.assertIn("0 sets fused, 2 skipped", r.stdout)
+
+    def test_late_scans_need_approximate_sync(self):
+        bag = os.path.join(self.work, "kitti_late")
+        self.assertEqual(run("lidarsgm_ros.kitti", KITTI, bag, "--lidar-offset-ms", "30").returncode, 0)
+        r = run("lidarsgm_ros.bag", bag, os.path.join(self.work, "out_exact"), "--params-file", PARAMS)
+        self.assertEqual(r.returncode, 1, r.stdout)
+        self.assertIn("0 sets fused, 0 skipped, 0 kept from before, 4 incomplete sets dropped", r.stdout)
+        self.assertIn("pass --approximate-sync", r.stderr)
+        out = os.path.join(self.work, "out_approx")
+        r = run("lidarsgm_ros.bag", bag, out, "--params-file", PARAMS, "--approximate-sync", "--tolerance", "0.05")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.expect_tool_output(out)
+        r = run("lidarsgm_ros.bag", bag, os.path.join(self.work, "out_tight"), "--params-file", PARAMS,
+                "--approximate-sync", "--tolerance", "0.02")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("0 sets fused, 0 skipped, 0 kept from before, 10 unmatched messages dropped", r.stdout)
+
+    def test_resume_after_an_interruption(self):
+        out = os.path.join(self.work, "out_resume")
+        args = [self.mcap_in, out, "--namespace", "/stereo", "--params-file", PARAMS, "--segment-frames", "1"]
+        self.assertEqual(run("lidarsgm_ros.bag", *args).returncode, 0)
+        # As a run killed while writing the second segment leaves it: the first complete, the second partial.
+        shutil.rmtree(os.path.join(out, "part_0001"))
+        os.makedirs(os.path.join(out, ".partial", "part_0001"))
+        with open(os.path.join(out, ".partial", "part_0001", "part_0001.mcap"), "wb") as f:
+            f.write(b"\x89MCAP0\r\n")
+        before = os.stat(os.path.join(out, "part_0000", "part_0000.mcap")).st_mtime_ns
+        r = run("lidarsgm_ros.bag", *args)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("exists and is not empty: pass --resume", r.stderr)
+        r = run("lidarsgm_ros.bag", *args, "--resume")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("resuming: 1 complete segment(s) of 1 sets kept", r.stdout)
+        self.assertIn("1 sets fused, 0 skipped, 1 kept from before", r.stdout)
+        self.assertNotIn("set 1 of", r.stdout)
+        self.assertEqual(os.stat(os.path.join(out, "part_0000", "part_0000.mcap")).st_mtime_ns, before)
+        self.assertFalse(os.path.exists(os.path.join(out, ".partial")))
+        self.expect_tool_output(out)
+
+    def test_errors(self):
+        out = os.path.join(self.work, "out_err")
+        r = run("lidarsgm_ros.bag", os.path.join(self.work, "no_such_bag"), out)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("cannot read", r.stderr)
+        r = run("lidarsgm_ros.bag", self.mcap_in, out)  # the topics are under /stereo
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("has no topic /left/image_rect", r.stderr)
+        self.assertIn("/stereo/left/image_rect", r.stderr)
+        r = run("lidarsgm_ros.bag", self.mcap_in, out, "--topic", "left=/x")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--topic takes NAME=TOPIC", r.stderr)
+        r = run("lidarsgm_ros.bag", self.mcap_in, out, "--P1", "5000")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("P1 (the penalty of a disparity step of 1) must be in [0, 1000]", r.stderr)
+        r = run("lidarsgm_ros.bag", self.mcap_in, out, "--lidar-to-camera", "1", "2", "3")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("lidar_to_camera takes 12 or 16 numbers", r.stderr)
+        self.assertFalse(os.path.exists(out))
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,255 @@
+"""lidarsgm_ros.conversions and .sync on their own: numpy and cv2 only, no ROS installation needed.
+
+Messages are plain objects with the fields of sensor_msgs' (the conversions read fields by name, as they do from
+rclpy's and rosbags' messages); the KITTI frame's are built by lidarsgm_ros.kitti as the node's tests publish them.
+"""
+import os
+import struct
+import sys
+import unittest
+from types import SimpleNamespace as Msg
+
+import cv2
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "ros2", "lidarsgm_ros"))
+from lidarsgm_ros import conversions as cr  # noqa: E402
+from lidarsgm_ros import kitti  # noqa: E402
+from lidarsgm_ros.conversions import ConversionError  # noqa: E402
+from lidarsgm_ros.messages import MessageKit  # noqa: E402
+from lidarsgm_ros.sync import ApproximateSync, ExactSync  # noqa: E402
+
+TESTDATA = os.environ.get("LIDARSGM_TESTDATA", os.path.join(os.path.dirname(__file__), "..", "..", "testdata"))
+
+
+def info(p, w=1242, h=375, frame="cam"):
+    return Msg(width=w, height=h, p=list(np.ravel(p)), header=Msg(frame_id=frame))
+
+
+def field(name, offset, datatype, count=1):
+    return Msg(name=name, offset=offset, datatype=datatype, count=count)
+
+
+def cloud(records, fields, height=1, bigendian=False, row_step=None):
+    records = np.ascontiguousarray(records)
+    n = records.shape[0]
+    step = records.nbytes // n
+    w = n // height
+    return Msg(height=height, width=w, fields=fields, point_step=step, row_step=row_step or step * w,
+               data=records.tobytes(), is_bigendian=bigendian)
+
+
+class StereoGeometry(unittest.TestCase):
+    K = np.array([[700.0, 0, 600], [0, 700, 180], [0, 0, 1]])
+
+    def pair(self):
+        left = np.hstack([self.K, np.zeros((3, 1))])
+        right = left.copy()
+        right[0, 3] = -700 * 0.54
+        return left, right
+
+    def test_focal_baseline_from_the_right_tx(self):
+        left, right = self.pair()
+        g = cr.stereo_geometry(info(left, frame="left_optical"), info(right))
+        self.assertAlmostEqual(g.focal_baseline, 378.0)
+        self.assertAlmostEqual(g.baseline, 0.54)
+        self.assertEqual(g.size, (1242, 375))
+        self.assertEqual(g.frame_id, "left_optical")
+        np.testing.assert_array_equal(g.projection, left)
+
+    def test_refusals_say_what_is_wrong(self):
+        left, right = self.pair()
+        cases = []
+        other = right.copy()
+        other[0, 2] += 5
+        cases.append(((info(left), info(other)), "not rectified to one camera matrix: left P cx 600"))
+        cases.append(((info(left), info(right, w=1240)), "left camera_info is 1242x375, right 1240x375"))
+        cases.append(((info(np.zeros((3, 4))), info(right)), "left camera_info has no projection matrix P"))
+        cases.append(((info(right), info(left)), "f x baseline must be > 0 (left and right swapped?)"))
+        ty = right.copy()
+        ty[1, 3] = 30
+        cases.append(((info(left), info(ty)), "offset vertically"))
+        cases.append(((info(left[:2]), info(right)), "left camera_info P has 8 values, expected 12"))
+        cases.append(((info(left, w=0), info(right, w=0)), "no image size"))
+        for (l, r), text in cases:
+            with self.assertRaises(ConversionError) as e:
+                cr.stereo_geometry(l, r)
+            self.assertIn(text, str(e.exception))
+
+
+class Images(unittest.TestCase):
+    def test_padded_rows_and_encodings(self):
+        rng = np.random.default_rng(1)
+        a = rng.integers(0, 255, (5, 7, 3), dtype=np.uint8)
+        padded = np.zeros((5, 24), np.uint8)
+        padded[:, :21] = a.reshape(5, 21)
+        msg = Msg(height=5, width=7, step=24, encoding="rgb8", is_bigendian=0, data=padded.tobytes())
+        np.testing.assert_array_equal(cr.image_to_array(msg), a)
+        np.testing.assert_array_equal(cr.to_grey(msg, cv2), cv2.cvtColor(a, cv2.COLOR_RGB2GRAY))
+        np.testing.assert_array_equal(cr.to_bgr(msg, cv2), a[..., ::-1])
+        b16 = rng.integers(0, 65535, (4, 3), dtype=np.uint16)
+        big = Msg(height=4, width=3, step=6, encoding="mono16", is_bigendian=1, data=b16.astype(">u2").tobytes())
+        np.testing.assert_array_equal(cr.to_grey(big, cv2), b16)
+
+    def test_bad_images(self):
+        short = Msg(height=5, width=7, step=7, encoding="mono8", is_bigendian=0, data=bytes(30))
+        with self.assertRaisesRegex(ConversionError, "image data holds 30 bytes"):
+            cr.image_to_array(short)
+        with self.assertRaisesRegex(ConversionError, "encoding 'yuv422' is not supported"):
+            cr.image_to_array(Msg(height=1, width=1, step=2, encoding="yuv422", is_bigendian=0, data=bytes(2)))
+        with self.assertRaisesRegex(ConversionError, "32FC1 image cannot be matched"):
+            cr.to_grey(Msg(height=1, width=1, step=4, encoding="32FC1", is_bigendian=0, data=bytes(4)), cv2)
+
+
+class Clouds(unittest.TestCase):
+    def setUp(self):
+        self.xyz = np.array([[1, 2, 3], [4, 5, 6], [np.nan, 0, 1], [7, 8, 9]], np.float32)
+
+    def test_any_field_order_step_and_type(self):
+        # z first, float64 x, 3 padding bytes, a ring, 32-byte points, big endian
+        dt = np.dtype({"names": ["z", "ring", "x", "y"], "formats": [">f4", ">u2", ">f8", ">f4"],
+                       "offsets": [0, 4, 8, 20], "itemsize": 32})
+        rec = np.zeros(4, dt)
+        rec["x"], rec["y"], rec["z"], rec["ring"] = self.xyz[:, 0], self.xyz[:, 1], self.xyz[:, 2], [3, 4, 5, 6]
+        fields = [field("z", 0, 7), field("ring", 4, 4), field("x", 8, 8), field("y", 20, 7)]
+        xyz, ring = cr.cloud_to_points(cloud(rec.view(np.uint8).reshape(4, 32), fields, bigendian=True))
+        np.testing.assert_array_equal(xyz, self.xyz[[0, 1, 3]])
+        np.testing.assert_array_equal(ring, [3, 4, 6])
+
+    def test_organised_cloud_with_row_padding(self):
+        rec = np.zeros((2, 2, 4), np.float32)
+        rec[..., :3] = self.xyz.reshape(2, 2, 3)
+        rows = np.zeros((2, 40), np.uint8)  # 2 points of 16 bytes + 8 bytes of padding per row
+        rows[:, :32] = rec.view(np.uint8).reshape(2, 32)
+        msg = Msg(height=2, width=2, fields=[field("x", 0, 7), field("y", 4, 7), field("z", 8, 7)], point_step=16,
+                  row_step=40, data=rows.tobytes(), is_bigendian=False)
+        xyz, ring = cr.cloud_to_points(msg)
+        self.assertIsNone(ring)
+        np.testing.assert_array_equal(xyz, self.xyz[[0, 1, 3]])
+
+    def test_bad_clouds(self):
+        rec = np.zeros((3, 3), np.float32)
+        cases = [
+            (cloud(rec, [field("a", 0, 7), field("b", 4, 7), field("c", 8, 7)]), "no x/y/z field (fields: a, b, c)"),
+            (cloud(rec, [field("x", 0, 7), field("y", 4, 7)]), "no z field"),
+            (Msg(height=1, width=0, fields=[], point_step=12, row_step=0, data=b"", is_bigendian=False),
+             "the point cloud is empty"),
+            (cloud(rec, [field("x", 0, 7), field("y", 4, 7), field("z", 8, 8)]), "does not fit the point step 12"),
+            (cloud(rec, [field("x", 0, 7), field("y", 4, 7), field("z", 8, 9)]), "unknown datatype 9"),
+            (cloud(np.full((2, 3), np.nan, np.float32), [field("x", 0, 7), field("y", 4, 7), field("z", 8, 7)]),
+             "no finite point"),
+        ]
+        short = cloud(rec, [field("x", 0, 7), field("y", 4, 7), field("z", 8, 7)])
+        short.data = short.data[:-1]
+        cases.append((short, "data holds 35 bytes"))
+        for msg, text in cases:
+            with self.assertRaises(ConversionError) as e:
+                cr.cloud_to_points(msg)
+            self.assertIn(text, str(e.exception))
+
+
+class Transforms(unittest.TestCase):
+    def test_quaternion_round_trip(self):
+        r = cv2.Rodrigues(np.array([0.3, -1.2, 2.0]))[0]
+        m = cr.transform_matrix((1, 2, 3), cr.rotation_quaternion(r))
+        np.testing.assert_allclose(m[:3, :3], r, atol=1e-12)
+        np.testing.assert_array_equal(m[:3, 3], [1, 2, 3])
+        with self.assertRaisesRegex(ConversionError, "not a unit quaternion"):
+            cr.transform_matrix((0, 0, 0), (0, 0, 0, 0))
+
+    def test_chain_through_a_tree(self):
+        rng = np.random.default_rng(2)
+
+        def rigid():
+            return cr.transform_matrix(rng.normal(size=3), cr.rotation_quaternion(
+                cv2.Rodrigues(rng.normal(size=3))[0]))
+        base_cam, cam_opt, base_lidar = rigid(), rigid(), rigid()  # child -> parent
+        edges = [("base_link", "camera", base_cam), ("camera", "camera_optical", cam_opt),
+                 ("/base_link", "velodyne", base_lidar)]
+        m = cr.chain_transform(edges, "velodyne", "camera_optical")
+        np.testing.assert_allclose(m, np.linalg.inv(base_cam @ cam_opt) @ base_lidar, atol=1e-12)
+        np.testing.assert_allclose(cr.chain_transform(edges, "camera_optical", "base_link"), base_cam @ cam_opt,
+                                   atol=1e-12)
+        np.testing.assert_allclose(cr.chain_transform(edges, "camera", "camera"), np.eye(4))
+        with self.assertRaisesRegex(ConversionError, "no transform links frame 'velodyne' to 'map'"):
+            cr.chain_transform(edges, "velodyne", "map")
+
+
+class Outputs(unittest.TestCase):
+    def test_disparity_depth_points(self):
+        d16 = np.array([[-16, 0, 16], [160, 17, -16]], np.int16)
+        np.testing.assert_array_equal(cr.disparity_image(d16), [[-1, 0, 1], [10, 17 / 16, -1]])
+        self.assertEqual(cr.valid_window(d16, 0), (0, 0, 3, 2))
+        self.assertEqual(cr.valid_window(np.full((3, 4), -16, np.int16), 0), (0, 0, 0, 0))
+        self.assertEqual(cr.valid_window(np.array([[-16, -16], [-16, 32]], np.int16), 0), (1, 1, 1, 1))
+        depth = cv2.lidarsgm.disparityToDepth(d16, 100.0)  # 0 where invalid or d = 0
+        f32 = cr.depth_image(depth, "32FC1")
+        self.assertTrue(np.isnan(f32[0, 0]) and np.isnan(f32[0, 1]) and np.isnan(f32[1, 2]))
+        self.assertAlmostEqual(float(f32[1, 0]), 10.0, places=5)
+        mm = cr.depth_image(depth, "16UC1")
+        self.assertEqual(mm.dtype, np.uint16)
+        self.assertEqual(mm[1, 0], 10000)
+        self.assertEqual(mm[0, 2], 0)  # 100 m does not fit 16 bits of millimetres: invalid, not wrapped
+        self.assertEqual(mm[0, 0], 0)
+        with self.assertRaisesRegex(ConversionError, "depth encoding must be 32FC1"):
+            cr.depth_image(depth, "mono8")
+
+    def test_packed_colour(self):
+        bgr = np.array([[[1, 2, 3]]], np.uint8)
+        packed = cr.pack_rgb(bgr).view(np.uint32)
+        self.assertEqual(int(packed[0, 0]), 0x030201)
+        pts = np.zeros((1, 1, 3), np.float32)
+        rec = cr.point_cloud_array(pts, bgr)
+        self.assertEqual(rec.shape, (1, 1, 4))
+        self.assertEqual(struct.unpack("<I", rec[0, 0, 3].tobytes())[0], 0x030201)
+
+
+class KittiMessages(unittest.TestCase):
+    """The shipped frames in ROS's convention project to the same sparse map as KITTI's own calibration."""
+
+    def test_ros_convention_projects_the_same(self):
+        kit = MessageKit(lambda type_name, **f: Msg(**f), lambda a: np.ascontiguousarray(a).tobytes(),
+                         lambda a: np.asarray(a, np.float64).ravel())  # plain objects: no ROS needed
+        for fid in ("000002", "000046"):
+            frame = cv2.lidarsgm.loadKittiFrame(os.path.join(TESTDATA, "kitti"), fid)
+            points = cv2.lidarsgm.readVelodyneScan(os.path.join(TESTDATA, "kitti", "velodyne", fid + ".bin"))
+            msgs = kitti.frame_messages(kit, frame, points, 10**9)
+            g = cr.stereo_geometry(msgs["left/camera_info"], msgs["right/camera_info"])
+            self.assertAlmostEqual(g.focal_baseline, frame.calibration.focalBaseline, places=9)
+            xyz, ring = cr.cloud_to_points(msgs["points"])
+            np.testing.assert_array_equal(xyz, points[:, :3])
+            self.assertEqual(len(np.unique(ring)), cv2.lidarsgm.countLidarRings(points))
+            t = kitti.ros_calibration(frame.calibration)[3]
+            sparse = cv2.lidarsgm.projectPointsToDisparity(xyz, g.projection, t, g.focal_baseline, g.size)
+            np.testing.assert_array_equal(sparse, frame.sparse)
+
+
+class Sync(unittest.TestCase):
+    def test_exact(self):
+        s = ExactSync(3, queue_size=2)
+        self.assertEqual(s.add(0, 10, "a0"), [])
+        self.assertEqual(s.add(1, 10, "b0"), [])
+        self.assertEqual(s.add(0, 20, "a1"), [])
+        self.assertEqual(s.add(2, 10, "c0"), [(10, ["a0", "b0", "c0"])])
+        self.assertEqual(s.add(1, 20, "b1"), [])
+        self.assertEqual(s.add(0, 30, "a2"), [])
+        self.assertEqual(s.add(2, 30, "c2"), [])     # 20 still incomplete, 30 waits for stream 1
+        self.assertEqual(s.add(1, 30, "b2"), [(30, ["a2", "b2", "c2"])])
+        self.assertEqual(s.dropped, 1)                # the set at 20 can no longer complete
+        self.assertEqual(s.pending, {})
+
+    def test_approximate(self):
+        ms = 1000000
+        s = ApproximateSync(2, queue_size=5, max_interval_ns=20 * ms)
+        out = []
+        for i, t in [(0, 100), (1, 130), (0, 200), (1, 195), (0, 300), (1, 310), (1, 330), (0, 400)]:
+            out += s.add(i, t * ms, "%d@%d" % (i, t))
+        # 130 has no partner within 20 ms (100 is 30 ms off): dropped; 100, older than the next set, goes too
+        self.assertEqual([m for _, m in out], [["0@200", "1@195"], ["0@300", "1@310"]])
+        self.assertEqual(s.add(1, 405 * ms, "1@405"), [(400 * ms, ["0@400", "1@405"])])
+        self.assertGreaterEqual(s.dropped, 2)
+        self.assertEqual(s.add(0, 390 * ms, "old"), [])  # back in time: dropped, not emitted
+
+
+if __name__ == "__main__":
+    unittest.main()

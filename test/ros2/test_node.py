@@ -1,0 +1,213 @@
+"""The ROS 2 node, run as a user runs it (python3 -m lidarsgm_ros.node with the shipped parameters file), fed by a
+real rclpy publisher that replays the shipped KITTI frames as Image, CameraInfo and PointCloud2 (the Velodyne scan
+with a ring field). Discovery stays on this machine (ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST, a domain of its own); both sides use the
+package's Fast DDS profile for megabyte messages (config/fastdds_large_data.xml).
+
+Checks: the DisparityImage equals the tool's output for the frame pixel for pixel (and the same call through cv2);
+its D1 against the ground truth; depth and points against cv2.lidarsgm.disparityToDepth / disparityToPoints; a frame
+whose cloud has no x/y/z is logged and skipped while the next one is fused; a value the module refuses is refused at
+run time with its message, the old value kept.
+"""
+import os
+import random
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import cv2
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PACKAGE = os.path.join(HERE, "..", "..", "ros2", "lidarsgm_ros")
+sys.path.insert(0, PACKAGE)
+os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+# Megabyte messages between processes under the node's default (best-effort, sensor-data) QoS: the shipped profile.
+os.environ["FASTDDS_DEFAULT_PROFILES_FILE"] = os.path.join(PACKAGE, "config", "fastdds_large_data.xml")
+os.environ["ROS_DOMAIN_ID"] = os.environ.get("LIDARSGM_ROS_DOMAIN_ID", str(random.randint(100, 200)))
+
+import rclpy  # noqa: E402
+from rcl_interfaces.srv import GetParameters, SetParameters  # noqa: E402
+from rclpy.parameter import Parameter  # noqa: E402
+from sensor_msgs.msg import CameraInfo, Image, PointCloud2  # noqa: E402
+from stereo_msgs.msg import DisparityImage  # noqa: E402
+
+from lidarsgm_ros import kitti  # noqa: E402
+from lidarsgm_ros.messages import MessageKit  # noqa: E402
+
+TESTDATA = os.environ["LIDARSGM_TESTDATA"]
+TOOL = os.environ["LIDARSGM_TOOL"]
+PARAMS = os.path.join(HERE, "..", "..", "doc", "params", "kitti_best.yml")
+CONFIG = os.path.join(PACKAGE, "config", "lidarsgm.yaml")
+FRAMES = ("000002", "000046")
+KITTI = os.path.join(TESTDATA, "kitti")
+TYPES = {"left/image_rect": Image, "right/image_rect": Image, "left/camera_info": CameraInfo,
+         "right/camera_info": CameraInfo, "points": PointCloud2}
+
+
+def wait_for(node, condition, seconds, what):
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        rclpy.spin_once(node, timeout_sec=0.05)
+        if condition():
+            return
+    raise AssertionError("timed out after %d s waiting for %s" % (seconds, what))
+
+
+def array_of(img):
+    dt = {"32FC1": np.float32, "16UC1": np.uint16}[img.encoding]
+    return np.frombuffer(bytes(img.data), dt).reshape(img.height, img.width)
+
+
+class NodeTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = tempfile.mkdtemp(prefix="lidarsgm_ros_")
+        frame = cv2.lidarsgm.loadKittiFrame(KITTI, FRAMES[0])
+        t = kitti.ros_calibration(frame.calibration)[3]
+        overrides = os.path.join(cls.work, "overrides.yaml")
+        with open(overrides, "w") as f:  # what a user adds for their robot: the calibration and the params file
+            f.write("lidarsgm:\n  ros__parameters:\n    params_file: %s\n    publish_confidence: true\n"
+                    "    lidar_to_camera: [%s]\n" % (os.path.abspath(PARAMS), ", ".join(repr(float(v))
+                                                                                      for v in t.ravel())))
+        cls.log = open(os.path.join(cls.work, "node.log"), "w+")
+        cls.proc = subprocess.Popen(
+            [sys.executable, "-m", "lidarsgm_ros.node", "--ros-args", "--params-file", CONFIG,
+             "--params-file", overrides], stdout=cls.log, stderr=subprocess.STDOUT,
+            env=dict(os.environ, PYTHONPATH=PACKAGE + os.pathsep + os.environ.get("PYTHONPATH", ""),
+                     PYTHONUNBUFFERED="1", RCUTILS_LOGGING_BUFFERED_STREAM="0"))
+        rclpy.init()
+        cls.node = rclpy.create_node("kitti_replay")
+        cls.pubs = {topic: cls.node.create_publisher(t, topic, 10) for topic, t in TYPES.items()}
+        cls.got = {"disparity": [], "depth": [], "points2": [], "confidence": []}
+        for topic, t in (("disparity", DisparityImage), ("depth", Image), ("points2", PointCloud2),
+                         ("confidence", Image)):
+            cls.node.create_subscription(t, topic, cls.got[topic].append, 10)
+        cls.kit = MessageKit.rclpy()
+        wait_for(cls.node, lambda: all(p.get_subscription_count() for p in cls.pubs.values()), 60,
+                 "the node's subscriptions")
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.proc.send_signal(signal.SIGINT)
+        try:
+            cls.proc.wait(20)
+        except subprocess.TimeoutExpired:
+            cls.proc.kill()
+        cls.node.destroy_node()
+        rclpy.shutdown()
+
+    def node_log(self):
+        self.log.flush()
+        self.log.seek(0)
+        return self.log.read()
+
+    def publish(self, fid, stamp, break_cloud=False):
+        frame = cv2.lidarsgm.loadKittiFrame(KITTI, fid)
+        points = cv2.lidarsgm.readVelodyneScan(os.path.join(KITTI, "velodyne", fid + ".bin"))
+        msgs = kitti.frame_messages(self.kit, frame, points, stamp)
+        if break_cloud:
+            for f in msgs["points"].fields:
+                f.name = {"x": "a", "y": "b", "z": "c"}.get(f.name, f.name)
+        for topic, msg in msgs.items():
+            self.pubs[topic].publish(msg)
+        return frame
+
+    def expect_outputs(self, n):
+        try:
+            wait_for(self.node, lambda: all(len(v) >= n for v in self.got.values()), 120, "output %d" % n)
+        except AssertionError as e:
+            raise AssertionError("%s; got %s; the node's log:\n%s"
+                                 % (e, {k: len(v) for k, v in self.got.items()}, self.node_log()))
+
+    def tool_disparity(self, fid):
+        out = os.path.join(self.work, "tool_" + fid)
+        subprocess.run([TOOL, "--kitti-frame", KITTI, "--id", fid, "--params", PARAMS, "--modes", "sdsgm",
+                        "--out", out], check=True, stdout=subprocess.DEVNULL)
+        return cv2.imread(os.path.join(out, "disparity.png"), cv2.IMREAD_UNCHANGED)
+
+    def check_frame(self, i, fid, frame):
+        d = self.got["disparity"][i]
+        disp = np.frombuffer(bytes(d.image.data), np.float32).reshape(d.image.height, d.image.width)
+        disp16 = np.rint(disp * 16).astype(np.int16)
+        np.testing.assert_array_equal(disp16.astype(np.float32) / 16, disp)  # 1/16 px steps, as delta_d says
+        # Pixel for pixel the tool's output (its KITTI PNG) and the same call through cv2.
+        np.testing.assert_array_equal(cv2.lidarsgm.encodeKittiDisparity(disp), self.tool_disparity(fid))
+        sgm = cv2.lidarsgm.StereoLidarSGM.load(PARAMS)
+        np.testing.assert_array_equal(disp16, sgm.compute(frame.left, frame.right, frame.sparse))
+        e = cv2.lidarsgm.evaluateDisparity(disp16, frame.groundTruth)
+        print("%s: coverage %.2f %%, total D1 %.2f %% (DisparityImage against the ground truth)"
+              % (fid, e.coverage(), e.totalError()))
+        self.assertGreater(e.coverage(), 99.0)
+        self.assertLess(e.totalError(), 3.0)
+        fb = frame.calibration.focalBaseline
+        f = frame.calibration.projection[0, 0]  # f and t are float32 in the message
+        self.assertEqual(d.f, float(np.float32(f)))
+        self.assertEqual(d.t, float(np.float32(fb / f)))
+        self.assertEqual((d.min_disparity, d.max_disparity, d.delta_d), (0.0, 127.0, 1 / 16))
+        self.assertEqual(d.header.frame_id, kitti.LEFT_FRAME)
+        valid = np.argwhere(disp16 >= 0)
+        w = d.valid_window
+        self.assertEqual((w.y_offset, w.x_offset), tuple(valid.min(axis=0)))
+        self.assertEqual((w.y_offset + w.height - 1, w.x_offset + w.width - 1), tuple(valid.max(axis=0)))
+        self.assertTrue(np.all(disp[disp16 < 0] < d.min_disparity))  # invalid below min_disparity
+        # REP 118 depth (32FC1, metres, NaN invalid) and the organised cloud against the library's conversions.
+        depth = array_of(self.got["depth"][i])
+        ref = cv2.lidarsgm.disparityToDepth(disp16, fb)
+        np.testing.assert_array_equal(np.isnan(depth), ref == 0)
+        np.testing.assert_array_equal(depth[ref > 0], ref[ref > 0])
+        c = self.got["points2"][i]
+        self.assertEqual((c.height, c.width, c.point_step, c.is_dense), (d.image.height, d.image.width, 16, False))
+        self.assertEqual([(f.name, f.offset, f.datatype) for f in c.fields],
+                         [("x", 0, 7), ("y", 4, 7), ("z", 8, 7), ("rgb", 12, 7)])
+        rec = np.frombuffer(bytes(c.data), np.float32).reshape(c.height, c.width, 4)
+        q = cv2.lidarsgm.reprojectionMatrix(frame.calibration.projection, fb)
+        np.testing.assert_array_equal(rec[..., :3], cv2.lidarsgm.disparityToPoints(disp16, q))
+        bgr = frame.leftImage.astype(np.uint32)
+        np.testing.assert_array_equal(rec[..., 3].view(np.uint32), (bgr[..., 2] << 16) | (bgr[..., 1] << 8) | bgr[..., 0])
+        conf = array_of(self.got["confidence"][i])
+        _, ref_conf = sgm.computeWithConfidence(frame.left, frame.right, frame.sparse)
+        np.testing.assert_array_equal(conf, ref_conf)
+
+    def call(self, srv_type, name, request, seconds=30):
+        client = self.node.create_client(srv_type, "/lidarsgm/" + name)
+        self.assertTrue(client.wait_for_service(timeout_sec=seconds), name)
+        future = client.call_async(request)
+        wait_for(self.node, future.done, seconds, name)
+        return future.result()
+
+    def test_frames_bad_frame_and_parameters(self):
+        f0 = self.publish(FRAMES[0], 10**9)
+        self.expect_outputs(1)
+        self.check_frame(0, FRAMES[0], f0)
+
+        self.publish(FRAMES[0], 2 * 10**9, break_cloud=True)   # skipped, with the reason in the log
+        f1 = self.publish(FRAMES[1], 3 * 10**9)                # and the next one fused
+        self.expect_outputs(2)
+        self.check_frame(1, FRAMES[1], f1)
+        self.assertIn("skipped: the point cloud has no x/y/z field (fields: a, b, c, intensity, ring) (1 skipped, 1 "
+                      "fused)", self.node_log())
+        self.assertEqual(len(self.got["disparity"]), 2)
+
+        # At run time: a value the module refuses is refused with its message; a good one is taken.
+        req = SetParameters.Request(parameters=[Parameter("P1", value=5000).to_parameter_msg()])
+        res = self.call(SetParameters, "set_parameters", req).results[0]
+        self.assertFalse(res.successful)
+        self.assertIn("P1 (the penalty of a disparity step of 1) must be in [0, 1000]; got 5000", res.reason)
+        req = SetParameters.Request(parameters=[Parameter("P2", value=5).to_parameter_msg()])  # P1 10 > P2 5
+        res = self.call(SetParameters, "set_parameters", req).results[0]
+        self.assertFalse(res.successful)
+        self.assertIn("P1 (10) must not exceed P2 (5)", res.reason)
+        req = SetParameters.Request(parameters=[Parameter("mode", value="dsgm").to_parameter_msg(),
+                                                Parameter("P1", value=8).to_parameter_msg()])
+        self.assertTrue(all(r.successful for r in self.call(SetParameters, "set_parameters", req).results))
+        values = self.call(GetParameters, "get_parameters", GetParameters.Request(names=["P1", "P2", "mode"])).values
+        self.assertEqual((values[0].integer_value, values[1].integer_value, values[2].string_value),
+                         (8, 120, "dsgm"))
+        self.assertIn("parameter refused, the old value stays: P1:", self.node_log())
+
+
+if __name__ == "__main__":
+    unittest.main()
