@@ -11,7 +11,7 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/lidarsgm_ros"]),
         ("share/lidarsgm_ros", ["package.xml"]),
         ("share/lidarsgm_ros/launch", glob("launch/*.launch.py")),
-        ("share/lidarsgm_ros/config", glob("config/*.yaml")),
+        ("share/lidarsgm_ros/config", glob("config/*.yaml") + glob("config/*.xml")),
     ],
     install_requires=["numpy"],
     extras_require={"bags": ["rosbags"]},

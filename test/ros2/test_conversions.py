@@ -249,6 +249,16 @@ class Sync(unittest.TestCase):
         self.assertEqual(s.add(1, 405 * ms, "1@405"), [(400 * ms, ["0@400", "1@405"])])
         self.assertGreaterEqual(s.dropped, 2)
         self.assertEqual(s.add(0, 390 * ms, "old"), [])  # back in time: dropped, not emitted
+        # At the end of the input the last set is final without a later message; what is left counts as dropped.
+        self.assertEqual(s.add(0, 500 * ms, "0@500"), [])
+        self.assertEqual(s.add(1, 510 * ms, "1@510"), [])   # waits: stream 0 might still send one nearer 510
+        dropped = s.dropped
+        self.assertEqual(s.finish(), [(510 * ms, ["0@500", "1@510"])])
+        self.assertEqual(s.dropped, dropped)
+        e = ExactSync(2)
+        e.add(0, 1, "a")
+        self.assertEqual(e.finish(), [])
+        self.assertEqual(e.dropped, 1)
 
 
 if __name__ == "__main__":

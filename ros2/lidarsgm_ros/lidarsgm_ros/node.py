@@ -61,6 +61,11 @@ class StereoLidarNode(Node):
         self.pub_confidence = self.create_publisher(Image, "confidence", 1)
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
+        # Messages that never make a set (a camera_info not published, stamps that never match) leave the node
+        # silent: say so, with what arrived.
+        self.received = [0] * len(INPUTS)
+        self.sets_seen = self.received_seen = 0
+        self.create_timer(self.get_parameter("sync_warning_seconds").value, self._check_sync)
         self.get_logger().info("fusing %s with %s sync (queue %d)"
                                % (", ".join(t for t, _ in INPUTS), "approximate" if approx else "exact", queue))
 
@@ -84,6 +89,7 @@ class StereoLidarNode(Node):
             ("approximate_sync_tolerance_seconds", 0.05, "the widest spread of stamps in one approximate set"),
             ("queue_size", 5, "messages kept per input while waiting for a set"),
             ("use_system_default_qos", False, "subscribe with the system default QoS, not the sensor-data QoS"),
+            ("sync_warning_seconds", 5.0, "warn when messages arrive but no set is complete for this long"),
         ]
         for name, default, text in declared:
             self.declare_parameter(name, default, ParameterDescriptor(description=text or "see StereoLidarSGM"))
@@ -105,7 +111,7 @@ class StereoLidarNode(Node):
                     f.set_lidar_to_camera(list(p.value))
                 elif p.name == "depth_encoding" and p.value not in ("32FC1", "16UC1"):
                     raise ValueError("depth_encoding must be 32FC1 or 16UC1, not '%s'" % p.value)
-                elif p.name in ("approximate_sync", "queue_size", "use_system_default_qos",
+                elif p.name in ("approximate_sync", "queue_size", "use_system_default_qos", "sync_warning_seconds",
                                 "approximate_sync_tolerance_seconds") and hasattr(self, "sync"):
                     raise ValueError("%s is read when the node starts" % p.name)
             except ValueError as e:
@@ -131,8 +137,21 @@ class StereoLidarNode(Node):
         return SetParametersResult(successful=not problems, reason="; ".join(problems))
 
     # -- frames
+    def _check_sync(self):
+        sets, received = self.fused + self.skipped, sum(self.received)
+        if received > self.received_seen and sets == self.sets_seen:
+            self.get_logger().warning(
+                "no complete set of inputs for %.0f s; received so far: %s (%s sync: %s)"
+                % (self.get_parameter("sync_warning_seconds").value,
+                   ", ".join("%s %d" % (t, n) for (t, _), n in zip(INPUTS, self.received)),
+                   "approximate" if isinstance(self.sync, ApproximateSync) else "exact",
+                   "check the stamps and the tolerance" if isinstance(self.sync, ApproximateSync)
+                   else "every input needs the same stamp; approximate_sync takes the nearest"))
+        self.sets_seen, self.received_seen = sets, received
+
     def _callback(self, index):
         def on_message(msg):
+            self.received[index] += 1
             for stamp, msgs in self.sync.add(index, stamp_ns(msg), msg):
                 self._fuse(stamp, msgs)
         return on_message

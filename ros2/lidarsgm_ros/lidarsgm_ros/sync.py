@@ -47,14 +47,16 @@ class ApproximateSync:
     def __init__(self, streams, queue_size=10, max_interval_ns=50000000):
         self.n, self.queue_size, self.max_interval = streams, max(int(queue_size), 1), int(max_interval_ns)
         self.queues = [deque() for _ in range(streams)]
+        self.last = [None] * streams  # the newest stamp seen per stream
         self.dropped = 0  # messages given up
         self.unit = "unmatched messages"
 
     def add(self, index, stamp, msg):
         q = self.queues[index]
-        if q and stamp <= q[-1][0]:
+        if self.last[index] is not None and stamp <= self.last[index]:
             self.dropped += 1  # out of order: the stream went back in time
             return []
+        self.last[index] = stamp
         q.append((stamp, msg))
         if len(q) > self.queue_size:
             q.popleft()

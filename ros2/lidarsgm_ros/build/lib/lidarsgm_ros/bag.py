@@ -1,0 +1,243 @@
+"""lidarsgm_bag: fuses the stereo pairs and scans of a rosbag2 (MCAP or sqlite3) into an MCAP bag of the node's outputs.
+
+  python3 -m lidarsgm_ros.bag INPUT OUTPUT [--namespace /stereo] [--params-file kitti_best.yml] [--with-inputs]
+                              [--lidar-to-camera 16 numbers] [--approximate-sync] [--resume]
+
+Reads <ns>/left/image_rect, <ns>/left/camera_info, <ns>/right/image_rect, <ns>/right/camera_info and <ns>/points
+(--topic NAME=TOPIC renames one), synchronises them as the node does, and writes <ns>/disparity, <ns>/depth and
+<ns>/points2 (and <ns>/confidence with --confidence, the inputs with --with-inputs) to OUTPUT, a folder of rosbag2
+MCAP bags of --segment-frames sets each (part_0000, part_0001, ...; Foxglove, rerun and rosbags open them). A
+segment appears only when complete, so an interrupted run continues with --resume where it stopped. The
+LiDAR-to-camera transform comes from --lidar-to-camera or else the bag's /tf_static. Exit codes: 0 done, 1 error
+(unreadable bag, no set fused), 2 bad command line.
+"""
+import argparse
+import os
+import shutil
+import sys
+import time
+
+import cv2
+import numpy as np
+
+from .conversions import ConversionError, chain_transform, transform_matrix
+from .fusion import MATCHER_PARAMETERS, Fusion
+from .messages import MessageKit
+from .sync import ApproximateSync, ExactSync
+
+INPUTS = ("left/image_rect", "left/camera_info", "right/image_rect", "right/camera_info", "points")
+OUTPUT_TYPES = {"disparity": "stereo_msgs/msg/DisparityImage", "depth": "sensor_msgs/msg/Image",
+                "points2": "sensor_msgs/msg/PointCloud2", "confidence": "sensor_msgs/msg/Image"}
+
+
+def stamp_ns(msg):
+    return int(msg.header.stamp.sec) * 1000000000 + int(msg.header.stamp.nanosec)
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(prog="lidarsgm_bag", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("input", help="rosbag2 folder or .mcap / .db3 file")
+    p.add_argument("output", help="output folder (segments part_NNNN, each a rosbag2 MCAP bag)")
+    p.add_argument("--namespace", default="", help="prefix of every topic, e.g. /stereo")
+    p.add_argument("--topic", action="append", default=[], metavar="NAME=TOPIC",
+                   help="the topic of one input (%s)" % ", ".join(INPUTS))
+    p.add_argument("--params-file", default="", help="matcher parameters (StereoLidarSGM.save), e.g. kitti_best.yml")
+    p.add_argument("--mode", choices=("sgm", "dsgm", "sdsgm"))
+    for name, (_, typ) in MATCHER_PARAMETERS.items():
+        p.add_argument("--" + name.replace("_", "-"), dest=name, type=typ)
+    p.add_argument("--lidar-to-camera", type=float, nargs="+", metavar="V",
+                   help="12 or 16 numbers, row by row: points' frame -> left optical frame (default: /tf_static)")
+    p.add_argument("--approximate-sync", action="store_true")
+    p.add_argument("--tolerance", type=float, default=0.05, help="approximate sync: widest stamp spread (s)")
+    p.add_argument("--queue-size", type=int, default=5)
+    p.add_argument("--depth-encoding", choices=("32FC1", "16UC1"), default="32FC1")
+    p.add_argument("--confidence", action="store_true", help="also write <ns>/confidence")
+    p.add_argument("--with-inputs", action="store_true", help="also copy the five inputs into the output")
+    p.add_argument("--cuda", action="store_true", help="fuse on the GPU")
+    p.add_argument("--segment-frames", type=int, default=100, help="sets per output segment (the resume unit)")
+    p.add_argument("--resume", action="store_true", help="keep the complete segments of OUTPUT, fuse the rest")
+    args = p.parse_args(argv)
+    topics = {n: (args.namespace.rstrip("/") + "/" + n) for n in INPUTS}
+    for item in args.topic:
+        name, _, topic = item.partition("=")
+        if name not in topics or not topic:
+            p.error("--topic takes NAME=TOPIC with NAME one of %s, not '%s'" % (", ".join(INPUTS), item))
+        topics[name] = topic
+    if args.segment_frames < 1:
+        p.error("--segment-frames must be at least 1")
+    args.topics = topics
+    return args, p
+
+
+def static_transforms(reader):
+    """(parent, child, 4x4 child -> parent) of every /tf_static transform in the bag."""
+    edges = []
+    conns = [c for c in reader.connections if c.topic == "/tf_static"]
+    for conn, _, raw in reader.messages(connections=conns):
+        for t in reader.deserialize(raw, conn.msgtype).transforms:
+            tr, rot = t.transform.translation, t.transform.rotation
+            edges.append((t.header.frame_id, t.child_frame_id,
+                          transform_matrix((tr.x, tr.y, tr.z), (rot.x, rot.y, rot.z, rot.w))))
+    return edges
+
+
+class Segments:
+    """The output folder: complete segments part_NNNN, the one being written in .partial/part_NNNN (moved up when
+    closed, so its MCAP file keeps the segment's name)."""
+
+    def __init__(self, out, per_segment, resume, typestore):
+        self.out, self.per, self.ts = out, per_segment, typestore
+        if os.path.exists(out) and not resume and os.listdir(out):
+            raise SystemExit("lidarsgm_bag: %s exists and is not empty: pass --resume to continue it, or remove it"
+                             % out)
+        os.makedirs(out, exist_ok=True)
+        self.partial = os.path.join(out, ".partial")
+        shutil.rmtree(self.partial, ignore_errors=True)  # an interrupted segment: redone
+        self.done = 0
+        while os.path.isfile(os.path.join(out, "part_%04d" % self.done, "metadata.yaml")):
+            self.done += 1
+        self.writer, self.index, self.count = None, None, 0
+
+    def skip(self, k):
+        """Whether set number k lies in a complete segment."""
+        return k // self.per < self.done
+
+    def write(self, k, items):
+        """Writes set number k: items [(topic, msgtype, timestamp, serialised bytes)]."""
+        from rosbags.rosbag2 import StoragePlugin, Writer
+        seg = k // self.per
+        if self.index != seg:
+            self.close()
+            self.index = seg
+            self.name = "part_%04d" % seg
+            os.makedirs(self.partial, exist_ok=True)
+            self.writer = Writer(os.path.join(self.partial, self.name), version=9, storage_plugin=StoragePlugin.MCAP)
+            self.writer.open()
+            self.conns = {}
+        for topic, msgtype, t, data in items:
+            if topic not in self.conns:
+                self.conns[topic] = self.writer.add_connection(topic, msgtype, typestore=self.ts)
+            self.writer.write(self.conns[topic], t, data)
+        self.count += 1
+
+    def close(self):
+        if self.writer is not None:
+            self.writer.close()
+            os.replace(os.path.join(self.partial, self.name), os.path.join(self.out, self.name))
+            os.rmdir(self.partial)
+            self.writer = None
+
+
+def main(argv=None):
+    args, parser = parse_args(sys.argv[1:] if argv is None else argv)
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+    from pathlib import Path
+
+    try:
+        fusion = Fusion(cv2, args.params_file, args.cuda)
+        if args.mode:
+            fusion.set("mode", args.mode)
+        for name in MATCHER_PARAMETERS:
+            if getattr(args, name) is not None:
+                fusion.set(name, getattr(args, name))
+        if args.lidar_to_camera:
+            fusion.set_lidar_to_camera(args.lidar_to_camera)
+    except (ValueError, cv2.error) as e:
+        parser.error(str(e.err if isinstance(e, cv2.error) else e))
+
+    typestore = get_typestore(Stores.ROS2_JAZZY)
+    kit = MessageKit.rosbags(typestore)
+    try:
+        reader = AnyReader([Path(args.input)], default_typestore=typestore)
+        reader.open()
+    except Exception as e:  # rosbags raises its own error classes per storage; all mean an unreadable bag
+        print("lidarsgm_bag: cannot read %s: %s" % (args.input, e), file=sys.stderr)
+        return 1
+    try:
+        by_topic = {c.topic: c for c in reader.connections}
+        missing = [t for t in args.topics.values() if t not in by_topic]
+        if missing:
+            print("lidarsgm_bag: %s has no topic %s (it has: %s)" % (args.input, ", ".join(missing),
+                  ", ".join(sorted(by_topic))), file=sys.stderr)
+            return 1
+        tf_edges = None if fusion.lidar_to_camera is not None else static_transforms(reader)
+        index = {args.topics[n]: i for i, n in enumerate(INPUTS)}
+        sync = ApproximateSync(5, args.queue_size, int(args.tolerance * 1e9)) if args.approximate_sync \
+            else ExactSync(5, args.queue_size)
+        total = by_topic[args.topics["left/image_rect"]].msgcount
+        ns = args.namespace.rstrip("/")
+        try:
+            segments = Segments(args.output, args.segment_frames, args.resume, typestore)
+        except SystemExit as e:
+            print(e, file=sys.stderr)
+            return 2
+        if segments.done:
+            print("resuming: %d complete segment(s) of %d sets kept" % (segments.done, args.segment_frames))
+        counts = {"sets": 0, "fused": 0, "skipped": 0}
+        raw_of = {}
+        conns = [by_topic[t] for t in args.topics.values()]
+        t_start = time.perf_counter()
+
+        def process(stamp, msgs):
+            number = counts["sets"]
+            counts["sets"] += 1
+            if segments.skip(number):
+                return
+            left, left_info, right, right_info, cloud = msgs
+            t0 = time.perf_counter()
+            try:
+                if tf_edges is not None:
+                    fusion.set_lidar_to_camera(chain_transform(tf_edges, cloud.header.frame_id,
+                                                               left.header.frame_id or left_info.header.frame_id))
+                result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence)
+                disp, window, depth, records = fusion.outputs(result, args.depth_encoding)
+            except (ConversionError, ValueError) as e:
+                counts["skipped"] += 1
+                print("set %d of ~%d (stamp %d.%09d) skipped: %s" % (number + 1, total, stamp // 1000000000,
+                                                                     stamp % 1000000000, e))
+                return
+            g, sgm = result.geometry, fusion.sgm
+            header = kit.header(stamp_ns(left), left.header.frame_id or g.frame_id)
+            out = [("disparity", kit.disparity(header, disp, g.fx, g.baseline, sgm.getMinDisparity(),
+                                               sgm.getNumDisparities(), window)),
+                   ("depth", kit.image(header, depth, args.depth_encoding)),
+                   ("points2", kit.organised_cloud(header, records))]
+            if args.confidence:
+                out.append(("confidence", kit.image(header, result.confidence, "32FC1")))
+            items = [(ns + "/" + name, OUTPUT_TYPES[name], stamp_ns(left),
+                      typestore.serialize_cdr(m, OUTPUT_TYPES[name])) for name, m in out]
+            if args.with_inputs:
+                items += [raw_of[id(m)] for m in msgs]
+            segments.write(number, items)
+            counts["fused"] += 1
+            print("set %d of ~%d fused in %.0f ms" % (number + 1, total, 1000 * (time.perf_counter() - t0)),
+                  flush=True)
+
+        for conn, t, raw in reader.messages(connections=conns):
+            msg = reader.deserialize(raw, conn.msgtype)
+            raw_of[id(msg)] = (conn.topic, conn.msgtype, t, raw)
+            for stamp, msgs in sync.add(index[conn.topic], stamp_ns(msg), msg):
+                process(stamp, msgs)
+            # Keep the raw bytes of the messages still waiting for a set only.
+            live = set(id(m) for q in getattr(sync, "queues", []) for _, m in q)
+            live |= set(id(m) for slot in getattr(sync, "pending", {}).values() for m in slot if m is not None)
+            raw_of = {key: v for key, v in raw_of.items() if key in live}
+        for stamp, msgs in sync.finish():
+            process(stamp, msgs)
+        segments.close()
+    finally:
+        reader.close()
+    print("%d sets fused, %d skipped, %d kept from before, %d %s dropped; %.1f s; output: %s"
+          % (counts["fused"], counts["skipped"], min(counts["sets"], segments.done * args.segment_frames),
+             sync.dropped, sync.unit,
+             time.perf_counter() - t_start, args.output))
+    if counts["sets"] == 0 and sync.dropped and not args.approximate_sync:
+        print("lidarsgm_bag: no five messages share a stamp: if the LiDAR is not triggered by the cameras, pass "
+              "--approximate-sync", file=sys.stderr)
+    return 0 if counts["fused"] or segments.done else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

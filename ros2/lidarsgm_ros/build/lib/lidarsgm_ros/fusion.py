@@ -1,0 +1,159 @@
+"""One stereo-LiDAR fusion of a synchronised set of messages, shared by the node and the bag command.
+
+A Fusion holds the matcher (cv2.lidarsgm.StereoLidarSGM) and the LiDAR-to-camera transform; fuse() takes the five
+messages (left and right Image and CameraInfo, the PointCloud2) and returns the outputs as arrays; a set that cannot
+be fused raises conversions.ConversionError saying why (the caller skips it and counts it).
+"""
+from collections import namedtuple
+
+import numpy as np
+
+from . import conversions as cv_ros
+from .conversions import ConversionError
+
+MODES = {"sgm": 0, "dsgm": 1, "sdsgm": 2}
+
+# The node's parameters that set the matcher: ROS name -> (matcher property, Python type). The first six carry
+# stereo_image_proc's DisparityNode names.
+MATCHER_PARAMETERS = {
+    "min_disparity": ("MinDisparity", int),
+    "disparity_range": ("NumDisparities", int),
+    "P1": ("P1", int),
+    "P2": ("P2", int),
+    "uniqueness_ratio": ("UniquenessRatio", float),
+    "disp12_max_diff": ("LRMaxDiff", int),
+    "alpha": ("Alpha", float),
+    "Q1": ("Q1", int),
+    "Q2": ("Q2", int),
+}
+
+Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse")
+
+
+def _to_text(cv2, sgm):
+    fs = cv2.FileStorage(".yml", cv2.FILE_STORAGE_WRITE | cv2.FILE_STORAGE_MEMORY)
+    sgm.write(fs)
+    return fs.releaseAndGetString()
+
+
+def _from_text(cv2, text):
+    fs = cv2.FileStorage(text, cv2.FILE_STORAGE_READ | cv2.FILE_STORAGE_MEMORY)
+    sgm = cv2.lidarsgm.StereoLidarSGM.create()
+    sgm.read(fs.root())  # every value through its setter's check, then the relations (P1 <= P2, Q1 <= Q2)
+    return sgm
+
+
+def cv_message(cv2, e):
+    return e.err if isinstance(e, cv2.error) and getattr(e, "err", None) else str(e)
+
+
+class Fusion:
+    """The matcher, its settings and the LiDAR-to-camera transform (4x4, LiDAR frame -> left optical frame)."""
+
+    def __init__(self, cv2, params_file="", use_cuda=False, lidar_to_camera=None):
+        self.cv2 = cv2
+        self.sgm = cv2.lidarsgm.StereoLidarSGM.load(params_file) if params_file else \
+            cv2.lidarsgm.StereoLidarSGM.create()
+        self.use_cuda = False
+        self.set_use_cuda(use_cuda)
+        self.lidar_to_camera = None
+        if lidar_to_camera is not None:
+            self.set_lidar_to_camera(lidar_to_camera)
+
+    # -- settings: each change is tried on a copy first, so a refused value leaves the matcher as it was
+    def value(self, name):
+        if name == "mode":
+            return {v: k for k, v in MODES.items()}[self.sgm.getMode()]
+        prop, typ = MATCHER_PARAMETERS[name]
+        return typ(getattr(self.sgm, "get" + prop)())
+
+    def set(self, name, value):
+        """Sets one parameter (a MATCHER_PARAMETERS name or 'mode'); raises ValueError with the module's message."""
+        cv2 = self.cv2
+        trial = _from_text(cv2, _to_text(cv2, self.sgm))
+        try:
+            if name == "mode":
+                if value not in MODES:
+                    raise ValueError("mode must be one of %s, not '%s'" % (", ".join(MODES), value))
+                trial.setMode(MODES[value])
+            else:
+                prop, typ = MATCHER_PARAMETERS[name]
+                getattr(trial, "set" + prop)(typ(value))
+            trial = _from_text(cv2, _to_text(cv2, trial))
+        except cv2.error as e:
+            raise ValueError(cv_message(cv2, e))
+        self.sgm = trial
+
+    def set_use_cuda(self, on):
+        if on and self.cv2.cuda.getCudaEnabledDeviceCount() == 0:
+            raise ValueError("use_cuda: this cv2 has no CUDA device (build with CUDA, or set use_cuda false)")
+        self.use_cuda = bool(on)
+
+    def set_lidar_to_camera(self, values):
+        m = np.asarray(values, np.float64)
+        if m.size not in (12, 16):
+            raise ValueError("lidar_to_camera takes 12 or 16 numbers (a 3x4 or 4x4 matrix, row by row), got %d"
+                             % m.size)
+        m = np.vstack([m.reshape(-1, 4)[:3], [0, 0, 0, 1]])
+        r = m[:3, :3]
+        if not np.all(np.isfinite(m)) or np.abs(r @ r.T - np.eye(3)).max() > 1e-4 or np.linalg.det(r) < 0:
+            raise ValueError("lidar_to_camera is not a rigid transform (its rotation is not orthonormal with det 1)")
+        self.lidar_to_camera = m
+
+    # -- one frame
+    def sparse(self, geometry, cloud):
+        """The projected scan: CV_32F disparities of the left view, 0 = none."""
+        if self.lidar_to_camera is None:
+            raise ConversionError("no LiDAR-to-camera transform: set the lidar_to_camera parameter")
+        points, _ = cv_ros.cloud_to_points(cloud)
+        sparse = self.cv2.lidarsgm.projectPointsToDisparity(points, geometry.projection, self.lidar_to_camera,
+                                                            geometry.focal_baseline, geometry.size)
+        if not self.cv2.countNonZero(sparse):
+            # Stereo alone under a wrong transform would pass for a fusion: say so instead.
+            raise ConversionError("none of the cloud's %d points projects into the left image (is lidar_to_camera "
+                                  "the transform from the cloud's frame to the left optical frame?)" % len(points))
+        return sparse
+
+    def fuse(self, left, left_info, right, right_info, cloud, confidence=False):
+        """Fuses one synchronised set; raises ConversionError (the reason) where it cannot."""
+        cv2 = self.cv2
+        geometry = cv_ros.stereo_geometry(left_info, right_info)
+        size = geometry.size
+        for side, img in (("left", left), ("right", right)):
+            if (int(img.width), int(img.height)) != size:
+                raise ConversionError("the %s image is %dx%d, its camera_info %dx%d"
+                                      % (side, img.width, img.height, size[0], size[1]))
+        grey_l, grey_r = cv_ros.to_grey(left, cv2), cv_ros.to_grey(right, cv2)
+        if grey_l.dtype != grey_r.dtype:
+            raise ConversionError("the left image is %s, the right %s: send both with one bit depth"
+                                  % (left.encoding, right.encoding))
+        sparse = self.sparse(geometry, cloud)
+        conf = None
+        try:
+            if self.use_cuda:
+                g = [cv2.cuda_GpuMat(a) for a in (grey_l, grey_r, sparse)]
+                if confidence:
+                    gd, gc = cv2.cuda.computeStereoLidarSGMWithConfidence(self.sgm, *g)
+                    disp, conf = gd.download(), gc.download()
+                else:
+                    disp = cv2.cuda.computeStereoLidarSGM(self.sgm, *g).download()
+            elif confidence:
+                disp, conf = self.sgm.computeWithConfidence(grey_l, grey_r, sparse)
+            else:
+                disp = self.sgm.compute(grey_l, grey_r, sparse)
+        except cv2.error as e:
+            raise ConversionError(cv_message(cv2, e))
+        return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2), sparse)
+
+    # -- outputs
+    def outputs(self, result, depth_encoding="32FC1"):
+        """(disparity pixels, valid window, depth image, organised x y z rgb records) of a Result."""
+        cv2, g = self.cv2, result.geometry
+        mind = self.sgm.getMinDisparity()
+        disp = cv_ros.disparity_image(result.disparity16)
+        window = cv_ros.valid_window(result.disparity16, mind)
+        depth = cv_ros.depth_image(cv2.lidarsgm.disparityToDepth(result.disparity16, g.focal_baseline,
+                                                                 minDisparity=mind), depth_encoding)
+        q = cv2.lidarsgm.reprojectionMatrix(g.projection, g.focal_baseline)
+        points = cv2.lidarsgm.disparityToPoints(result.disparity16, q, minDisparity=mind)
+        return disp, window, depth, cv_ros.point_cloud_array(points, result.left_bgr)

@@ -1,0 +1,85 @@
+"""Messages built from numpy arrays, for rclpy (a live node) or rosbags (bag files) alike.
+
+A MessageKit makes the same messages from the same arrays for either library: rclpy's generated classes want
+uint8 arrays as array.array (checked element by element otherwise, seconds per image), rosbags' dataclasses want
+numpy arrays and every field.
+"""
+import array
+
+import numpy as np
+
+from .conversions import POINT_FIELDS
+
+FLOAT32 = 7  # sensor_msgs/PointField.FLOAT32
+UINT8 = 2
+
+
+class MessageKit:
+    """Builds sensor_msgs / stereo_msgs / std_msgs messages for one library (MessageKit.rclpy() or
+    MessageKit.rosbags(typestore))."""
+
+    def __init__(self, new, bytes_of, floats):
+        self._new, self._bytes, self._floats = new, bytes_of, floats
+
+    @classmethod
+    def rclpy(cls):
+        import importlib
+
+        def new(type_name, **fields):
+            pkg, _, typ = type_name.split("/")
+            return getattr(importlib.import_module(pkg + ".msg"), typ)(**fields)
+        return cls(new, lambda a: array.array("B", np.ascontiguousarray(a).tobytes()),
+                   lambda a: [float(v) for v in np.ravel(a)])
+
+    @classmethod
+    def rosbags(cls, typestore):
+        def new(type_name, **fields):
+            return typestore.types[type_name](**fields)
+        return cls(new, lambda a: np.frombuffer(np.ascontiguousarray(a).tobytes(), np.uint8),
+                   lambda a: np.asarray(a, np.float64).ravel())
+
+    def time(self, nanoseconds):
+        return self._new("builtin_interfaces/msg/Time", sec=int(nanoseconds // 1000000000),
+                         nanosec=int(nanoseconds % 1000000000))
+
+    def header(self, nanoseconds, frame_id):
+        return self._new("std_msgs/msg/Header", stamp=self.time(nanoseconds), frame_id=frame_id)
+
+    def roi(self, x=0, y=0, width=0, height=0):
+        return self._new("sensor_msgs/msg/RegionOfInterest", x_offset=x, y_offset=y, width=width, height=height,
+                         do_rectify=False)
+
+    def image(self, header, a, encoding):
+        """sensor_msgs/Image of an H x W (x C) array (little endian, rows contiguous)."""
+        a = np.ascontiguousarray(a)
+        return self._new("sensor_msgs/msg/Image", header=header, height=a.shape[0], width=a.shape[1],
+                         encoding=encoding, is_bigendian=0, step=a.strides[0], data=self._bytes(a))
+
+    def camera_info(self, header, width, height, K, P, D=(), R=np.eye(3), distortion_model="plumb_bob"):
+        return self._new("sensor_msgs/msg/CameraInfo", header=header, height=height, width=width,
+                         distortion_model=distortion_model, d=self._floats(D), k=self._floats(K),
+                         r=self._floats(R), p=self._floats(P), binning_x=0, binning_y=0, roi=self.roi())
+
+    def field(self, name, offset, datatype, count=1):
+        return self._new("sensor_msgs/msg/PointField", name=name, offset=offset, datatype=datatype, count=count)
+
+    def cloud(self, header, records, fields):
+        """sensor_msgs/PointCloud2 of records (H x W x K or N x K numeric array, or structured), fields
+        [(name, offset, datatype)]; is_dense False (NaN points may be in it)."""
+        records = np.ascontiguousarray(records)
+        h, w = (records.shape[0], records.shape[1]) if records.ndim == 3 else (1, records.shape[0])
+        step = records.nbytes // (h * w)
+        return self._new("sensor_msgs/msg/PointCloud2", header=header, height=h, width=w,
+                         fields=[self.field(n, o, t) for n, o, t in fields], is_bigendian=False,
+                         point_step=step, row_step=step * w, data=self._bytes(records), is_dense=False)
+
+    def organised_cloud(self, header, records):
+        """The x y z rgb cloud of conversions.point_cloud_array."""
+        return self.cloud(header, records, [(n, o, FLOAT32) for n, o in POINT_FIELDS])
+
+    def disparity(self, header, disparity, f, baseline, min_disparity, num_disparities, window):
+        """stereo_msgs/DisparityImage: float32 pixels, the module's range, delta_d 1/16 (4 fractional bits)."""
+        return self._new("stereo_msgs/msg/DisparityImage", header=header,
+                         image=self.image(header, disparity, "32FC1"), f=float(f), t=float(baseline),
+                         valid_window=self.roi(*window), min_disparity=float(min_disparity),
+                         max_disparity=float(min_disparity + num_disparities - 1), delta_d=1.0 / 16)

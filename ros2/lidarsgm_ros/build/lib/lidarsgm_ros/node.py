@@ -1,0 +1,185 @@
+"""lidarsgm_node: stereo-LiDAR fusion as a ROS 2 node, launched like stereo_image_proc's disparity node.
+
+Subscribes left/image_rect, left/camera_info, right/image_rect, right/camera_info and points (PointCloud2), time
+synchronised (exact stamps, or approximately with approximate_sync); publishes disparity (stereo_msgs/
+DisparityImage), depth (REP 118) and points2 (an organised x y z rgb PointCloud2 in the left optical frame), and
+with publish_confidence the confidence (32FC1 in [0, 1]).
+
+  python3 -m lidarsgm_ros.node --ros-args -p lidar_to_camera:="[...16 numbers...]" \
+      -p params_file:=doc/params/kitti_best.yml -r left/image_rect:=/stereo/left/image_rect ...
+
+Every parameter but params_file can be changed while the node runs; a value the module refuses is refused with
+its message and the old value stays. A set of messages that cannot be fused is logged with the reason and skipped.
+"""
+import sys
+
+import cv2
+import rclpy
+import rclpy.exceptions
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import QoSProfile, qos_profile_sensor_data
+from sensor_msgs.msg import CameraInfo, Image, PointCloud2
+from stereo_msgs.msg import DisparityImage
+
+from .conversions import ConversionError
+from .fusion import MATCHER_PARAMETERS, Fusion
+from .messages import MessageKit
+from .sync import ApproximateSync, ExactSync
+
+INPUTS = (("left/image_rect", Image), ("left/camera_info", CameraInfo), ("right/image_rect", Image),
+          ("right/camera_info", CameraInfo), ("points", PointCloud2))
+
+
+def stamp_ns(msg):
+    return msg.header.stamp.sec * 1000000000 + msg.header.stamp.nanosec
+
+
+class StereoLidarNode(Node):
+    def __init__(self, **kwargs):
+        super().__init__("lidarsgm", **kwargs)
+        try:
+            self._declare()
+        except (cv2.error, rclpy.exceptions.ParameterException) as e:
+            raise SystemExit("lidarsgm_node: %s" % e)
+        problems = self._apply(self._set_parameters())
+        if problems:
+            raise SystemExit("lidarsgm_node: " + "; ".join(problems))
+        self.add_on_set_parameters_callback(self._on_set)
+
+        approx = self.get_parameter("approximate_sync").value
+        queue = self.get_parameter("queue_size").value
+        tol = self.get_parameter("approximate_sync_tolerance_seconds").value
+        self.sync = ApproximateSync(len(INPUTS), queue, int(tol * 1e9)) if approx else ExactSync(len(INPUTS), queue)
+        qos = QoSProfile(depth=queue) if self.get_parameter("use_system_default_qos").value \
+            else qos_profile_sensor_data
+        self.subs = [self.create_subscription(t, topic, self._callback(i), qos) for i, (topic, t) in enumerate(INPUTS)]
+        self.pub_disparity = self.create_publisher(DisparityImage, "disparity", 1)
+        self.pub_depth = self.create_publisher(Image, "depth", 1)
+        self.pub_points = self.create_publisher(PointCloud2, "points2", 1)
+        self.pub_confidence = self.create_publisher(Image, "confidence", 1)
+        self.kit = MessageKit.rclpy()
+        self.fused, self.skipped, self.reported_drops = 0, 0, 0
+        self.get_logger().info("fusing %s with %s sync (queue %d)"
+                               % (", ".join(t for t, _ in INPUTS), "approximate" if approx else "exact", queue))
+
+    # -- parameters
+    def _declare(self):
+        params_file = self.declare_parameter(
+            "params_file", "", ParameterDescriptor(read_only=True, description="matcher parameters saved with "
+                                                   "StereoLidarSGM.save (e.g. kitti_best.yml); empty: the paper's")).value
+        self.fusion = Fusion(cv2, params_file)
+        # The matcher's parameters start from the params file's (or the module's) values; overrides go through the
+        # same checks as later changes.
+        declared = [(name, self.fusion.value(name), None) for name in MATCHER_PARAMETERS]
+        declared += [
+            ("mode", self.fusion.value("mode"), "sgm, dsgm or sdsgm"),
+            ("use_cuda", False, "fuse on the GPU (a CUDA build of cv2)"),
+            ("lidar_to_camera", Parameter.Type.DOUBLE_ARRAY,
+             "4x4 (or 3x4) transform from the points' frame to the left optical frame, row by row"),
+            ("depth_encoding", "32FC1", "32FC1 (metres, NaN invalid) or 16UC1 (millimetres, 0 invalid)"),
+            ("publish_confidence", False, "publish each pixel's confidence (32FC1 in [0, 1]) on confidence"),
+            ("approximate_sync", False, "match the five inputs by nearest stamps rather than equal ones"),
+            ("approximate_sync_tolerance_seconds", 0.05, "the widest spread of stamps in one approximate set"),
+            ("queue_size", 5, "messages kept per input while waiting for a set"),
+            ("use_system_default_qos", False, "subscribe with the system default QoS, not the sensor-data QoS"),
+        ]
+        for name, default, text in declared:
+            self.declare_parameter(name, default, ParameterDescriptor(description=text or "see StereoLidarSGM"))
+        self.declared = ["params_file"] + [name for name, _, _ in declared]
+
+    def _apply(self, params):
+        """Applies the parameters to the matcher; returns the problems (nothing is changed where there is one)."""
+        f = self.fusion
+        saved = (f.sgm, f.use_cuda, f.lidar_to_camera)
+        problems = []
+        for p in params:
+            try:
+                if p.name in MATCHER_PARAMETERS or p.name == "mode":
+                    if p.value != f.value(p.name):
+                        f.set(p.name, p.value)
+                elif p.name == "use_cuda":
+                    f.set_use_cuda(p.value)
+                elif p.name == "lidar_to_camera" and p.type_ != Parameter.Type.NOT_SET:
+                    f.set_lidar_to_camera(list(p.value))
+                elif p.name == "depth_encoding" and p.value not in ("32FC1", "16UC1"):
+                    raise ValueError("depth_encoding must be 32FC1 or 16UC1, not '%s'" % p.value)
+                elif p.name in ("approximate_sync", "queue_size", "use_system_default_qos",
+                                "approximate_sync_tolerance_seconds") and hasattr(self, "sync"):
+                    raise ValueError("%s is read when the node starts" % p.name)
+            except ValueError as e:
+                problems.append("%s: %s" % (p.name, e))
+        if problems:
+            f.sgm, f.use_cuda, f.lidar_to_camera = saved
+        return problems
+
+    def _set_parameters(self):
+        """The declared parameters that have a value (lidar_to_camera has none until it is given)."""
+        out = []
+        for name in self.declared:
+            try:
+                out.append(self.get_parameter(name))
+            except rclpy.exceptions.ParameterUninitializedException:
+                pass
+        return out
+
+    def _on_set(self, params):
+        problems = self._apply(params)
+        for msg in problems:
+            self.get_logger().warning("parameter refused, the old value stays: " + msg)
+        return SetParametersResult(successful=not problems, reason="; ".join(problems))
+
+    # -- frames
+    def _callback(self, index):
+        def on_message(msg):
+            for stamp, msgs in self.sync.add(index, stamp_ns(msg), msg):
+                self._fuse(stamp, msgs)
+        return on_message
+
+    def _fuse(self, stamp, msgs):
+        left, left_info, right, right_info, cloud = msgs
+        want_conf = self.get_parameter("publish_confidence").value
+        try:
+            result = self.fusion.fuse(left, left_info, right, right_info, cloud, confidence=want_conf)
+            disp, window, depth, records = self.fusion.outputs(result, self.get_parameter("depth_encoding").value)
+        except ConversionError as e:
+            self.skipped += 1
+            self.get_logger().warning("frame at %d.%09d skipped: %s (%d skipped, %d fused)"
+                                      % (stamp // 1000000000, stamp % 1000000000, e, self.skipped, self.fused))
+            return
+        g, sgm = result.geometry, self.fusion.sgm
+        header = self.kit.header(stamp_ns(left), left.header.frame_id or g.frame_id)
+        self.pub_disparity.publish(self.kit.disparity(header, disp, g.fx, g.baseline, sgm.getMinDisparity(),
+                                                      sgm.getNumDisparities(), window))
+        self.pub_depth.publish(self.kit.image(header, depth, self.get_parameter("depth_encoding").value))
+        self.pub_points.publish(self.kit.organised_cloud(header, records))
+        if want_conf:
+            self.pub_confidence.publish(self.kit.image(header, result.confidence, "32FC1"))
+        self.fused += 1
+        if self.sync.dropped > self.reported_drops:
+            self.get_logger().warning("%d incomplete message sets dropped so far (a topic missing or late: check the "
+                                      "stamps, or set approximate_sync)" % self.sync.dropped)
+            self.reported_drops = self.sync.dropped
+
+
+def main(argv=None):
+    rclpy.init(args=argv if argv is not None else sys.argv)
+    try:
+        node = StereoLidarNode()
+    except SystemExit as e:
+        print(e, file=sys.stderr)
+        rclpy.try_shutdown()
+        return 1
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
