@@ -16,6 +16,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "ros2", "
 from lidarsgm_ros import conversions as cr  # noqa: E402
 from lidarsgm_ros import kitti  # noqa: E402
 from lidarsgm_ros.conversions import ConversionError  # noqa: E402
+from lidarsgm_ros.fusion import Fusion  # noqa: E402
 from lidarsgm_ros.messages import MessageKit  # noqa: E402
 from lidarsgm_ros.sync import ApproximateSync, ExactSync  # noqa: E402
 
@@ -222,6 +223,75 @@ class KittiMessages(unittest.TestCase):
             t = kitti.ros_calibration(frame.calibration)[3]
             sparse = cv2.lidarsgm.projectPointsToDisparity(xyz, g.projection, t, g.focal_baseline, g.size)
             np.testing.assert_array_equal(sparse, frame.sparse)
+
+
+class FusionOfMessages(unittest.TestCase):
+    """lidarsgm_ros.fusion, what the node and the bag command call, on the KITTI frames as plain messages."""
+
+    def setUp(self):
+        self.kit = MessageKit(lambda type_name, **f: Msg(**f), lambda a: np.ascontiguousarray(a).tobytes(),
+                              lambda a: np.asarray(a, np.float64).ravel())
+        self.frame = cv2.lidarsgm.loadKittiFrame(os.path.join(TESTDATA, "kitti"), "000002")
+        points = cv2.lidarsgm.readVelodyneScan(os.path.join(TESTDATA, "kitti", "velodyne", "000002.bin"))
+        self.msgs = kitti.frame_messages(self.kit, self.frame, points, 10**9)
+        self.params = os.path.join(os.path.dirname(__file__), "..", "..", "doc", "params", "kitti_best.yml")
+
+    def inputs(self, **replace):
+        m = dict(self.msgs, **replace)
+        return m["left/image_rect"], m["left/camera_info"], m["right/image_rect"], m["right/camera_info"], m["points"]
+
+    def fusion(self, use_cuda=False):
+        return Fusion(cv2, self.params, use_cuda, kitti.ros_calibration(self.frame.calibration)[3])
+
+    def test_same_as_the_module_call(self):
+        r = self.fusion().fuse(*self.inputs(), confidence=True)
+        sgm = cv2.lidarsgm.StereoLidarSGM.load(self.params)
+        np.testing.assert_array_equal(r.sparse, self.frame.sparse)
+        disp, conf = sgm.computeWithConfidence(self.frame.left, self.frame.right, self.frame.sparse)
+        np.testing.assert_array_equal(r.disparity16, disp)
+        np.testing.assert_array_equal(r.confidence, conf)
+
+    @unittest.skipIf(cv2.cuda.getCudaEnabledDeviceCount() < 1, "no CUDA device")
+    def test_cuda_same_as_cpu(self):
+        cpu = self.fusion().fuse(*self.inputs(), confidence=True)
+        gpu = self.fusion(use_cuda=True).fuse(*self.inputs(), confidence=True)
+        np.testing.assert_array_equal(gpu.disparity16, cpu.disparity16)
+        np.testing.assert_array_equal(gpu.confidence, cpu.confidence)
+
+    def test_sets_that_cannot_be_fused(self):
+        f = self.fusion()
+        small = self.kit.image(self.kit.header(0, ""), self.frame.right[:, :-2], "mono8")
+        with self.assertRaisesRegex(ConversionError, "the right image is 1240x375, its camera_info 1242x375"):
+            f.fuse(*self.inputs(**{"right/image_rect": small}))
+        deep = self.kit.image(self.kit.header(0, ""), self.frame.right.astype(np.uint16) * 256, "mono16")
+        with self.assertRaisesRegex(ConversionError, "the left image is bgr8, the right mono16"):
+            f.fuse(*self.inputs(**{"right/image_rect": deep}))
+        uncalibrated = self.kit.camera_info(self.kit.header(0, ""), 1242, 375, np.eye(3), np.zeros((3, 4)))
+        with self.assertRaisesRegex(ConversionError, "right camera_info has no projection matrix P"):
+            f.fuse(*self.inputs(**{"right/camera_info": uncalibrated}))
+        f.lidar_to_camera = None
+        with self.assertRaisesRegex(ConversionError, "no LiDAR-to-camera transform: set the lidar_to_camera"):
+            f.fuse(*self.inputs())
+
+    def test_settings_checked_by_the_module(self):
+        f = self.fusion()
+        sgm = f.sgm
+        for name, value, text in (("P1", 5000, "must be in [0, 1000]; got 5000"), ("P2", 5, "P1 (10) must not exceed "
+                                  "P2 (5)"), ("disparity_range", 100, "multiple of 16"), ("mode", "bm", "mode must be")):
+            with self.assertRaises(ValueError) as e:
+                f.set(name, value)
+            self.assertIn(text, str(e.exception))
+            self.assertIs(f.sgm, sgm)   # the matcher as it was
+        f.set("disparity_range", 192)
+        f.set("mode", "dsgm")
+        self.assertEqual((f.sgm.getNumDisparities(), f.value("mode"), f.value("P2")), (192, "dsgm", 120))
+        with self.assertRaisesRegex(ValueError, "not a rigid transform"):
+            f.set_lidar_to_camera(np.ones(16))
+        with self.assertRaisesRegex(ValueError, "takes 12 or 16 numbers"):
+            f.set_lidar_to_camera([1, 2])
+        if cv2.cuda.getCudaEnabledDeviceCount() < 1:
+            with self.assertRaisesRegex(ValueError, "use_cuda: this cv2 has no CUDA device"):
+                f.set_use_cuda(True)
 
 
 class Sync(unittest.TestCase):

@@ -85,7 +85,7 @@ class Fusion:
         self.sgm = trial
 
     def set_use_cuda(self, on):
-        if on and self.cv2.cuda.getCudaEnabledDeviceCount() == 0:
+        if on and self.cv2.cuda.getCudaEnabledDeviceCount() < 1:  # -1: no driver
             raise ValueError("use_cuda: this cv2 has no CUDA device (build with CUDA, or set use_cuda false)")
         self.use_cuda = bool(on)
 
