@@ -1,7 +1,8 @@
 # Installs the ROS 2 package (ros2/lidarsgm_ros: lidarsgm_node, lidarsgm_bag, lidarsgm_kitti_to_bag) and the pinned
 # ROS 2 wheels it runs on into the active virtual environment (after python_install.cmake has put cv2 there):
 #
-#   cmake -DREQUIREMENTS=<repo>/ros2/requirements.txt -DPACKAGE=<repo>/ros2/lidarsgm_ros -P ros2_install.cmake
+#   cmake -DREQUIREMENTS=<repo>/ros2/requirements.txt -DPACKAGE=<repo>/ros2/lidarsgm_ros -DWORK=<scratch folder> \
+#         -P ros2_install.cmake
 cmake_minimum_required(VERSION 3.20)
 if(DEFINED ENV{VIRTUAL_ENV})
   set(PYTHON "$ENV{VIRTUAL_ENV}/bin/python")
@@ -12,7 +13,12 @@ else()
                       ". ENV/bin/activate) and run this again")
 endif()
 message(STATUS "lidarsgm: installing ${REQUIREMENTS} and ${PACKAGE} into $ENV{VIRTUAL_ENV}$ENV{CONDA_PREFIX}")
-execute_process(COMMAND "${PYTHON}" -m pip install --quiet -r "${REQUIREMENTS}" "${PACKAGE}[bags]" RESULT_VARIABLE _rc)
+# setuptools writes build/ beside setup.py: build from a copy, so the checkout stays clean.
+set(_copy "${WORK}/lidarsgm_ros")
+file(REMOVE_RECURSE "${_copy}")
+file(COPY "${PACKAGE}" DESTINATION "${WORK}" PATTERN "__pycache__" EXCLUDE)
+execute_process(COMMAND "${PYTHON}" -m pip install --quiet -r "${REQUIREMENTS}" "${_copy}[bags]" RESULT_VARIABLE _rc)
+file(REMOVE_RECURSE "${_copy}")
 if(NOT _rc EQUAL 0)
   message(FATAL_ERROR "lidarsgm: pip could not install ${REQUIREMENTS} (the ROS 2 wheels exist for CPython 3.10-3.13 "
                       "on x86_64 Linux) or ${PACKAGE}")

@@ -64,8 +64,9 @@ class StereoLidarNode(Node):
         # Messages that never make a set (a camera_info not published, stamps that never match) leave the node
         # silent: say so, with what arrived.
         self.received = [0] * len(INPUTS)
-        self.sets_seen = self.received_seen = 0
-        self.create_timer(self.get_parameter("sync_warning_seconds").value, self._check_sync)
+        self.waiting = 0                        # messages received since the last complete set
+        self.quiet_since = self._now()          # the last complete set, or the last warning
+        self.create_timer(self.get_parameter("sync_warning_seconds").value / 4, self._check_sync)
         self.get_logger().info("fusing %s with %s sync (queue %d)"
                                % (", ".join(t for t, _ in INPUTS), "approximate" if approx else "exact", queue))
 
@@ -137,22 +138,27 @@ class StereoLidarNode(Node):
         return SetParametersResult(successful=not problems, reason="; ".join(problems))
 
     # -- frames
+    def _now(self):
+        return self.get_clock().now().nanoseconds * 1e-9
+
     def _check_sync(self):
-        sets, received = self.fused + self.skipped, sum(self.received)
-        if received > self.received_seen and sets == self.sets_seen:
+        period = self.get_parameter("sync_warning_seconds").value
+        if self.waiting and self._now() - self.quiet_since >= period:
+            self.quiet_since = self._now()
             self.get_logger().warning(
                 "no complete set of inputs for %.0f s; received so far: %s (%s sync: %s)"
-                % (self.get_parameter("sync_warning_seconds").value,
+                % (period,
                    ", ".join("%s %d" % (t, n) for (t, _), n in zip(INPUTS, self.received)),
                    "approximate" if isinstance(self.sync, ApproximateSync) else "exact",
                    "check the stamps and the tolerance" if isinstance(self.sync, ApproximateSync)
                    else "every input needs the same stamp; approximate_sync takes the nearest"))
-        self.sets_seen, self.received_seen = sets, received
 
     def _callback(self, index):
         def on_message(msg):
             self.received[index] += 1
+            self.waiting += 1
             for stamp, msgs in self.sync.add(index, stamp_ns(msg), msg):
+                self.waiting, self.quiet_since = 0, self._now()
                 self._fuse(stamp, msgs)
         return on_message
 
