@@ -170,6 +170,8 @@ def cloud_fields(cloud):
     if row_step < w * step or buf.size < row_step * (h - 1) + w * step:
         raise ConversionError("the point cloud's data holds %d bytes, %d x %d points of %d bytes (row step %d) need "
                               "%d" % (buf.size, h, w, step, row_step, row_step * (h - 1) + w * step))
+    if row_step == w * step:
+        return buf[:h * w * step].view(dtype)  # a view of the message's bytes: no copy
     rows = np.lib.stride_tricks.as_strided(buf, shape=(h, w * step), strides=(row_step, 1))
     return np.ascontiguousarray(rows).reshape(-1).view(dtype)
 
@@ -182,10 +184,14 @@ def cloud_to_points(cloud):
     if missing:
         raise ConversionError("the point cloud has no %s field (fields: %s)"
                               % ("/".join(missing), ", ".join(rec.dtype.names)))
-    xyz = np.stack([rec[n].astype(np.float32) for n in ("x", "y", "z")], axis=1)
-    keep = np.all(np.isfinite(xyz), axis=1)
-    ring = rec["ring"].astype(np.int32)[keep] if "ring" in rec.dtype.names else None
-    xyz = np.ascontiguousarray(xyz[keep])
+    xyz = np.empty((rec.shape[0], 3), np.float32)
+    for i, n in enumerate(("x", "y", "z")):
+        xyz[:, i] = rec[n]
+    ring = rec["ring"].astype(np.int32) if "ring" in rec.dtype.names else None
+    keep = np.isfinite(xyz).all(axis=1)
+    if not keep.all():  # drivers mark missing returns with NaN
+        xyz = xyz[keep]
+        ring = ring[keep] if ring is not None else None
     if xyz.shape[0] == 0:
         raise ConversionError("the point cloud has no finite point")
     return xyz, ring
@@ -317,5 +323,8 @@ def point_cloud_array(points, bgr):
         raise ConversionError("points are %s, the colour image %s" % (points.shape[:2], bgr.shape[:2]))
     rec = np.empty(points.shape[:2] + (4,), np.float32)
     rec[..., :3] = points
-    rec[..., 3] = pack_rgb(bgr)
+    # The rgb float's little-endian bytes are B, G, R, 0: the image's bytes, copied once (as pack_rgb computes).
+    rgb = rec.view(np.uint8).reshape(points.shape[:2] + (16,))
+    rgb[..., 12:15] = bgr
+    rgb[..., 15] = 0
     return rec

@@ -106,6 +106,10 @@ class Fusion:
         if self.lidar_to_camera is None:
             raise ConversionError("no LiDAR-to-camera transform: set the lidar_to_camera parameter")
         points, _ = cv_ros.cloud_to_points(cloud)
+        return self.project(geometry, points)
+
+    def project(self, geometry, points):
+        """The sparse map of N x 3 float32 points (raises ConversionError where none lands in the image)."""
         sparse = self.cv2.lidarsgm.projectPointsToDisparity(points, geometry.projection, self.lidar_to_camera,
                                                             geometry.focal_baseline, geometry.size)
         if not self.cv2.countNonZero(sparse):

@@ -28,8 +28,11 @@ class MessageKit:
         def new(type_name, **fields):
             pkg, _, typ = type_name.split("/")
             return getattr(importlib.import_module(pkg + ".msg"), typ)(**fields)
-        return cls(new, lambda a: array.array("B", np.ascontiguousarray(a).tobytes()),
-                   lambda a: [float(v) for v in np.ravel(a)])
+        def bytes_of(a):  # one copy into the array.array rclpy keeps
+            out = array.array("B")
+            out.frombytes(memoryview(np.ascontiguousarray(a)).cast("B"))
+            return out
+        return cls(new, bytes_of, lambda a: [float(v) for v in np.ravel(a)])
 
     @classmethod
     def rosbags(cls, typestore):
