@@ -75,7 +75,7 @@ def in_process(args):
             else:
                 disp = fusion.sgm.compute(grey_l, grey_r, sparse)
             t3 = time.perf_counter()
-            d, window, depth, records = fusion.outputs(Result(disp, None, g, bgr, sparse))
+            d, window, depth, records = fusion.outputs(Result(disp, None, g, bgr, sparse), "32FC1", kit.alloc)
             header = kit.header(10**9, "camera")
             kit.disparity(header, d, g.fx, g.baseline, 0, fusion.sgm.getNumDisparities(), window)
             kit.image(header, depth, "32FC1")
@@ -140,6 +140,8 @@ def node_rate(args):
         rclpy.spin_once(node, timeout_sec=0.05)
     node_proc.send_signal(signal.SIGINT)
     node_proc.wait(20)
+    log.close()
+    summary = [line for line in open(log.name) if line.startswith("lidarsgm_node: ")]
     node.destroy_node()
     rclpy.shutdown()
     first = min(got) if got else None
@@ -154,6 +156,7 @@ def node_rate(args):
           "publication to DisparityImage: median %.0f ms, 90th percentile %.0f ms, max %.0f ms; %s"
           % (len(lat), len(after), len(sent) - len(after), statistics.median(lat), lat[int(0.9 * (len(lat) - 1))],
              lat[-1], "keeps up" if len(lat) == len(after) else "falls behind (frames dropped)"))
+    print("   the node: %s" % (summary[-1].strip()[len("lidarsgm_node: "):] if summary else "(no summary in its log)"))
     return 0
 
 
@@ -167,12 +170,19 @@ def main():
     p.add_argument("--threads", type=int, default=2)
     args = p.parse_args()
     cv2.setNumThreads(args.threads)
-    print("lidarsgm ROS 2 latency, %s, %s" % (time.strftime("%Y-%m-%d"), open("/proc/cpuinfo").read().split(
-        "model name")[1].split("\n")[0].strip(": ") if os.path.exists("/proc/cpuinfo") else ""))
+    cpu = ""
+    if os.path.exists("/proc/cpuinfo"):
+        cpu = open("/proc/cpuinfo").read().split("model name")[1].split("\n")[0].strip(": \t")
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True).stdout.strip()
+    print("lidarsgm ROS 2 latency: %s, commit %s, %d-core %s; python3 tools/ros2_latency.py %s"
+          % (time.strftime("%Y-%m-%d"), commit, os.cpu_count(), cpu, " ".join(sys.argv[1:])))
     in_process(args)
-    if HAVE_RCLPY and args.node_frames:
+    if not args.node_frames:
+        return 0
+    if HAVE_RCLPY:
         return node_rate(args)
-    print("2. skipped: no rclpy here")
+    print("2. skipped: no rclpy in this Python (run it with the ROS 2 environment's)")
     return 0
 
 

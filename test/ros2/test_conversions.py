@@ -199,10 +199,16 @@ class Outputs(unittest.TestCase):
         bgr = np.array([[[1, 2, 3]]], np.uint8)
         packed = cr.pack_rgb(bgr).view(np.uint32)
         self.assertEqual(int(packed[0, 0]), 0x030201)
-        pts = np.zeros((1, 1, 3), np.float32)
-        rec = cr.point_cloud_array(pts, bgr)
-        self.assertEqual(rec.shape, (1, 1, 4))
-        self.assertEqual(struct.unpack("<I", rec[0, 0, 3].tobytes())[0], 0x030201)
+        rng = np.random.default_rng(3)
+        bgr = rng.integers(0, 256, (5, 7, 3), dtype=np.uint8)
+        pts = rng.normal(size=(5, 7, 3)).astype(np.float32)
+        pts[1, 2] = np.nan
+        rec = cr.point_cloud_array(pts, bgr, cv2)
+        self.assertEqual((rec.shape, rec.dtype), ((5, 7, 4), np.float32))
+        np.testing.assert_array_equal(rec[..., :3], pts)
+        np.testing.assert_array_equal(rec[..., 3].view(np.uint32), cr.pack_rgb(bgr).view(np.uint32))
+        self.assertEqual(struct.unpack("<I", cr.pack_rgb(bgr)[0, 0].tobytes())[0],
+                         (int(bgr[0, 0, 2]) << 16) | (int(bgr[0, 0, 1]) << 8) | int(bgr[0, 0, 0]))
 
 
 class KittiMessages(unittest.TestCase):

@@ -5,6 +5,7 @@ remappable, the parameters from config/lidarsgm.yaml and the arguments.
       lidar_to_camera:="[...16 numbers...]" points:=/velodyne_points
 """
 import os
+from typing import List
 
 from ament_index_python.packages import get_package_share_directory
 from launch import LaunchDescription
@@ -29,7 +30,7 @@ def generate_launch_description():
         namespace=LaunchConfiguration("namespace"), output="screen",
         parameters=[config, {
             "params_file": LaunchConfiguration("params_file"),
-            "lidar_to_camera": ParameterValue(LaunchConfiguration("lidar_to_camera"), value_type=list),
+            "lidar_to_camera": ParameterValue(LaunchConfiguration("lidar_to_camera"), value_type=List[float]),
             "use_cuda": ParameterValue(LaunchConfiguration("use_cuda"), value_type=bool),
             "approximate_sync": ParameterValue(LaunchConfiguration("approximate_sync"), value_type=bool),
         }],

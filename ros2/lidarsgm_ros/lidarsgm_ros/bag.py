@@ -192,7 +192,7 @@ def main(argv=None):
                     fusion.set_lidar_to_camera(chain_transform(tf_edges, cloud.header.frame_id,
                                                                left.header.frame_id or left_info.header.frame_id))
                 result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence)
-                disp, window, depth, records = fusion.outputs(result, args.depth_encoding)
+                disp, window, depth, records = fusion.outputs(result, args.depth_encoding, kit.alloc)
             except (ConversionError, ValueError) as e:
                 counts["skipped"] += 1
                 print("set %d of ~%d (stamp %d.%09d) skipped: %s" % (number + 1, total, stamp // 1000000000,

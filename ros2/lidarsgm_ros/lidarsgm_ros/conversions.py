@@ -184,12 +184,20 @@ def cloud_to_points(cloud):
     if missing:
         raise ConversionError("the point cloud has no %s field (fields: %s)"
                               % ("/".join(missing), ", ".join(rec.dtype.names)))
-    xyz = np.empty((rec.shape[0], 3), np.float32)
-    for i, n in enumerate(("x", "y", "z")):
-        xyz[:, i] = rec[n]
+    fields = rec.dtype.fields
+    f32 = np.dtype("<f4")
+    if all(fields[n][0] == f32 for n in "xyz") and fields["y"][1] == fields["x"][1] + 4 \
+            and fields["z"][1] == fields["x"][1] + 8:
+        # x, y, z side by side as float32 (every driver we know): one strided copy.
+        xyz = np.ascontiguousarray(np.ndarray((rec.shape[0], 3), f32, buffer=rec, offset=fields["x"][1],
+                                              strides=(rec.dtype.itemsize, 4))).astype(np.float32, copy=False)
+    else:
+        xyz = np.empty((rec.shape[0], 3), np.float32)
+        for i, n in enumerate(("x", "y", "z")):
+            xyz[:, i] = rec[n]
     ring = rec["ring"].astype(np.int32) if "ring" in rec.dtype.names else None
-    keep = np.isfinite(xyz).all(axis=1)
-    if not keep.all():  # drivers mark missing returns with NaN
+    if not np.isfinite(xyz).all():  # drivers mark missing returns with NaN
+        keep = np.isfinite(xyz).all(axis=1)
         xyz = xyz[keep]
         ring = ring[keep] if ring is not None else None
     if xyz.shape[0] == 0:
@@ -274,14 +282,17 @@ def chain_transform(edges, source, target):
 INVALID_DEPTH_MM = 0
 
 
-def disparity_image(disp16):
-    """The matcher's CV_16S output (disparity x 16) as the float32 pixels of a stereo_msgs/DisparityImage.
+def disparity_image(disp16, out=None):
+    """The matcher's CV_16S output (disparity x 16) as the float32 pixels of a stereo_msgs/DisparityImage (into out,
+    an H x W float32 array, where given).
 
     Invalid pixels keep the matcher's value (minDisparity - 1), below DisparityImage.min_disparity, as
     stereo_image_proc's disparity node leaves them."""
     if disp16.dtype != np.int16:
         raise ConversionError("expected the matcher's int16 output, got %s" % disp16.dtype)
-    return disp16.astype(np.float32) * np.float32(1.0 / 16)
+    out = np.empty(disp16.shape, np.float32) if out is None else out
+    np.multiply(disp16, np.float32(1.0 / 16), out=out, dtype=np.float32)  # exact: x16 values are small integers
+    return out
 
 
 def valid_window(disp16, min_disparity):
@@ -293,17 +304,24 @@ def valid_window(disp16, min_disparity):
     return int(cols[0]), int(rows[0]), int(cols[-1] - cols[0] + 1), int(rows[-1] - rows[0] + 1)
 
 
-def depth_image(depth_m, encoding):
+def depth_image(depth_m, encoding, out=None):
     """REP 118 depth from metres (0 = invalid, as cv2.lidarsgm.disparityToDepth gives it): '32FC1' metres with NaN
-    where invalid, or '16UC1' millimetres with 0 where invalid (and beyond 65.535 m, which 16 bits cannot hold)."""
+    where invalid, or '16UC1' millimetres with 0 where invalid (and beyond 65.535 m, which 16 bits cannot hold).
+    out: where to write it (H x W float32 or uint16; for 32FC1 it may be depth_m itself)."""
     if encoding == "32FC1":
-        out = depth_m.astype(np.float32, copy=True)
+        if out is None:
+            out = depth_m.astype(np.float32, copy=True)
+        elif out is not depth_m:
+            out[...] = depth_m
         out[~(out > 0)] = np.nan
         return out
     if encoding == "16UC1":
         mm = np.rint(depth_m.astype(np.float64) * 1000.0)
         mm[~((mm > 0) & (mm <= 65535))] = INVALID_DEPTH_MM
-        return mm.astype(np.uint16)
+        if out is None:
+            return mm.astype(np.uint16)
+        out[...] = mm
+        return out
     raise ConversionError("depth encoding must be 32FC1 (metres) or 16UC1 (millimetres), not '%s'" % encoding)
 
 
@@ -316,15 +334,12 @@ def pack_rgb(bgr):
 POINT_FIELDS = (("x", 0), ("y", 4), ("z", 8), ("rgb", 12))  # all float32 (datatype 7), point step 16
 
 
-def point_cloud_array(points, bgr):
-    """An organised cloud's records (H x W, fields x y z rgb, float32, 16 bytes a point) from
+def point_cloud_array(points, bgr, cv2, out=None):
+    """An organised cloud's records (H x W x 4 float32: x y z rgb, 16 bytes a point; into out where given) from
     cv2.lidarsgm.disparityToPoints's H x W x 3 points (NaN = invalid) and the left image in BGR."""
     if points.shape[:2] != bgr.shape[:2]:
         raise ConversionError("points are %s, the colour image %s" % (points.shape[:2], bgr.shape[:2]))
-    rec = np.empty(points.shape[:2] + (4,), np.float32)
-    rec[..., :3] = points
-    # The rgb float's little-endian bytes are B, G, R, 0: the image's bytes, copied once (as pack_rgb computes).
-    rgb = rec.view(np.uint8).reshape(points.shape[:2] + (16,))
-    rgb[..., 12:15] = bgr
-    rgb[..., 15] = 0
-    return rec
+    # The rgb float's little-endian bytes are B, G, R, 0 (pack_rgb's value): BGRA with the alpha cleared, merged
+    # with the points by OpenCV in one pass.
+    bgra = cv2.bitwise_and(cv2.cvtColor(bgr, cv2.COLOR_BGR2BGRA), (255, 255, 255, 0))
+    return cv2.merge([points, bgra.view(np.float32)], out)

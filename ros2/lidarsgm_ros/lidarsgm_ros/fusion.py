@@ -57,6 +57,7 @@ class Fusion:
         self.use_cuda = False
         self.set_use_cuda(use_cuda)
         self.lidar_to_camera = None
+        self._points = None  # disparityToPoints' output, reused from frame to frame
         if lidar_to_camera is not None:
             self.set_lidar_to_camera(lidar_to_camera)
 
@@ -150,14 +151,26 @@ class Fusion:
         return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2), sparse)
 
     # -- outputs
-    def outputs(self, result, depth_encoding="32FC1"):
-        """(disparity pixels, valid window, depth image, organised x y z rgb records) of a Result."""
+    def outputs(self, result, depth_encoding="32FC1", alloc=None):
+        """(disparity pixels, valid window, depth image, organised x y z rgb records) of a Result. alloc(shape,
+        dtype, name) gives the arrays to write them into: a MessageKit's, so that the messages take them without a
+        copy, and the next call writes into the same ones once the messages have gone out."""
         cv2, g = self.cv2, result.geometry
-        mind = self.sgm.getMinDisparity()
-        disp = cv_ros.disparity_image(result.disparity16)
-        window = cv_ros.valid_window(result.disparity16, mind)
-        depth = cv_ros.depth_image(cv2.lidarsgm.disparityToDepth(result.disparity16, g.focal_baseline,
-                                                                 minDisparity=mind), depth_encoding)
+        alloc = alloc or (lambda shape, dtype, name: np.empty(shape, dtype))
+        d16, mind = result.disparity16, self.sgm.getMinDisparity()
+        h, w = d16.shape
+        disp = cv_ros.disparity_image(d16, alloc((h, w), np.float32, "disparity"))
+        window = cv_ros.valid_window(d16, mind)
+        if depth_encoding == "32FC1":
+            depth = cv2.lidarsgm.disparityToDepth(d16, g.focal_baseline, alloc((h, w), np.float32, "depth"),
+                                                  minDisparity=mind)
+            depth = cv_ros.depth_image(depth, depth_encoding, out=depth)
+        else:
+            depth = cv_ros.depth_image(cv2.lidarsgm.disparityToDepth(d16, g.focal_baseline, minDisparity=mind),
+                                       depth_encoding, alloc((h, w), np.uint16, "depth"))
         q = cv2.lidarsgm.reprojectionMatrix(g.projection, g.focal_baseline)
-        points = cv2.lidarsgm.disparityToPoints(result.disparity16, q, minDisparity=mind)
-        return disp, window, depth, cv_ros.point_cloud_array(points, result.left_bgr)
+        if self._points is None or self._points.shape[:2] != (h, w):
+            self._points = np.empty((h, w, 3), np.float32)
+        points = cv2.lidarsgm.disparityToPoints(d16, q, self._points, minDisparity=mind)
+        return disp, window, depth, cv_ros.point_cloud_array(points, result.left_bgr, cv2,
+                                                              alloc((h, w, 4), np.float32, "points2"))

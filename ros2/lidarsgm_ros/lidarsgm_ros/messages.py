@@ -18,8 +18,21 @@ class MessageKit:
     """Builds sensor_msgs / stereo_msgs / std_msgs messages for one library (MessageKit.rclpy() or
     MessageKit.rosbags(typestore))."""
 
-    def __init__(self, new, bytes_of, floats):
-        self._new, self._bytes, self._floats = new, bytes_of, floats
+    def __init__(self, new, bytes_of, floats, alloc=np.empty):
+        self._new, self._bytes, self._floats, self._alloc = new, bytes_of, floats, alloc
+        self._pool = {}
+
+    def alloc(self, shape, dtype, name=None):
+        """An array a message can take without a copy. With a name, the array of the last call with that name, shape
+        and dtype comes back: fresh megabytes cost page faults (about as much as the conversions themselves), and a
+        published or serialised message no longer needs its array (rclpy and rosbags copy it as they serialise)."""
+        if name is None:
+            return self._alloc(shape, dtype)
+        key = (name, tuple(shape), np.dtype(dtype).str)
+        if key not in self._pool:
+            self._pool = {k: v for k, v in self._pool.items() if k[0] != name}
+            self._pool[key] = self._alloc(shape, dtype)
+        return self._pool[key]
 
     @classmethod
     def rclpy(cls):
@@ -27,18 +40,36 @@ class MessageKit:
 
         def new(type_name, **fields):
             pkg, _, typ = type_name.split("/")
-            return getattr(importlib.import_module(pkg + ".msg"), typ)(**fields)
-        def bytes_of(a):  # one copy into the array.array rclpy keeps
+            # The generated constructors copy an array.array field (array.array('B', value)), and so do the setters
+            # unless the message checks its fields, when they keep an array.array of type 'B' as it is.
+            arrays = {k: fields.pop(k) for k in [k for k, v in fields.items() if isinstance(v, array.array)]}
+            if arrays:
+                fields["check_fields"] = True
+            msg = getattr(importlib.import_module(pkg + ".msg"), typ)(**fields)
+            for k, v in arrays.items():
+                setattr(msg, k, v)
+            return msg
+        def alloc(shape, dtype):  # a numpy view of an array.array the message can keep
+            buf = array.array("B", [0]) * (int(np.prod(shape)) * np.dtype(dtype).itemsize)
+            return np.frombuffer(buf, dtype).reshape(shape)
+
+        def bytes_of(a):  # alloc's array.array as it is, anything else copied once into one
+            base = a
+            while isinstance(base, (np.ndarray, memoryview)):
+                base = base.base if isinstance(base, np.ndarray) else base.obj
+            if isinstance(base, array.array) and a.flags.c_contiguous and a.nbytes == len(base) \
+                    and a.__array_interface__["data"][0] == base.buffer_info()[0]:
+                return base
             out = array.array("B")
             out.frombytes(memoryview(np.ascontiguousarray(a)).cast("B"))
             return out
-        return cls(new, bytes_of, lambda a: [float(v) for v in np.ravel(a)])
+        return cls(new, bytes_of, lambda a: [float(v) for v in np.ravel(a)], alloc)
 
     @classmethod
     def rosbags(cls, typestore):
         def new(type_name, **fields):
             return typestore.types[type_name](**fields)
-        return cls(new, lambda a: np.frombuffer(np.ascontiguousarray(a).tobytes(), np.uint8),
+        return cls(new, lambda a: np.ascontiguousarray(a).reshape(-1).view(np.uint8),
                    lambda a: np.asarray(a, np.float64).ravel())
 
     def time(self, nanoseconds):

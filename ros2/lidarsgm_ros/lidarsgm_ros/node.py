@@ -12,6 +12,7 @@ Every parameter but params_file can be changed while the node runs; a value the 
 its message and the old value stays. A set of messages that cannot be fused is logged with the reason and skipped.
 """
 import sys
+import time
 
 import cv2
 import rclpy
@@ -61,6 +62,7 @@ class StereoLidarNode(Node):
         self.pub_confidence = self.create_publisher(Image, "confidence", 1)
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
+        self.busy = 0.0  # seconds spent fusing and publishing
         # Messages that never make a set (a camera_info not published, stamps that never match) leave the node
         # silent: say so, with what arrived.
         self.received = [0] * len(INPUTS)
@@ -141,6 +143,11 @@ class StereoLidarNode(Node):
     def _now(self):
         return self.get_clock().now().nanoseconds * 1e-9
 
+    def summary(self):
+        return ("%d sets fused (%.1f ms each, conversions and publishing included), %d skipped, %d %s dropped by the "
+                "synchroniser" % (self.fused, 1000 * self.busy / max(self.fused, 1), self.skipped, self.sync.dropped,
+                                  self.sync.unit))
+
     def _check_sync(self):
         period = self.get_parameter("sync_warning_seconds").value
         if self.waiting and self._now() - self.quiet_since >= period:
@@ -165,9 +172,11 @@ class StereoLidarNode(Node):
     def _fuse(self, stamp, msgs):
         left, left_info, right, right_info, cloud = msgs
         want_conf = self.get_parameter("publish_confidence").value
+        t0 = time.perf_counter()
         try:
             result = self.fusion.fuse(left, left_info, right, right_info, cloud, confidence=want_conf)
-            disp, window, depth, records = self.fusion.outputs(result, self.get_parameter("depth_encoding").value)
+            disp, window, depth, records = self.fusion.outputs(result, self.get_parameter("depth_encoding").value,
+                                                               self.kit.alloc)
         except ConversionError as e:
             self.skipped += 1
             self.get_logger().warning("frame at %d.%09d skipped: %s (%d skipped, %d fused)"
@@ -182,6 +191,7 @@ class StereoLidarNode(Node):
         if want_conf:
             self.pub_confidence.publish(self.kit.image(header, result.confidence, "32FC1"))
         self.fused += 1
+        self.busy += time.perf_counter() - t0
         if self.sync.dropped > self.reported_drops:
             self.get_logger().warning("%d incomplete message sets dropped so far (a topic missing or late: check the "
                                       "stamps, or set approximate_sync)" % self.sync.dropped)
@@ -201,6 +211,7 @@ def main(argv=None):
     except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
         pass
     finally:
+        print("lidarsgm_node: " + node.summary(), flush=True)  # the logger may be gone after a signal
         node.destroy_node()
         rclpy.try_shutdown()
     return 0
