@@ -26,7 +26,10 @@ else
   # The trimmed archive (tools/make_opencv_trim.sh) leaves out the modules' test folders; OpenCV's python module
   # adds its own unconditionally.
   mkdir -p "$SRC/opencv/modules/python/test" && touch "$SRC/opencv/modules/python/test/CMakeLists.txt"
+  # PY=ON: the bindings' test dependency the device's Python lacks, from the wheel make_opencv_trim.sh downloads.
+  [ "${PY:-OFF}" = ON ] && python3 -m pip install -q --no-index --find-links .device/wheels plyfile
   cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=${PY:-OFF} \
+    -DLIDARSGM_WITH_RAY=OFF -DLIDARSGM_WITH_ROS2=OFF \
     -DLIDARSGM_OPENCV=$V -DLIDARSGM_OPENCV_ALSO= \
     -DLIDARSGM_WITH_CUDA=ON -DLIDARSGM_WITH_SANITIZERS=OFF > "$OUT/configure.log" 2>&1 || { tail -40 "$OUT/configure.log"; exit 1; }
   cmake --build build-device > "$OUT/build.log" 2>&1 || { grep -E "error|FAILED" "$OUT/build.log" | head -30; exit 1; }
@@ -40,6 +43,11 @@ OPENCV_TEST_DATA_PATH=testdata $B/opencv_test_lidarsgm --gtest_filter="${1:-*CUD
 if [ "${PY:-OFF}" = ON ]; then
   PYTHONPATH=$CACHE/build-cuda90/python_loader:$SRC/opencv/modules/python/test OPENCV_PYTEST_LIDARSGM_DATA=$PWD/testdata \
     python3 -m unittest discover -v -s modules/lidarsgm/misc/python/test -p "test_*.py" 2>&1 | tail -8
+  # The ROS 2 package's fusion on the GPU (no ROS there: plain messages) and its conversions' cost.
+  PYTHONPATH=$CACHE/build-cuda90/python_loader LIDARSGM_TESTDATA=$PWD/testdata \
+    python3 -m unittest discover -v -s test/ros2 -p "test_conversions.py" 2>&1 | grep -E "cuda|^Ran|^OK|FAIL|Error"
+  PYTHONPATH=$CACHE/build-cuda90/python_loader python3 tools/ros2_latency.py --cuda --node-frames 0
+  PYTHONPATH=$CACHE/build-cuda90/python_loader python3 tools/ros2_latency.py --node-frames 0 --threads 16
 fi
 grep -E "^\[  FAILED|^\[  PASSED|^\[     SKIP|Failure" "$OUT/tests.log" | sort | uniq -c | head -40
 for id in 000002 000046; do

@@ -18,9 +18,9 @@ mkdir -p .device
 # machinery; the 3rdparty libraries that the build list pulls in.
 paths=()
 if [ "${VERSION%%.*}" -ge 5 ]; then
-  mods="core imgproc imgcodecs stereo geometry flann ts videoio highgui python"   # 5.x: ts needs videoio, highgui
+  mods="core imgproc imgcodecs stereo geometry flann ts videoio highgui python"   # ts needs videoio, highgui
 else
-  mods="core imgproc imgcodecs calib3d features2d flann ts python"
+  mods="core imgproc imgcodecs calib3d features2d flann ts videoio highgui python"   # ts needs videoio, highgui
 fi
 for m in $mods; do paths+=("$TOP/opencv/modules/$m"); done
 for m in cudev cudastereo; do paths+=("$TOP/opencv_contrib/modules/$m"); done
@@ -37,3 +37,6 @@ tar -C "$CACHE/src" -cJf "$OUTF" \
     --exclude="$TOP/opencv/modules/*/misc/java" --exclude="$TOP/opencv/modules/*/misc/objc" \
     "${paths[@]}"
 ls -l "$OUTF"
+# tools/device_check.sh PY=ON builds the Python bindings there; their tests read PLY files with plyfile, which the
+# device's Python lacks: its wheel travels in .device/wheels.
+python3 -m pip download -q --no-deps plyfile==1.1.5 -d .device/wheels
