@@ -10,19 +10,7 @@
 # come with the package.
 cmake_minimum_required(VERSION 3.20)
 
-if(NOT PYTHON)
-  if(DEFINED ENV{VIRTUAL_ENV})
-    set(PYTHON "$ENV{VIRTUAL_ENV}/bin/python")
-  elseif(DEFINED ENV{CONDA_PREFIX})
-    set(PYTHON "$ENV{CONDA_PREFIX}/bin/python")
-  else()
-    message(FATAL_ERROR "lidarsgm: no Python environment to install into: activate one (python3 -m venv ENV && "
-                        ". ENV/bin/activate) and run this again, or pass -DPYTHON=<its python>")
-  endif()
-endif()
-if(NOT EXISTS "${PYTHON}")
-  message(FATAL_ERROR "lidarsgm: ${PYTHON} does not exist")
-endif()
+include("${CMAKE_CURRENT_LIST_DIR}/active_python.cmake")
 
 function(py_query python code out)
   execute_process(COMMAND "${python}" -c "${code}" OUTPUT_VARIABLE _o RESULT_VARIABLE _rc

@@ -4,15 +4,8 @@
 #   cmake -DREQUIREMENTS=<repo>/ros2/requirements.txt -DPACKAGE=<repo>/ros2/lidarsgm_ros -DWORK=<scratch folder> \
 #         -P ros2_install.cmake
 cmake_minimum_required(VERSION 3.20)
-if(DEFINED ENV{VIRTUAL_ENV})
-  set(PYTHON "$ENV{VIRTUAL_ENV}/bin/python")
-elseif(DEFINED ENV{CONDA_PREFIX})
-  set(PYTHON "$ENV{CONDA_PREFIX}/bin/python")
-else()
-  message(FATAL_ERROR "lidarsgm: no Python environment to install into: activate one (python3 -m venv ENV && "
-                      ". ENV/bin/activate) and run this again")
-endif()
-message(STATUS "lidarsgm: installing ${REQUIREMENTS} and ${PACKAGE} into $ENV{VIRTUAL_ENV}$ENV{CONDA_PREFIX}")
+include("${CMAKE_CURRENT_LIST_DIR}/active_python.cmake")
+message(STATUS "lidarsgm: installing ${REQUIREMENTS} and ${PACKAGE} for ${PYTHON}")
 # setuptools writes build/ beside setup.py: build from a copy, so the checkout stays clean.
 set(_copy "${WORK}/lidarsgm_ros")
 file(REMOVE_RECURSE "${_copy}")
