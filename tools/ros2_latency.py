@@ -31,7 +31,7 @@ sys.path.insert(0, PACKAGE)
 from lidarsgm_ros import conversions as cr  # noqa: E402
 from lidarsgm_ros import kitti  # noqa: E402
 from lidarsgm_ros.fusion import Fusion, Result  # noqa: E402
-from lidarsgm_ros.messages import MessageKit  # noqa: E402
+from lidarsgm_ros.messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class, stamp_ns  # noqa
 
 try:
     import rclpy
@@ -75,11 +75,7 @@ def in_process(args):
             else:
                 disp = fusion.sgm.compute(grey_l, grey_r, sparse)
             t3 = time.perf_counter()
-            d, window, depth, records = fusion.outputs(Result(disp, None, g, bgr, sparse), "32FC1", kit.alloc)
-            header = kit.header(10**9, "camera")
-            kit.disparity(header, d, g.fx, g.baseline, 0, fusion.sgm.getNumDisparities(), window)
-            kit.image(header, depth, "32FC1")
-            kit.organised_cloud(header, records)
+            output_messages(kit, fusion, Result(disp, None, g, bgr, sparse), "camera", 10**9, "32FC1")
             t4 = time.perf_counter()
             if r == 0:
                 continue  # warm-up
@@ -94,8 +90,6 @@ def in_process(args):
 
 
 def node_rate(args):
-    from sensor_msgs.msg import CameraInfo, Image, PointCloud2
-    from stereo_msgs.msg import DisparityImage
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     os.environ["FASTDDS_DEFAULT_PROFILES_FILE"] = os.path.join(PACKAGE, "config", "fastdds_large_data.xml")
     os.environ.setdefault("ROS_DOMAIN_ID", "77")
@@ -115,12 +109,10 @@ def node_rate(args):
                                  stdout=log, stderr=subprocess.STDOUT, env=env)
     rclpy.init()
     node = rclpy.create_node("latency_replay")
-    types = {"left/image_rect": Image, "right/image_rect": Image, "left/camera_info": CameraInfo,
-             "right/camera_info": CameraInfo, "points": PointCloud2}
-    pubs = {k: node.create_publisher(v, k, 10) for k, v in types.items()}
+    pubs = {k: node.create_publisher(rclpy_class(v), k, 10) for k, v in INPUT_TYPES.items()}
     sent, got = {}, {}
-    node.create_subscription(DisparityImage, "disparity", lambda msg: got.setdefault(
-        msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec, time.perf_counter()), 10)
+    node.create_subscription(rclpy_class(OUTPUT_TYPES["disparity"]), "disparity",
+                             lambda msg: got.setdefault(stamp_ns(msg), time.perf_counter()), 10)
     end = time.monotonic() + 60
     while time.monotonic() < end and not all(p.get_subscription_count() for p in pubs.values()):
         rclpy.spin_once(node, timeout_sec=0.05)

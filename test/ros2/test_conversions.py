@@ -176,6 +176,12 @@ class Transforms(unittest.TestCase):
             cr.chain_transform(edges, "velodyne", "map")
 
 
+def pack_rgb(bgr):
+    """Colours (..., 3 uint8 BGR) packed as PCL and RViz read them: the bits of 0x00RRGGBB as float32."""
+    bgr = bgr.astype(np.uint32)
+    return ((bgr[..., 2] << 16) | (bgr[..., 1] << 8) | bgr[..., 0]).view(np.float32)
+
+
 class Outputs(unittest.TestCase):
     def test_disparity_depth_points(self):
         d16 = np.array([[-16, 0, 16], [160, 17, -16]], np.int16)
@@ -197,7 +203,7 @@ class Outputs(unittest.TestCase):
 
     def test_packed_colour(self):
         bgr = np.array([[[1, 2, 3]]], np.uint8)
-        packed = cr.pack_rgb(bgr).view(np.uint32)
+        packed = pack_rgb(bgr).view(np.uint32)
         self.assertEqual(int(packed[0, 0]), 0x030201)
         rng = np.random.default_rng(3)
         bgr = rng.integers(0, 256, (5, 7, 3), dtype=np.uint8)
@@ -206,8 +212,8 @@ class Outputs(unittest.TestCase):
         rec = cr.point_cloud_array(pts, bgr, cv2)
         self.assertEqual((rec.shape, rec.dtype), ((5, 7, 4), np.float32))
         np.testing.assert_array_equal(rec[..., :3], pts)
-        np.testing.assert_array_equal(rec[..., 3].view(np.uint32), cr.pack_rgb(bgr).view(np.uint32))
-        self.assertEqual(struct.unpack("<I", cr.pack_rgb(bgr)[0, 0].tobytes())[0],
+        np.testing.assert_array_equal(rec[..., 3].view(np.uint32), pack_rgb(bgr).view(np.uint32))
+        self.assertEqual(struct.unpack("<I", pack_rgb(bgr)[0, 0].tobytes())[0],
                          (int(bgr[0, 0, 2]) << 16) | (int(bgr[0, 0, 1]) << 8) | int(bgr[0, 0, 0]))
 
 

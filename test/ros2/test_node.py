@@ -32,11 +32,9 @@ os.environ["ROS_DOMAIN_ID"] = os.environ.get("LIDARSGM_ROS_DOMAIN_ID", str(rando
 import rclpy  # noqa: E402
 from rcl_interfaces.srv import GetParameters, SetParameters  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
-from sensor_msgs.msg import CameraInfo, Image, PointCloud2  # noqa: E402
-from stereo_msgs.msg import DisparityImage  # noqa: E402
 
 from lidarsgm_ros import kitti  # noqa: E402
-from lidarsgm_ros.messages import MessageKit  # noqa: E402
+from lidarsgm_ros.messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, rclpy_class, stamp_ns  # noqa: E402
 
 TESTDATA = os.environ["LIDARSGM_TESTDATA"]
 TOOL = os.environ["LIDARSGM_TOOL"]
@@ -44,9 +42,6 @@ PARAMS = os.path.join(HERE, "..", "..", "doc", "params", "kitti_best.yml")
 CONFIG = os.path.join(PACKAGE, "config", "lidarsgm.yaml")
 FRAMES = ("000002", "000046")
 KITTI = os.path.join(TESTDATA, "kitti")
-TYPES = {"left/image_rect": Image, "right/image_rect": Image, "left/camera_info": CameraInfo,
-         "right/camera_info": CameraInfo, "points": PointCloud2}
-
 
 def wait_for(node, condition, seconds, what):
     end = time.monotonic() + seconds
@@ -82,12 +77,12 @@ class NodeTest(unittest.TestCase):
                      PYTHONUNBUFFERED="1", RCUTILS_LOGGING_BUFFERED_STREAM="0"))
         rclpy.init()
         cls.node = rclpy.create_node("kitti_replay")
-        cls.pubs = {topic: cls.node.create_publisher(t, topic, 10) for topic, t in TYPES.items()}
-        cls.got = {"disparity": {}, "depth": {}, "points2": {}, "confidence": {}}  # topic -> {stamp: message}
-        for topic, t in (("disparity", DisparityImage), ("depth", Image), ("points2", PointCloud2),
-                         ("confidence", Image)):
-            cls.node.create_subscription(t, topic, lambda m, topic=topic: cls.got[topic].__setitem__(
-                m.header.stamp.sec * 10**9 + m.header.stamp.nanosec, m), 10)
+        cls.pubs = {topic: cls.node.create_publisher(rclpy_class(t), topic, 10)
+                    for topic, t in INPUT_TYPES.items()}
+        cls.got = {topic: {} for topic in OUTPUT_TYPES}  # topic -> {stamp: message}
+        for topic, t in OUTPUT_TYPES.items():
+            cls.node.create_subscription(rclpy_class(t), topic, lambda m, topic=topic: cls.got[topic].__setitem__(
+                stamp_ns(m), m), 10)
         cls.kit = MessageKit.rclpy()
         wait_for(cls.node, lambda: all(p.get_subscription_count() for p in cls.pubs.values()), 60,
                  "the node's subscriptions")

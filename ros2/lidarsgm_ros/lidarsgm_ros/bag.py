@@ -18,20 +18,13 @@ import sys
 import time
 
 import cv2
-import numpy as np
 
 from .conversions import ConversionError, chain_transform, transform_matrix
 from .fusion import MATCHER_PARAMETERS, Fusion
-from .messages import MessageKit
+from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, stamp_ns
 from .sync import ApproximateSync, ExactSync
 
-INPUTS = ("left/image_rect", "left/camera_info", "right/image_rect", "right/camera_info", "points")
-OUTPUT_TYPES = {"disparity": "stereo_msgs/msg/DisparityImage", "depth": "sensor_msgs/msg/Image",
-                "points2": "sensor_msgs/msg/PointCloud2", "confidence": "sensor_msgs/msg/Image"}
-
-
-def stamp_ns(msg):
-    return int(msg.header.stamp.sec) * 1000000000 + int(msg.header.stamp.nanosec)
+INPUTS = tuple(INPUT_TYPES)
 
 
 def parse_args(argv):
@@ -164,8 +157,8 @@ def main(argv=None):
             return 1
         tf_edges = None if fusion.lidar_to_camera is not None else static_transforms(reader)
         index = {args.topics[n]: i for i, n in enumerate(INPUTS)}
-        sync = ApproximateSync(5, args.queue_size, int(args.tolerance * 1e9)) if args.approximate_sync \
-            else ExactSync(5, args.queue_size)
+        sync = ApproximateSync(len(INPUTS), args.queue_size, int(args.tolerance * 1e9)) if args.approximate_sync \
+            else ExactSync(len(INPUTS), args.queue_size)
         total = by_topic[args.topics["left/image_rect"]].msgcount
         ns = args.namespace.rstrip("/")
         try:
@@ -192,20 +185,12 @@ def main(argv=None):
                     fusion.set_lidar_to_camera(chain_transform(tf_edges, cloud.header.frame_id,
                                                                left.header.frame_id or left_info.header.frame_id))
                 result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence)
-                disp, window, depth, records = fusion.outputs(result, args.depth_encoding, kit.alloc)
+                out = output_messages(kit, fusion, result, left.header.frame_id, stamp_ns(left), args.depth_encoding)
             except (ConversionError, ValueError) as e:
                 counts["skipped"] += 1
                 print("set %d of ~%d (stamp %d.%09d) skipped: %s" % (number + 1, total, stamp // 1000000000,
                                                                      stamp % 1000000000, e))
                 return
-            g, sgm = result.geometry, fusion.sgm
-            header = kit.header(stamp_ns(left), left.header.frame_id or g.frame_id)
-            out = [("disparity", kit.disparity(header, disp, g.fx, g.baseline, sgm.getMinDisparity(),
-                                               sgm.getNumDisparities(), window)),
-                   ("depth", kit.image(header, depth, args.depth_encoding)),
-                   ("points2", kit.organised_cloud(header, records))]
-            if args.confidence:
-                out.append(("confidence", kit.image(header, result.confidence, "32FC1")))
             items = [(ns + "/" + name, OUTPUT_TYPES[name], stamp_ns(left),
                       typestore.serialize_cdr(m, OUTPUT_TYPES[name])) for name, m in out]
             if args.with_inputs:
@@ -221,8 +206,7 @@ def main(argv=None):
             for stamp, msgs in sync.add(index[conn.topic], stamp_ns(msg), msg):
                 process(stamp, msgs)
             # Keep the raw bytes of the messages still waiting for a set only.
-            live = set(id(m) for q in getattr(sync, "queues", []) for _, m in q)
-            live |= set(id(m) for slot in getattr(sync, "pending", {}).values() for m in slot if m is not None)
+            live = set(id(m) for m in sync.held())
             raw_of = {key: v for key, v in raw_of.items() if key in live}
         for stamp, msgs in sync.finish():
             process(stamp, msgs)

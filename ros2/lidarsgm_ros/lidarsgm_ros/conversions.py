@@ -9,9 +9,9 @@ from collections import namedtuple
 
 import numpy as np
 
-__all__ = ["ConversionError", "StereoGeometry", "stereo_geometry", "image_to_array", "to_grey", "cloud_fields",
-           "cloud_to_points", "transform_matrix", "rotation_quaternion", "chain_transform", "disparity_image", "valid_window",
-           "depth_image", "point_cloud_array", "pack_rgb", "INVALID_DEPTH_MM"]
+__all__ = ["ConversionError", "StereoGeometry", "stereo_geometry", "image_to_array", "to_grey", "to_bgr",
+           "cloud_fields", "cloud_to_points", "transform_matrix", "rotation_quaternion", "chain_transform",
+           "disparity_image", "valid_window", "depth_image", "point_cloud_array", "POINT_FIELDS", "INVALID_DEPTH_MM"]
 
 
 class ConversionError(ValueError):
@@ -120,7 +120,7 @@ def to_grey(msg, cv2):
 def to_bgr(msg, cv2):
     """The image as 8-bit BGR, for the point cloud's colour (grey and 16-bit images are scaled and replicated)."""
     a = image_to_array(msg)
-    if msg.encoding in ("bgr8",):
+    if msg.encoding == "bgr8":
         return a
     if msg.encoding == "rgb8":
         return cv2.cvtColor(a, cv2.COLOR_RGB2BGR)
@@ -325,12 +325,6 @@ def depth_image(depth_m, encoding, out=None):
     raise ConversionError("depth encoding must be 32FC1 (metres) or 16UC1 (millimetres), not '%s'" % encoding)
 
 
-def pack_rgb(bgr):
-    """Colours (..., 3 uint8 BGR) packed as PCL and RViz read them: the bits of 0x00RRGGBB as float32."""
-    bgr = bgr.astype(np.uint32)
-    return ((bgr[..., 2] << 16) | (bgr[..., 1] << 8) | bgr[..., 0]).view(np.float32)
-
-
 POINT_FIELDS = (("x", 0), ("y", 4), ("z", 8), ("rgb", 12))  # all float32 (datatype 7), point step 16
 
 
@@ -339,7 +333,7 @@ def point_cloud_array(points, bgr, cv2, out=None):
     cv2.lidarsgm.disparityToPoints's H x W x 3 points (NaN = invalid) and the left image in BGR."""
     if points.shape[:2] != bgr.shape[:2]:
         raise ConversionError("points are %s, the colour image %s" % (points.shape[:2], bgr.shape[:2]))
-    # The rgb float's little-endian bytes are B, G, R, 0 (pack_rgb's value): BGRA with the alpha cleared, merged
-    # with the points by OpenCV in one pass.
+    # PCL's and RViz's packed rgb is the float with the bits 0x00RRGGBB, whose little-endian bytes are B, G, R, 0:
+    # BGRA with the alpha cleared, merged with the points by OpenCV in one pass.
     bgra = cv2.bitwise_and(cv2.cvtColor(bgr, cv2.COLOR_BGR2BGRA), (255, 255, 255, 0))
     return cv2.merge([points, bgra.view(np.float32)], out)

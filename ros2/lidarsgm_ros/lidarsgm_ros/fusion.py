@@ -11,7 +11,7 @@ import numpy as np
 from . import conversions as cv_ros
 from .conversions import ConversionError
 
-MODES = {"sgm": 0, "dsgm": 1, "sdsgm": 2}
+MODES = ("sgm", "dsgm", "sdsgm")  # the mode parameter's values: StereoLidarSGM_MODE_SGM, _DSGM, _SDSGM
 
 # The node's parameters that set the matcher: ROS name -> (matcher property, Python type). The first six carry
 # stereo_image_proc's DisparityNode names.
@@ -57,14 +57,13 @@ class Fusion:
         self.use_cuda = False
         self.set_use_cuda(use_cuda)
         self.lidar_to_camera = None
-        self._points = None  # disparityToPoints' output, reused from frame to frame
         if lidar_to_camera is not None:
             self.set_lidar_to_camera(lidar_to_camera)
 
     # -- settings: each change is tried on a copy first, so a refused value leaves the matcher as it was
     def value(self, name):
         if name == "mode":
-            return {v: k for k, v in MODES.items()}[self.sgm.getMode()]
+            return next(m for m in MODES if self._mode(m) == self.sgm.getMode())
         prop, typ = MATCHER_PARAMETERS[name]
         return typ(getattr(self.sgm, "get" + prop)())
 
@@ -76,7 +75,7 @@ class Fusion:
             if name == "mode":
                 if value not in MODES:
                     raise ValueError("mode must be one of %s, not '%s'" % (", ".join(MODES), value))
-                trial.setMode(MODES[value])
+                trial.setMode(self._mode(value))
             else:
                 prop, typ = MATCHER_PARAMETERS[name]
                 getattr(trial, "set" + prop)(typ(value))
@@ -84,6 +83,9 @@ class Fusion:
         except cv2.error as e:
             raise ValueError(cv_message(cv2, e))
         self.sgm = trial
+
+    def _mode(self, name):
+        return getattr(self.cv2.lidarsgm, "StereoLidarSGM_MODE_" + name.upper())
 
     def set_use_cuda(self, on):
         if on and self.cv2.cuda.getCudaEnabledDeviceCount() < 1:  # -1: no driver
@@ -169,8 +171,6 @@ class Fusion:
             depth = cv_ros.depth_image(cv2.lidarsgm.disparityToDepth(d16, g.focal_baseline, minDisparity=mind),
                                        depth_encoding, alloc((h, w), np.uint16, "depth"))
         q = cv2.lidarsgm.reprojectionMatrix(g.projection, g.focal_baseline)
-        if self._points is None or self._points.shape[:2] != (h, w):
-            self._points = np.empty((h, w, 3), np.float32)
-        points = cv2.lidarsgm.disparityToPoints(d16, q, self._points, minDisparity=mind)
+        points = cv2.lidarsgm.disparityToPoints(d16, q, alloc((h, w, 3), np.float32, "points"), minDisparity=mind)
         return disp, window, depth, cv_ros.point_cloud_array(points, result.left_bgr, cv2,
                                                               alloc((h, w, 4), np.float32, "points2"))

@@ -11,7 +11,7 @@ import sys
 
 import numpy as np
 
-from .messages import MessageKit
+from .messages import INPUT_TYPES, MessageKit
 
 LEFT_FRAME = "camera_left_optical"
 LIDAR_FRAME = "velodyne"
@@ -87,11 +87,8 @@ def write_bag(kitti_dir, out, storage="mcap", ids=None, period_ns=100000000, nam
     kit = MessageKit.rosbags(ts)
     ids = ids or cv2.lidarsgm.readKittiFrameIds(kitti_dir)
     plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
-    types = {"left/image_rect": "sensor_msgs/msg/Image", "right/image_rect": "sensor_msgs/msg/Image",
-             "left/camera_info": "sensor_msgs/msg/CameraInfo", "right/camera_info": "sensor_msgs/msg/CameraInfo",
-             "points": "sensor_msgs/msg/PointCloud2"}
     with Writer(out, version=9, storage_plugin=plugin) as writer:
-        conns = {n: writer.add_connection(namespace.rstrip("/") + "/" + n, t, typestore=ts) for n, t in types.items()}
+        conns = {n: writer.add_connection(namespace.rstrip("/") + "/" + n, t, typestore=ts) for n, t in INPUT_TYPES.items()}
         tf_conn = writer.add_connection("/tf_static", "tf2_msgs/msg/TFMessage", typestore=ts)
         for i, fid in enumerate(ids):
             frame = cv2.lidarsgm.loadKittiFrame(kitti_dir, fid)
@@ -112,7 +109,7 @@ def write_bag(kitti_dir, out, storage="mcap", ids=None, period_ns=100000000, nam
                 if name == "points" and lidar_offset_ns:
                     t += lidar_offset_ns
                     msg.header.stamp = kit.time(t)
-                writer.write(conns[name], t, ts.serialize_cdr(msg, types[name]))
+                writer.write(conns[name], t, ts.serialize_cdr(msg, INPUT_TYPES[name]))
     return len(ids)
 
 

@@ -5,13 +5,46 @@ uint8 arrays as array.array (checked element by element otherwise, seconds per i
 numpy arrays and every field.
 """
 import array
+import importlib
 
 import numpy as np
 
 from .conversions import POINT_FIELDS
 
 FLOAT32 = 7  # sensor_msgs/PointField.FLOAT32
-UINT8 = 2
+
+# The node's inputs and outputs, in the order the synchroniser and the fusion take them: topic -> message type.
+INPUT_TYPES = {"left/image_rect": "sensor_msgs/msg/Image", "left/camera_info": "sensor_msgs/msg/CameraInfo",
+               "right/image_rect": "sensor_msgs/msg/Image", "right/camera_info": "sensor_msgs/msg/CameraInfo",
+               "points": "sensor_msgs/msg/PointCloud2"}
+OUTPUT_TYPES = {"disparity": "stereo_msgs/msg/DisparityImage", "depth": "sensor_msgs/msg/Image",
+                "points2": "sensor_msgs/msg/PointCloud2", "confidence": "sensor_msgs/msg/Image"}
+
+
+def rclpy_class(type_name):
+    """rclpy's generated class of a type name such as sensor_msgs/msg/Image."""
+    pkg, _, typ = type_name.split("/")
+    return getattr(importlib.import_module(pkg + ".msg"), typ)
+
+
+def stamp_ns(msg):
+    """A message's header stamp in nanoseconds."""
+    return int(msg.header.stamp.sec) * 1000000000 + int(msg.header.stamp.nanosec)
+
+
+def output_messages(kit, fusion, result, header_frame, stamp, depth_encoding):
+    """[(output topic, message)] of one fused set: disparity, depth, points2, and confidence where the Result has
+    it; the arrays come from kit.alloc, so the messages must go out before the next call."""
+    disp, window, depth, records = fusion.outputs(result, depth_encoding, kit.alloc)
+    g, sgm = result.geometry, fusion.sgm
+    header = kit.header(stamp, header_frame or g.frame_id)
+    out = [("disparity", kit.disparity(header, disp, g.fx, g.baseline, sgm.getMinDisparity(),
+                                       sgm.getNumDisparities(), window)),
+           ("depth", kit.image(header, depth, depth_encoding)),
+           ("points2", kit.organised_cloud(header, records))]
+    if result.confidence is not None:
+        out.append(("confidence", kit.image(header, result.confidence, "32FC1")))
+    return out
 
 
 class MessageKit:
@@ -36,19 +69,17 @@ class MessageKit:
 
     @classmethod
     def rclpy(cls):
-        import importlib
-
         def new(type_name, **fields):
-            pkg, _, typ = type_name.split("/")
             # The generated constructors copy an array.array field (array.array('B', value)), and so do the setters
             # unless the message checks its fields, when they keep an array.array of type 'B' as it is.
             arrays = {k: fields.pop(k) for k in [k for k, v in fields.items() if isinstance(v, array.array)]}
             if arrays:
                 fields["check_fields"] = True
-            msg = getattr(importlib.import_module(pkg + ".msg"), typ)(**fields)
+            msg = rclpy_class(type_name)(**fields)
             for k, v in arrays.items():
                 setattr(msg, k, v)
             return msg
+
         def alloc(shape, dtype):  # a numpy view of an array.array the message can keep
             buf = array.array("B", [0]) * (int(np.prod(shape)) * np.dtype(dtype).itemsize)
             return np.frombuffer(buf, dtype).reshape(shape)

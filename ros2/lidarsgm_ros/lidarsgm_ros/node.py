@@ -21,20 +21,11 @@ from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, qos_profile_sensor_data
-from sensor_msgs.msg import CameraInfo, Image, PointCloud2
-from stereo_msgs.msg import DisparityImage
 
 from .conversions import ConversionError
 from .fusion import MATCHER_PARAMETERS, Fusion
-from .messages import MessageKit
+from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class, stamp_ns
 from .sync import ApproximateSync, ExactSync
-
-INPUTS = (("left/image_rect", Image), ("left/camera_info", CameraInfo), ("right/image_rect", Image),
-          ("right/camera_info", CameraInfo), ("points", PointCloud2))
-
-
-def stamp_ns(msg):
-    return msg.header.stamp.sec * 1000000000 + msg.header.stamp.nanosec
 
 
 class StereoLidarNode(Node):
@@ -52,25 +43,24 @@ class StereoLidarNode(Node):
         approx = self.get_parameter("approximate_sync").value
         queue = self.get_parameter("queue_size").value
         tol = self.get_parameter("approximate_sync_tolerance_seconds").value
-        self.sync = ApproximateSync(len(INPUTS), queue, int(tol * 1e9)) if approx else ExactSync(len(INPUTS), queue)
+        n = len(INPUT_TYPES)
+        self.sync = ApproximateSync(n, queue, int(tol * 1e9)) if approx else ExactSync(n, queue)
         qos = QoSProfile(depth=queue) if self.get_parameter("use_system_default_qos").value \
             else qos_profile_sensor_data
-        self.subs = [self.create_subscription(t, topic, self._callback(i), qos) for i, (topic, t) in enumerate(INPUTS)]
-        self.pub_disparity = self.create_publisher(DisparityImage, "disparity", 1)
-        self.pub_depth = self.create_publisher(Image, "depth", 1)
-        self.pub_points = self.create_publisher(PointCloud2, "points2", 1)
-        self.pub_confidence = self.create_publisher(Image, "confidence", 1)
+        self.subs = [self.create_subscription(rclpy_class(t), topic, self._callback(i), qos)
+                     for i, (topic, t) in enumerate(INPUT_TYPES.items())]
+        self.pubs = {topic: self.create_publisher(rclpy_class(t), topic, 1) for topic, t in OUTPUT_TYPES.items()}
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
         self.busy = 0.0  # seconds spent fusing and publishing
         # Messages that never make a set (a camera_info not published, stamps that never match) leave the node
         # silent: say so, with what arrived.
-        self.received = [0] * len(INPUTS)
+        self.received = [0] * n
         self.waiting = 0                        # messages received since the last complete set
         self.quiet_since = self._now()          # the last complete set, or the last warning
         self.create_timer(self.get_parameter("sync_warning_seconds").value / 4, self._check_sync)
         self.get_logger().info("fusing %s with %s sync (queue %d)"
-                               % (", ".join(t for t, _ in INPUTS), "approximate" if approx else "exact", queue))
+                               % (", ".join(INPUT_TYPES), "approximate" if approx else "exact", queue))
 
     # -- parameters
     def _declare(self):
@@ -155,7 +145,7 @@ class StereoLidarNode(Node):
             self.get_logger().warning(
                 "no complete set of inputs for %.0f s; received so far: %s (%s sync: %s)"
                 % (period,
-                   ", ".join("%s %d" % (t, n) for (t, _), n in zip(INPUTS, self.received)),
+                   ", ".join("%s %d" % (t, n) for t, n in zip(INPUT_TYPES, self.received)),
                    "approximate" if isinstance(self.sync, ApproximateSync) else "exact",
                    "check the stamps and the tolerance" if isinstance(self.sync, ApproximateSync)
                    else "every input needs the same stamp; approximate_sync takes the nearest"))
@@ -170,26 +160,19 @@ class StereoLidarNode(Node):
         return on_message
 
     def _fuse(self, stamp, msgs):
-        left, left_info, right, right_info, cloud = msgs
-        want_conf = self.get_parameter("publish_confidence").value
+        left = msgs[0]
         t0 = time.perf_counter()
         try:
-            result = self.fusion.fuse(left, left_info, right, right_info, cloud, confidence=want_conf)
-            disp, window, depth, records = self.fusion.outputs(result, self.get_parameter("depth_encoding").value,
-                                                               self.kit.alloc)
+            result = self.fusion.fuse(*msgs, confidence=self.get_parameter("publish_confidence").value)
+            out = output_messages(self.kit, self.fusion, result, left.header.frame_id, stamp_ns(left),
+                                  self.get_parameter("depth_encoding").value)
         except ConversionError as e:
             self.skipped += 1
             self.get_logger().warning("frame at %d.%09d skipped: %s (%d skipped, %d fused)"
                                       % (stamp // 1000000000, stamp % 1000000000, e, self.skipped, self.fused))
             return
-        g, sgm = result.geometry, self.fusion.sgm
-        header = self.kit.header(stamp_ns(left), left.header.frame_id or g.frame_id)
-        self.pub_disparity.publish(self.kit.disparity(header, disp, g.fx, g.baseline, sgm.getMinDisparity(),
-                                                      sgm.getNumDisparities(), window))
-        self.pub_depth.publish(self.kit.image(header, depth, self.get_parameter("depth_encoding").value))
-        self.pub_points.publish(self.kit.organised_cloud(header, records))
-        if want_conf:
-            self.pub_confidence.publish(self.kit.image(header, result.confidence, "32FC1"))
+        for topic, msg in out:
+            self.pubs[topic].publish(msg)
         self.fused += 1
         self.busy += time.perf_counter() - t0
         if self.sync.dropped > self.reported_drops:

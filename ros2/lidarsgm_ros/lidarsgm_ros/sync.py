@@ -28,6 +28,10 @@ class ExactSync:
             self.dropped += 1
         return out
 
+    def held(self):
+        """The messages waiting for a set."""
+        return [m for slot in self.pending.values() for m in slot if m is not None]
+
     def finish(self):
         """At the end of the input: the sets still incomplete count as dropped (none can complete)."""
         self.dropped += len(self.pending)
@@ -85,6 +89,10 @@ class ApproximateSync:
                     qq.popleft()
                 self.dropped += k
         return out
+
+    def held(self):
+        """The messages waiting for a set."""
+        return [m for q in self.queues for _, m in q]
 
     def finish(self):
         """At the end of the input (no message will follow): the sets still to be had, and the messages left over
