@@ -74,6 +74,16 @@ PERF_TEST_P(Lidarsgm_KITTI_StereoSGBM, opencv_StereoSGBM_128, SgbmMode::all())
     SANITY_CHECK_NOTHING();
 }
 
+// The per-frame calibration check; compare with Lidarsgm_KITTI.compute at 1242x375 (the fusion call it rides along).
+PERF_TEST(Lidarsgm_KITTI, matchingResidual)
+{
+    const KittiInput& in = kittiFrame();
+    double r = 0;
+    TEST_CYCLE() r = cv::lidarsgm::matchingResidual(in.left, in.right, in.sparse);
+    EXPECT_GT(r, 0.0);
+    SANITY_CHECK_NOTHING();
+}
+
 PERF_TEST(Lidarsgm_KITTI, projectPointsToDisparity)
 {
     const std::string dir = cvtest::findDataDirectory("kitti");

@@ -22,7 +22,6 @@ struct Level { double sigma, c; int stride; };
 const Level kLevels[] = { { 8, 4, 4 }, { 4, 2, 4 }, { 2, 1, 2 }, { 1, 1, 1 } };
 const int kMaxIterations = 20;         // Gauss-Newton steps per level, at most
 const double kStepTolerance = 1e-5;    // radians (and metres): a level ends when every step is below this (6e-4 deg)
-const int kMinPoints = 200;            // fewer points with a stereo disparity: the data cannot tell
 const double kMaxStdDeg = 0.1;         // a larger standard error on any angle: refused as not told by the data
 const double kMaxCorrectionDeg = 5;    // beyond this the linearised steps and the basin do not hold
 const int kJackknifeStrips = 8;        // groups of a jackknife over fewer than four frames
@@ -246,11 +245,11 @@ public:
             {
                 std::vector<Sums> sums;
                 used = frameSums(levelPts, maps, p, speed, n, L.c, false, sums);
-                if (used * L.stride < kMinPoints)
+                if (used * L.stride < detail::kMinCalibrationPoints)
                     CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: only %d LiDAR points land on "
                                                 "a stereo disparity (at least %d needed): the data cannot tell the "
                                                 "calibration (textureless or dark images, an empty scan, or a "
-                                                "transform far off)", used * L.stride, kMinPoints));
+                                                "transform far off)", used * L.stride, detail::kMinCalibrationPoints));
                 Matx44d A;
                 Vec4d g;
                 for (const Sums& s : sums)
@@ -406,10 +405,10 @@ private:
         for (size_t fi = 0; fi < frames_.size(); fi++)
             residuals(pts[fi], frames_[fi].disp, m, speed[fi],
                       [&](int, double e, double) { r.push_back((float)std::abs(e)); });
-        if (r.size() < (size_t)kMinPoints)
+        if (r.size() < (size_t)detail::kMinCalibrationPoints)
             CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration: only %d LiDAR points land on a stereo "
                                         "disparity (at least %d needed: textureless or dark images, an empty scan, "
-                                        "or a wrong transform or projection)", (int)r.size(), kMinPoints));
+                                        "or a wrong transform or projection)", (int)r.size(), detail::kMinCalibrationPoints));
         std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
         return r[r.size() / 2];
     }

@@ -1,8 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// The checks of the LiDAR inputs (src/projection.cpp), shared by the projection and the calibration refinement
-// (src/calibration.cpp).
+// The checks of the inputs, shared by the matcher (src/stereo_lidar_sgm.cpp), the projection (src/projection.cpp) and
+// the calibration (src/calibration.cpp).
 
 #ifndef OPENCV_LIDARSGM_PROJECTION_HPP
 #define OPENCV_LIDARSGM_PROJECTION_HPP
@@ -10,6 +10,9 @@
 #include "opencv2/core.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
+
+//! The fewest LiDAR points that can tell a calibration (LidarCalibration, matchingResidual): below, they refuse.
+const int kMinCalibrationPoints = 200;
 
 //! A 3x4, or 4x4 with last row [0 0 0 1], single-channel CV_32F / CV_64F matrix with finite entries, as Matx34d;
 //! raises cv::Exception naming `name` otherwise.
@@ -21,6 +24,12 @@ void checkRigidTransform(const Matx34d& T);
 //! Number of points and floats per point of an N x 3 / N x 4 (or N x 1 / 1 x N with 3 or 4 channels) CV_32F array;
 //! n = stride = 0 when empty. Raises cv::Exception for any other layout.
 void pointLayout(int rows, int cols, int channels, int depth, bool empty, int& n, int& stride);
+
+/** The image and sparse-map checks of compute() and semidensify() (src/stereo_lidar_sgm.cpp), for Mat and GpuMat
+alike; needer names the call that needs the sparse map where needSparse. Returns whether the inputs are on the GPU
+(then all of them, and out too, must be GpuMats). */
+bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArray out, bool needSparse,
+                 const char* needer);
 
 }}} // namespace cv::lidarsgm::detail
 

@@ -6,6 +6,7 @@
 
 #include "precomp.hpp"
 #include "pipeline.hpp"
+#include "projection.hpp"
 
 namespace cv { namespace lidarsgm {
 
@@ -74,8 +75,10 @@ const char* modeName(int mode)
     return mode == StereoLidarSGM::MODE_SGM ? "MODE_SGM" : mode == StereoLidarSGM::MODE_DSGM ? "MODE_DSGM" : "MODE_SDSGM";
 }
 
-/** The input checks of compute() and semidensify(), for Mat and GpuMat alike. Returns whether the inputs are on the
-GPU (then all of them, and the output too, must be GpuMats). */
+} // namespace
+
+namespace detail {
+
 bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArray out, bool needSparse,
                  const char* needer)
 {
@@ -121,7 +124,7 @@ bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArr
     return gpu;
 }
 
-} // namespace
+} // namespace detail
 
 class StereoLidarSGMImpl CV_FINAL : public StereoLidarSGM
 {
@@ -257,7 +260,7 @@ private:
         const bool needSparse = semidenseOnly || p.ddc || p.lidarCheck;
         const String needer = semidenseOnly ? String("semidensify")
                                             : format("%s with consistency check %d", modeName(mode_), consistencyCheck_);
-        const bool gpu = checkInputs(left, right, sparse, out, needSparse, needer.c_str());
+        const bool gpu = detail::checkInputs(left, right, sparse, out, needSparse, needer.c_str());
         if (p.confidence && gpu != (confidence.kind() == _InputArray::CUDA_GPU_MAT))
             CV_Error(Error::StsBadArg, gpu ? "lidarsgm: the CUDA path writes the confidence to a cv::cuda::GpuMat; "
                                              "pass one"

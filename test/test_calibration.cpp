@@ -143,6 +143,93 @@ TEST(Lidarsgm_Calibration, refuses_what_the_data_cannot_tell)
     EXPECT_EQ(0, cal->getNumFrames());
 }
 
+//! A textured pair whose right image is the left shifted by `shift` pixels (left x matches right x - shift).
+void shiftedPair(int shift, Mat& left, Mat& right)
+{
+    RNG rng(7);
+    Mat noise(120, 200, CV_8UC1);
+    rng.fill(noise, RNG::UNIFORM, 0, 256);
+    GaussianBlur(noise, left, Size(3, 3), 0.8);
+    right = Mat(left.size(), CV_8UC1, Scalar(0));
+    left.colRange(shift, left.cols).copyTo(right.colRange(0, left.cols - shift));
+}
+
+TEST(Lidarsgm_MatchingResidual, measures_the_offset_from_the_images)
+{
+    Mat left, right;
+    shiftedPair(20, left, right);
+    // Sparse values on every third pixel of every third row, away from the right image's blank border.
+    Mat sparse(left.size(), CV_32FC1, Scalar(0));
+    for (int y = 2; y < sparse.rows - 2; y += 3)
+        for (int x = 40; x < sparse.cols - 2; x += 3)
+            sparse.at<float>(y, x) = 20.f;
+    const double exact = cv::lidarsgm::matchingResidual(left, right, sparse);
+    EXPECT_LE(exact, 0.25);
+    // Off by 2 px and by 2.5 px: the residual says by how much. Off by 10 px, beyond the search radius of 6: the
+    // best match found is chance, some pixels away (about half the radius); a radius of 12 finds the true one.
+    Mat off2;
+    cv::add(sparse, 2, off2, sparse > 0);
+    EXPECT_NEAR(2.0, cv::lidarsgm::matchingResidual(left, right, off2), 0.25);
+    EXPECT_NEAR(2.5, cv::lidarsgm::matchingResidual(left, right, sparse * (22.5 / 20)), 0.3);
+    EXPECT_GE(cv::lidarsgm::matchingResidual(left, right, sparse * (30.0 / 20)), 2.0);
+    EXPECT_NEAR(10.0, cv::lidarsgm::matchingResidual(left, right, sparse * (30.0 / 20), 12), 0.25);
+    // The KITTI encoding gives the same values.
+    Mat sparse16;
+    sparse.convertTo(sparse16, CV_16U, 256);
+    EXPECT_EQ(exact, cv::lidarsgm::matchingResidual(left, right, sparse16));
+}
+
+TEST(Lidarsgm_MatchingResidual, rises_with_a_calibration_error)
+{
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    const cv::lidarsgm::KittiCalibration calib = cv::lidarsgm::readKittiCalibration(dir + "/calib.txt");
+    for (const std::string& id : cv::lidarsgm::readKittiFrameIds(dir))
+    {
+        const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(dir, id);
+        const Mat scan = cv::lidarsgm::readVelodyneScan(dir + "/velodyne/" + id + ".bin");
+        double r[3];
+        const double pitch[3] = { 0, 0.5, 1 };
+        for (int k = 0; k < 3; k++)
+        {
+            Mat sparse;
+            cv::lidarsgm::projectPointsToDisparity(scan, calib.projection,
+                                                   Mat(cameraMotion(pitch[k], 0, 0) * Matx44d(calib.lidarToCamera)),
+                                                   calib.focalBaseline, f.left.size(), sparse);
+            r[k] = cv::lidarsgm::matchingResidual(f.left, f.right, sparse);
+        }
+        EXPECT_LE(r[0], 1.0) << id;   // KITTI's calibration: not above the DDC's Q1 band, where the tool warns
+        EXPECT_GT(r[1], 1.0) << id;
+        EXPECT_GT(r[2], r[1]) << id;
+    }
+}
+
+TEST(Lidarsgm_MatchingResidual, refuses_what_the_images_cannot_tell)
+{
+    Mat left, right;
+    shiftedPair(20, left, right);
+    Mat sparse(left.size(), CV_32FC1, Scalar(0));
+    sparse.rowRange(10, 100).colRange(40, 190).setTo(20);
+    EXPECT_NO_THROW(cv::lidarsgm::matchingResidual(left, right, sparse));
+    // A flat grey pair: every cost is equal, nothing to compare.
+    const Mat grey(left.size(), CV_8UC1, Scalar(128));
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(grey, grey, sparse), cv::Exception);
+    // No sparse values, too few, or only values whose match leaves the right image.
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right, Mat::zeros(left.size(), CV_32FC1)), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right, Mat()), cv::Exception);
+    Mat few(left.size(), CV_32FC1, Scalar(0));
+    few.rowRange(10, 20).colRange(40, 59).setTo(20);   // 190 values
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right, few), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right, Mat(left.size(), CV_32FC1, Scalar(195))), cv::Exception);
+    // Bad arguments.
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right, sparse, 0), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right, sparse, 65), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right.colRange(0, 100), sparse), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right, sparse.colRange(0, 100)), cv::Exception);
+    Mat sparse64;
+    sparse.convertTo(sparse64, CV_64F);
+    EXPECT_THROW(cv::lidarsgm::matchingResidual(left, right, sparse64), cv::Exception);
+}
+
 TEST(Lidarsgm_Calibration, bad_arguments)
 {
     const Matx34d P(700, 0, 600, 0, 0, 700, 180, 0, 0, 0, 1, 0);

@@ -77,6 +77,8 @@ def run_tool(a, folder, refine, translation=False):
     fps = float(re.search(r'([0-9.]+) frames/s over the pass', p.stdout).group(1))
     frames = int(re.search(r'frames: (\d+) computed', p.stdout).group(1))
     res = float(re.search(r'calibration residual: ([0-9.]+)', p.stdout).group(1)) if refine else None
+    # Each frame's LiDAR against its images, printed by every run (as fused: corrected where refined).
+    match = float(re.search(r'matching residual \(.*\): median ([0-9.]+) px', p.stdout).group(1))
     corr = secs = after = None
     m = re.search(r'pitch ([-+0-9.]+) \+- [0-9.]+, yaw ([-+0-9.]+) \+- [0-9.]+, roll ([-+0-9.]+)', p.stdout)
     if m:
@@ -85,7 +87,7 @@ def run_tool(a, folder, refine, translation=False):
         after, secs = float(t.group(1)), float(t.group(2))
     if 'the LiDAR is left out' in p.stdout:
         secs = -1.0   # stereo alone: the row says so
-    return d1, frames / fps, res, after, corr, secs
+    return d1, frames / fps, res, after, corr, secs, match
 
 
 def main():
@@ -101,9 +103,9 @@ def main():
     entries, _ = read_calib(os.path.join(a.data, 'calib.txt'))
     print('calibration errors applied to %s/calib.txt (tools/perturb_calibration.py), SDSGM %s, CPU, %d threads'
           % (a.data, a.params or 'create() defaults', a.threads))
-    print('| error | D1 as given | D1 refined | residual before / after (px) | correction left (deg: pitch yaw roll) '
-          '| refinement (s) | fusion pass (s) |')
-    print('| --- | --- | --- | --- | --- | --- | --- |')
+    print('| error | D1 as given | D1 refined | matching residual as given / refined (px) '
+          '| residual before / after (px) | correction left (deg: pitch yaw roll) | refinement (s) | fusion pass (s) |')
+    print('| --- | --- | --- | --- | --- | --- | --- | --- |')
     with tempfile.TemporaryDirectory() as tmp:
         for name, err in ERRORS:
             folder = os.path.join(tmp, name.replace(' ', '_').replace('.', ''))
@@ -123,15 +125,15 @@ def main():
                 for k, i in enumerate(ids):
                     os.symlink(os.path.abspath(os.path.join(a.data, 'velodyne', ids[(k + 1) % len(ids)] + '.bin')),
                                os.path.join(scans, i + '.bin'))
-            d1, fusion, _, _, _, _ = run_tool(a, folder, False)
-            d1r, _, res, after, corr, secs = run_tool(a, folder, True, err.get('translation', False))
+            d1, fusion, _, _, _, _, match = run_tool(a, folder, False)
+            d1r, _, res, after, corr, secs, match_r = run_tool(a, folder, True, err.get('translation', False))
             if secs is not None and secs < 0:
-                print('| %s | %.2f %% | %.2f %% (stereo alone: the LiDAR left out) | %.3f / %s | - | - | %.2f |'
-                      % (name, d1, d1r, res, '%.3f' % after if after else '-', fusion), flush=True)
+                print('| %s | %.2f %% | %.2f %% (stereo alone: the LiDAR left out) | %.2f / - | %.3f / %s | - | - | %.2f |'
+                      % (name, d1, d1r, match, res, '%.3f' % after if after else '-', fusion), flush=True)
                 continue
             left = remaining(corr, err)
-            print('| %s | %.2f %% | %.2f %% | %.3f / %.3f | %+.3f %+.3f %+.3f | %.2f | %.2f |'
-                  % (name, d1, d1r, res, after, left[0], left[1], left[2], secs, fusion), flush=True)
+            print('| %s | %.2f %% | %.2f %% | %.2f / %.2f | %.3f / %.3f | %+.3f %+.3f %+.3f | %.2f | %.2f |'
+                  % (name, d1, d1r, match, match_r, res, after, left[0], left[1], left[2], secs, fusion), flush=True)
 
     # Single frames.
     P2 = np.array(entries['P2']).reshape(3, 4)
@@ -157,6 +159,26 @@ def main():
     pooled.residual(T_given)
     print('\naddFrame (the stereo map) %.1f ms a frame; residual() %.2f ms a frame once the maps exist'
           % (1000 * t_maps / len(ids), 1000 * (time.time() - t0) / pooled.getNumFrames()))
+    # The per-frame check that every run prints, against the fusion call it rides along (SDSGM with the run's
+    # parameters, on the same thread count): medians over the frames of the best of 3 calls each.
+    sgm = cv2.lidarsgm.StereoLidarSGM.create()
+    if a.params:
+        sgm.read(cv2.FileStorage(a.params, cv2.FILE_STORAGE_READ).root())
+    sgm.setMode(cv2.lidarsgm.StereoLidarSGM_MODE_SDSGM)
+    t_fuse, t_match = [], []
+    for i in ids:
+        f = cv2.lidarsgm.loadKittiFrame(a.data, i)
+        sgm.compute(f.left, f.right, f.sparse)   # buffers allocated outside the timing
+        for calls, fn in ((t_fuse, lambda: sgm.compute(f.left, f.right, f.sparse)),
+                          (t_match, lambda: cv2.lidarsgm.matchingResidual(f.left, f.right, f.sparse))):
+            best = []
+            for _ in range(3):
+                t0 = time.perf_counter()
+                fn()
+                best.append(time.perf_counter() - t0)
+            calls.append(min(best))
+    print('matchingResidual() %.2f ms a frame against %.1f ms for the SDSGM call: %.1f %%'
+          % (1000 * np.median(t_match), 1000 * np.median(t_fuse), 100 * np.median(t_match) / np.median(t_fuse)))
     print('\nsingle frames (one frame per refinement): frames within 0.15 deg on every axis / refused, '
           'the largest axis error of each frame')
     for name, err in SINGLE:

@@ -21,6 +21,9 @@ int runFrame(const Options& o, Frame& f)
     if (!out.empty())
         makeDir(out);
     const bool wantConfidence = writesConfidence(o, out);
+    PassRows lidarCheck;
+    measureResidual(f, lidarCheck);
+    printResiduals({ std::make_pair(f.name, (const PassRows*)&lidarCheck) });
     for (const std::string& name : modes)
     {
         const int mode = modeFromName(name);

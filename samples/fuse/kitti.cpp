@@ -65,6 +65,7 @@ void writeMetrics(const std::string& path, const std::string& key, PassRows& fr)
                << "est" << (double)r->stats.estimatedPixels << "estBad" << (double)r->stats.estimatedOutliers
                << "totalBad" << (double)r->stats.totalOutliers << "ms" << (r->ms.empty() ? -1.0 : r->ms[0]) << "}";
         fs << "]";
+        fs << "matchingResidual" << fr.residual << "residualFailure" << fr.residualFailure;
         return fs.isOpened();
     });
 }
@@ -90,6 +91,11 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr)
         all[i]->stats.totalOutliers = (int64)(double)n["totalBad"];
         if ((double)n["ms"] >= 0)
             all[i]->ms.push_back((double)n["ms"]);
+    }
+    if (!fs["matchingResidual"].empty())
+    {
+        fr.residual = (double)fs["matchingResidual"];
+        fr.residualFailure = (std::string)fs["residualFailure"];
     }
     return true;
 }
@@ -202,6 +208,7 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
 
     size_t computed = 0, resumed = 0, failed = 0;
     bool scored = false;
+    std::vector<std::pair<std::string, const PassRows*> > residuals;
     for (size_t n = 0; n < ids.size(); n++)
     {
         FrameResult& res = results[n];
@@ -212,6 +219,7 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
             continue;
         }
         (res.resumed ? resumed : computed)++;
+        residuals.push_back(std::make_pair(ids[n], &res.rows));
         scored = scored || res.rows.lidar.stats.groundTruthPixels > 0;
         std::vector<Row*> all = sums.all(), one = res.rows.all();
         for (size_t i = 0; i < all.size(); i++)
@@ -242,6 +250,7 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
         printTable("Consistency checks on SDSGM (the paper's Table V)", "D1", sums.table5);
     for (const Row& r : sums.modes)
         printConfidence(r, "D1", format("%zu computed frames", computed));
+    printResiduals(residuals);
     printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed; %.2f frames/s over the pass\n",
            computed, resumed, failed, ids.size() / std::max(total.getTimeSec(), 1e-9));
 }
@@ -261,8 +270,6 @@ int runPasses(const Options& o, const FrameSource& src)
     return 1;
 }
 
-//! The largest median |LiDAR - stereo disparity| (px) after refinement with which the LiDAR still takes part.
-const double kMaxFusedResidual = 1.0;
 
 /** --check-calibration, --refine-calibration: the LiDAR-to-camera transform measured against the stereo pairs of
 the frames given (cv::lidarsgm::LidarCalibration); prints the residual and, when refining, the correction, and
@@ -320,11 +327,11 @@ lidarsgm::KittiCalibration calibrationFromData(const Options& o, const lidarsgm:
            c.points, c.frames, tm.getTimeSec());
     // A LiDAR that stays more than one disparity step (the DDC's Q1 band) from the stereo match at most of its
     // points steers the fusion wrong instead of helping it: it is left out.
-    if (c.residualAfter > kMaxFusedResidual)
+    if (c.residualAfter > kMaxLidarResidual)
     {
         printf("the corrected calibration still leaves the LiDAR %.3f px (median) from the stereo pairs, more than "
                "%.1f px: the LiDAR is left out: stereo alone (SGM, left-right check)\n", c.residualAfter,
-               kMaxFusedResidual);
+               kMaxLidarResidual);
         stereoOnly = true;
     }
     lidarsgm::KittiCalibration refined = calib;

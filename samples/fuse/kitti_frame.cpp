@@ -8,6 +8,8 @@
 
 #include "tool.hpp"
 #include "opencv2/core/cuda.hpp"
+#include <algorithm>
+#include <limits>
 
 using namespace cv;
 
@@ -67,6 +69,58 @@ Ptr<Matcher> FrameWorker::matcher(int mode, int check)
     return m;
 }
 
+void measureResidual(const Frame& f, PassRows& fr)
+{
+    if (f.sparse.empty())
+        return;
+    try
+    {
+        fr.residual = lidarsgm::matchingResidual(f.left, f.right, f.sparse);
+    }
+    catch (const cv::Exception& e)
+    {
+        fr.residual = std::numeric_limits<double>::quiet_NaN();
+        fr.residualFailure = e.err;
+    }
+}
+
+void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >& frames)
+{
+    std::vector<double> r;
+    std::string worst, above, failed;
+    double largest = -1;
+    for (const auto& f : frames)
+    {
+        const double v = f.second->residual;
+        if (v != v)
+            failed += (failed.empty() ? "" : ", ") + f.first;
+        if (!(v >= 0))
+            continue;
+        r.push_back(v);
+        if (v > largest)
+        {
+            largest = v;
+            worst = f.first;
+        }
+        if (v > kMaxLidarResidual)
+            above += (above.empty() ? "" : ", ") + f.first;
+    }
+    if (r.size() == 1)
+        printf("matching residual (the LiDAR against the images, cv::lidarsgm::matchingResidual): %.2f px (%s)\n",
+               largest, worst.c_str());
+    else if (!r.empty())
+    {
+        std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+        printf("matching residual (the LiDAR against the images, cv::lidarsgm::matchingResidual): median %.2f px over "
+               "%zu frame(s), largest %.2f px (%s)\n", r[r.size() / 2], r.size(), largest, worst.c_str());
+    }
+    if (!above.empty())
+        printf("  above %.0f px, where the LiDAR pulls the fusion off the images (check the calibration: "
+               "--check-calibration, --refine-calibration): %s\n", kMaxLidarResidual, above.c_str());
+    if (!failed.empty())
+        printf("  not measured (the images cannot tell): %s\n", failed.c_str());
+}
+
 void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows& fr)
 {
     const std::vector<std::string> modes = o_.list("modes", "sgm,dsgm,sdsgm");
@@ -105,6 +159,7 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
                 g.gconf[j].download(g.conf[j], g.stream);
             }
         }
+        measureResidual(f, fr);   // on the CPU while the GPU works
         g.stream.waitForCompletion();
         for (size_t j = 0; j < jobs.size(); j++)
         {
@@ -130,6 +185,7 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
             tm.stop();
             j.ms = tm.getTimeMilli();
         }
+        measureResidual(f, fr);
     }
     const bool scored = !f.groundTruth.empty();   // raw drives may have no ground truth: times and files only
     for (size_t k = 0; k < modes.size(); k++)

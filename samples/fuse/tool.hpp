@@ -85,14 +85,27 @@ void printConfidence(const Row& row, const std::string& metric, const std::strin
 //! Whether the run writes the confidence map (--format confidence with --out), so its matchers compute it.
 bool writesConfidence(const Options& o, const std::string& out);
 
+/** The DDC's Q1 band (px): a LiDAR whose median residual against the stereo pairs exceeds it pulls the fusion off
+them by more than a disparity. Above it after refinement the LiDAR is left out; above it per frame the run warns. */
+const double kMaxLidarResidual = 1.0;
+
 // ---- kitti_frame.cpp --------------------------------------------------------------------------------------------
 //! The rows of one frame or of a pass: the modes, the LiDAR points, the semidense map, Table V.
 struct PassRows
 {
     std::vector<Row> modes, table5;
     Row lidar, semi;
+    //! The frame's matching residual (px; cv::lidarsgm::matchingResidual), -1 where it has no LiDAR, NaN where the
+    //! images could not tell (residualFailure says why).
+    double residual = -1;
+    std::string residualFailure;
     std::vector<Row*> all();
 };
+//! The matching residual of a frame's LiDAR (f.sparse) against its images into fr; none without a sparse map.
+void measureResidual(const Frame& f, PassRows& fr);
+/** What a run prints about its frames' matching residuals (frame name, its rows): the median and the largest, the
+frames above the DDC's Q1 band (1 px) and those the images could not tell; nothing where no frame has a LiDAR. */
+void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >& frames);
 
 /** Computes the frames of a KITTI folder run, one at a time; several workers (--streams) run on their own threads.
 Keeps its matchers and, with --cuda, its stream and page-locked buffers between frames. */

@@ -270,6 +270,11 @@ class ToolTest(unittest.TestCase):
         self.assertEqual(rc, 0, se)
         self.assertIn("calibration residual:", so)
         self.assertNotIn("calibration correction", so)
+        # Every run measures its frames' LiDAR against their images (matchingResidual); calib.txt is within 1 px.
+        m = re.search(r"matching residual \(.*\): median ([\d.]+) px over 2 frame\(s\)", so)
+        self.assertIsNotNone(m, so)
+        self.assertLessEqual(float(m.group(1)), 1.0, so)
+        self.assertNotIn("above 1 px", so)
         # Scans swapped between the two frames (a synchronisation error): no rotation repairs that, and the run
         # gives stereo alone instead of a fusion with the wrong scans.
         kitti = self.kitti_folder("000002\n000046\n")
@@ -280,6 +285,7 @@ class ToolTest(unittest.TestCase):
         rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1", "--refine-calibration"])
         self.assertEqual(rc, 0, se)
         self.assertIn("the LiDAR is left out: stereo alone (SGM, left-right check)", so)
+        self.assertRegex(so, r"above 1 px, where the LiDAR pulls the fusion off the images .*: 000002, 000046")
         self.assertIn("| SGM (stereo) ", so)
         self.assertNotIn("| SDSGM", so)
         for args, message in ((["--kitti-frame", KITTI, "--refine-calibration"], "go with --kitti or --kitti-raw"),

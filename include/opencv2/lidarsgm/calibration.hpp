@@ -103,6 +103,31 @@ public:
     CV_WRAP virtual CalibrationCorrection refine(InputArray lidarToCamera, bool translation = false) const = 0;
 };
 
+/** @brief How well a sparse (LiDAR) disparity map matches the stereo pair it comes with, from the images alone: a
+calibration check cheap enough for every frame.
+
+Each sparse pixel's disparity is compared with the disparity at which the left pixel matches the right image best
+within searchRadius of it: the Hamming distances of the pipeline's census strings summed over the pixel's 3x3
+neighbourhood, the minimum refined by the pipeline's subpixel parabola. The result is the median
+|sparse - matched| in pixels over the sparse pixels whose best match passes the matcher's uniqueness check at its
+default ratio (an ambiguous block, on faint or repetitive texture, has no match to compare with); a best match at
+either end of the search counts as far as it lies. It rises with a calibration error
+(doc/accuracy.md, "Calibration": figures on the KITTI frames). Above 1 px, the DDC's Q1 band, the LiDAR pulls the
+fusion off the stereo pair by more than a disparity: check the calibration with LidarCalibration before trusting
+the depth. LidarCalibration::residual() measures against a stereo map instead, more precisely and at the cost of
+one: this is for every frame, that for a calibration run.
+
+Runs on the CPU (Mat inputs). Raises cv::Exception where fewer than 200 sparse pixels can be compared (a
+textureless pair, an empty or misaimed scan): the images cannot tell the calibration then.
+@param left left image, CV_8UC1 or CV_16UC1 (rectified), as for StereoLidarSGM::compute.
+@param right right image, same size and type.
+@param sparseDisparity sparse left-view disparity, CV_16UC1 (KITTI, value / 256, 0 = none) or CV_32FC1 (pixels,
+<= 0 or NaN = none), as for StereoLidarSGM::compute.
+@param searchRadius disparities searched on each side of each sparse value, in [1, 64].
+ */
+CV_EXPORTS_W double matchingResidual(InputArray left, InputArray right, InputArray sparseDisparity,
+                                     int searchRadius = 6);
+
 //! @}
 
 }} // namespace cv::lidarsgm

@@ -125,6 +125,14 @@ class lidarsgm_test(NewOpenCVTests):
         self.assertLess(c.residualAfter, c.residualBefore)
         with self.assertRaises(cv.error):
             cv.lidarsgm.LidarCalibration.create(calib.projection, calib.focalBaseline).refine(l2c)   # no frames
+        # The per-frame check from the images alone: the same error raises it above the DDC's Q1 band.
+        size = (left.shape[1], left.shape[0])
+        given = cv.lidarsgm.projectPointsToDisparity(pts, calib.projection, l2c, calib.focalBaseline, size)
+        wrong = cv.lidarsgm.projectPointsToDisparity(pts, calib.projection, err @ l2c, calib.focalBaseline, size)
+        self.assertLessEqual(cv.lidarsgm.matchingResidual(left, right, given), 1.0)
+        self.assertGreater(cv.lidarsgm.matchingResidual(left, right, wrong), 1.0)
+        with self.assertRaises(cv.error):
+            cv.lidarsgm.matchingResidual(left, right, np.zeros_like(given))   # nothing to compare
 
     def test_save_load(self):
         m = cv.lidarsgm.StereoLidarSGM.create(numDisparities=64, P1=12, alpha=0.5)
