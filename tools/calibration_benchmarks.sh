@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Rewrites the calibration outputs in doc/benchmarks/ (the figures of doc/accuracy.md's "Calibration errors", the
 # README and doc/design.md section 7): tools/calibration_benchmark.py on the 20 shared KITTI frames with kitti_best.yml,
-# with the LiDAR's sweep modelled (calibration_kitti20.txt, 10 Hz) and without it (calibration_kitti20_scan_rate_0.txt).
+# with the LiDAR's sweep modelled (calibration_kitti20.txt, 10 Hz) and without it (calibration_kitti20_scan_rate_0.txt);
+# then where the images alone put the transform (tools/analysis/calibration_image_judge.py,
+# calibration_image_judge_kitti20.txt).
 # Needs the OpenCV build made by the README's commands (its tool and its cv2) and a Python with numpy: the one of
 # LIDARSGM_PYTHON, else the build's virtual environment where it exists, else python3.
 #   tools/calibration_benchmarks.sh [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90] [shared data dir]
@@ -23,3 +25,9 @@ for rate in 10 0; do
     PYTHONPATH="$B/python_loader" "$PY" tools/calibration_benchmark.py "${args[@]}"; } > "$f" 2>&1
   echo "wrote $f"
 done
+f=doc/benchmarks/calibration_image_judge_kitti20.txt
+{ echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
+  echo "# Command: tools/analysis/calibration_image_judge.py $DATA/kitti2015_lidar"
+  echo
+  PYTHONPATH="$B/python_loader" "$PY" tools/analysis/calibration_image_judge.py "$DATA/kitti2015_lidar"; } > "$f" 2>&1
+echo "wrote $f"
