@@ -9,6 +9,7 @@
 #include "matching_residual.simd.hpp"
 #include "matching_residual.simd_declarations.hpp"
 #include "opencv2/lidarsgm/calibration.hpp"
+#include <algorithm>
 
 namespace cv { namespace lidarsgm {
 
@@ -32,21 +33,37 @@ double matchingResidual(InputArray left, InputArray right, InputArray sparseDisp
     detail::checkInputs(left, right, sparseDisparity, noArray(), true, "matchingResidual");
     CV_CheckTrue(searchRadius >= 1 && searchRadius <= 64, "lidarsgm: matchingResidual: searchRadius must be in [1, 64]");
     const Mat l = left.getMat(), r = right.getMat();
-    Mat censusL, censusR, sparse16;
-    detail::censusTransform(l, censusL);
-    detail::censusTransform(r, censusR);
+    Mat sparse16;
     detail::convertSparse(sparseDisparity.getMat(), 0, l.cols, sparse16);
-    // |sparse - matched| in 1/16 pixel, per row, so that the rows run in parallel; the image's first and last rows
-    // have no 3x3 block.
+    // The rows with sparse values that have a 3x3 block (not the image's first and last).
     const int H = l.rows;
-    // The matcher's default uniqueness ratio, as the pipeline takes it (x 1024, rounded).
-    static const int uniqueness1024 = cvRound(StereoLidarSGM::create()->getUniquenessRatio() * 1024);
+    int first = 1, last = H - 2;
+    const auto hasValue = [&](int y) {
+        const short* s = sparse16.ptr<short>(y);
+        return std::any_of(s, s + sparse16.cols, [](short v) { return v != detail::NO_DISP; });
+    };
+    while (first <= last && !hasValue(first))
+        first++;
+    while (last >= first && !hasValue(last))
+        last--;
+    // |sparse - matched| in 1/16 pixel, per row, so that the rows run in parallel.
     std::vector<std::vector<int> > rows(H);
-    if (H > 2)
-        parallel_for_(Range(1, H - 1), [&](const Range& range) {
-            detail::runMatchingOffsetRows(censusL, censusR, sparse16, searchRadius, uniqueness1024, range,
-                                          rows.data());
-        }, detail::rowStripes(H));
+    if (first <= last)
+    {
+        // The census strings of the rows that the blocks read, and of those alone (a scan covers part of the image:
+        // on KITTI the lower two thirds): a string within the band's inner rows is the full image's, its 9x7 window
+        // lying inside the band or clamped at the image's own border.
+        const int y0 = std::max(first - 1 - detail::CENSUS_HEIGHT / 2, 0), y1 = std::min(last + 2 + detail::CENSUS_HEIGHT / 2, H);
+        Mat censusL, censusR;
+        detail::censusTransform(l.rowRange(y0, y1), censusL);
+        detail::censusTransform(r.rowRange(y0, y1), censusR);
+        const Mat band = sparse16.rowRange(y0, y1);
+        // The matcher's default uniqueness ratio, as the pipeline takes it (x 1024, rounded).
+        static const int uniqueness1024 = cvRound(StereoLidarSGM::create()->getUniquenessRatio() * 1024);
+        parallel_for_(Range(first - y0, last - y0 + 1), [&](const Range& range) {
+            detail::runMatchingOffsetRows(censusL, censusR, band, searchRadius, uniqueness1024, range, &rows[y0]);
+        }, detail::rowStripes(last - first + 1));
+    }
     std::vector<int> all;
     for (const std::vector<int>& v : rows)
         all.insert(all.end(), v.begin(), v.end());

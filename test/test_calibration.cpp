@@ -173,6 +173,15 @@ TEST(Lidarsgm_MatchingResidual, measures_the_offset_from_the_images)
     EXPECT_NEAR(2.5, cv::lidarsgm::matchingResidual(left, right, sparse * (22.5 / 20)), 0.3);
     EXPECT_GE(cv::lidarsgm::matchingResidual(left, right, sparse * (30.0 / 20)), 2.0);
     EXPECT_NEAR(10.0, cv::lidarsgm::matchingResidual(left, right, sparse * (30.0 / 20), 12), 0.25);
+    // Points in the last columns, where 16 right strings from the lowest one would leave the row: the scalar loop
+    // (the vector loop takes the others).
+    Mat left6, right6;
+    shiftedPair(6, left6, right6);
+    Mat border(left6.size(), CV_32FC1, Scalar(0)), border2;
+    border.colRange(border.cols - 4, border.cols - 1).rowRange(2, border.rows - 2).setTo(6);
+    EXPECT_LE(cv::lidarsgm::matchingResidual(left6, right6, border), 0.25);
+    cv::add(border, 2, border2, border > 0);
+    EXPECT_NEAR(2.0, cv::lidarsgm::matchingResidual(left6, right6, border2), 0.25);
     // The KITTI encoding gives the same values.
     Mat sparse16;
     sparse.convertTo(sparse16, CV_16U, 256);
