@@ -26,6 +26,10 @@ else
   # The trimmed archive (tools/make_opencv_trim.sh) leaves out the modules' test folders; OpenCV's python module
   # adds its own unconditionally.
   mkdir -p "$SRC/opencv/modules/python/test" && touch "$SRC/opencv/modules/python/test/CMakeLists.txt"
+  # The image's default compiler (CXX=/opt/gcc/bin/g++, a wrapper of the system's GCC 13) links libstdc++ statically
+  # into every library, so that each OpenCV library carries its own copy of the C++ runtime, and a stream made by one
+  # and used by another crashes cv2 (imread's logging). The system's compiler links the shared libstdc++.
+  if [ -x /usr/bin/g++ ]; then export CC=/usr/bin/gcc CXX=/usr/bin/g++ CUDAHOSTCXX=/usr/bin/g++; fi
   # PY=ON: the bindings' test dependency the device's Python lacks, from the wheel make_opencv_trim.sh downloads.
   [ "${PY:-OFF}" = ON ] && python3 -m pip install -q --no-index --find-links .device/wheels plyfile
   cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=${PY:-OFF} \
