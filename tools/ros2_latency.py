@@ -75,7 +75,8 @@ def in_process(args):
             else:
                 disp = fusion.sgm.compute(grey_l, grey_r, sparse)
             t3 = time.perf_counter()
-            output_messages(kit, fusion, Result(disp, None, g, bgr, sparse), "camera", 10**9, "32FC1")
+            output_messages(kit, fusion, Result(disp, None, g, bgr, sparse, grey_l, grey_r), "camera", 10**9,
+                            "32FC1")
             t4 = time.perf_counter()
             if r == 0:
                 continue  # warm-up

@@ -66,9 +66,10 @@ class NodeTest(unittest.TestCase):
         overrides = os.path.join(cls.work, "overrides.yaml")
         with open(overrides, "w") as f:  # what a user adds for their robot: the calibration and the params file
             f.write("lidarsgm:\n  ros__parameters:\n    params_file: %s\n    publish_confidence: true\n"
-                    "    sync_warning_seconds: 1.0\n"
+                    "    sync_warning_seconds: 1.0\n    check_calibration_every: 1\n"
                     "    lidar_to_camera: [%s]\n" % (os.path.abspath(PARAMS), ", ".join(repr(float(v))
                                                                                       for v in t.ravel())))
+        cls.lidar_to_camera = t
         cls.log = open(os.path.join(cls.work, "node.log"), "w+")
         cls.proc = subprocess.Popen(
             [sys.executable, "-m", "lidarsgm_ros.node", "--ros-args", "--params-file", CONFIG,
@@ -230,6 +231,22 @@ class NodeTest(unittest.TestCase):
         self.assertEqual((values[0].integer_value, values[1].integer_value, values[2].string_value),
                          (8, 120, "dsgm"))
         self.assertIn("parameter refused, the old value stays: P1:", self.node_log())
+
+        # Every set is checked against its images (check_calibration_every 1): KITTI's calibration passes; with a
+        # degree of pitch added at run time the next set draws the warning.
+        self.assertNotIn("from where the images match", self.node_log())
+        a = np.radians(1.0)
+        pitch = np.eye(4)
+        pitch[1:3, 1:3] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+        wrong = [float(v) for v in (pitch @ self.lidar_to_camera).ravel()]
+        req = SetParameters.Request(parameters=[Parameter("lidar_to_camera", value=wrong).to_parameter_msg()])
+        self.assertTrue(self.call(SetParameters, "set_parameters", req).results[0].successful)
+        self.publish(FRAMES[1], 5 * 10**9)
+        self.expect_outputs(5 * 10**9)
+        self.wait(lambda: "from where the images match" in self.node_log(), 10, "the calibration warning")
+        r = float(re.search(r"the LiDAR lies ([\d.]+) px \(median\) from where the images match, more than 1 px",
+                            self.node_log()).group(1))
+        self.assertGreater(r, 1.0)
 
 
 if __name__ == "__main__":

@@ -27,7 +27,11 @@ MATCHER_PARAMETERS = {
     "Q2": ("Q2", int),
 }
 
-Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse")
+# The DDC's Q1 band (px): a LiDAR whose matching residual exceeds it pulls the fusion off the images by more than a
+# disparity (the tool warns at the same value).
+MAX_MATCHING_RESIDUAL = 1.0
+
+Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse left_grey right_grey")
 
 
 def _to_text(cv2, sgm):
@@ -150,7 +154,15 @@ class Fusion:
                 disp = self.sgm.compute(grey_l, grey_r, sparse)
         except cv2.error as e:
             raise ConversionError(cv_message(cv2, e))
-        return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2), sparse)
+        return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2), sparse, grey_l, grey_r)
+
+    def matching_residual(self, result):
+        """How far the set's LiDAR disparities lie from where the images match (cv2.lidarsgm.matchingResidual,
+        px); None where the images cannot tell (too few comparable points)."""
+        try:
+            return self.cv2.lidarsgm.matchingResidual(result.left_grey, result.right_grey, result.sparse)
+        except self.cv2.error:
+            return None
 
     # -- outputs
     def outputs(self, result, depth_encoding="32FC1", alloc=None):

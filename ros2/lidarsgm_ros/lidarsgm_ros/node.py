@@ -3,7 +3,8 @@
 Subscribes left/image_rect, left/camera_info, right/image_rect, right/camera_info and points (PointCloud2), time
 synchronised (exact stamps, or approximately with approximate_sync); publishes disparity (stereo_msgs/
 DisparityImage), depth (REP 118) and points2 (an organised x y z rgb PointCloud2 in the left optical frame), and
-with publish_confidence the confidence (32FC1 in [0, 1]).
+with publish_confidence the confidence (32FC1 in [0, 1]). Every check_calibration_every-th set it measures how far
+the LiDAR lies from where the images match (cv2.lidarsgm.matchingResidual) and warns above 1 px: a calibration off.
 
   python3 -m lidarsgm_ros.node --ros-args -p lidar_to_camera:="[...16 numbers...]" \
       -p params_file:=doc/params/kitti_best.yml -r left/image_rect:=/stereo/left/image_rect ...
@@ -23,7 +24,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, qos_profile_sensor_data
 
 from .conversions import ConversionError
-from .fusion import MATCHER_PARAMETERS, Fusion
+from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class, stamp_ns
 from .sync import ApproximateSync, ExactSync
 
@@ -52,6 +53,7 @@ class StereoLidarNode(Node):
         self.pubs = {topic: self.create_publisher(rclpy_class(t), topic, 1) for topic, t in OUTPUT_TYPES.items()}
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
+        self.residuals = []  # the matching residuals measured (px)
         self.busy = 0.0  # seconds spent fusing and publishing
         # Messages that never make a set (a camera_info not published, stamps that never match) leave the node
         # silent: say so, with what arrived.
@@ -78,6 +80,8 @@ class StereoLidarNode(Node):
              "4x4 (or 3x4) transform from the points' frame to the left optical frame, row by row"),
             ("depth_encoding", "32FC1", "32FC1 (metres, NaN invalid) or 16UC1 (millimetres, 0 invalid)"),
             ("publish_confidence", False, "publish each pixel's confidence (32FC1 in [0, 1]) on confidence"),
+            ("check_calibration_every", 10, "every n-th fused set, measure the LiDAR against the images "
+             "(matchingResidual, about 3 % of a CPU fusion) and warn above 1 px; 0: never"),
             ("approximate_sync", False, "match the five inputs by nearest stamps rather than equal ones"),
             ("approximate_sync_tolerance_seconds", 0.05, "the widest spread of stamps in one approximate set"),
             ("queue_size", 5, "messages kept per input while waiting for a set"),
@@ -104,6 +108,8 @@ class StereoLidarNode(Node):
                     f.set_lidar_to_camera(list(p.value))
                 elif p.name == "depth_encoding" and p.value not in ("32FC1", "16UC1"):
                     raise ValueError("depth_encoding must be 32FC1 or 16UC1, not '%s'" % p.value)
+                elif p.name == "check_calibration_every" and p.value < 0:
+                    raise ValueError("check_calibration_every must be >= 0 (0: never), not %d" % p.value)
                 elif p.name in ("approximate_sync", "queue_size", "use_system_default_qos", "sync_warning_seconds",
                                 "approximate_sync_tolerance_seconds") and hasattr(self, "sync"):
                     raise ValueError("%s is read when the node starts" % p.name)
@@ -134,9 +140,28 @@ class StereoLidarNode(Node):
         return self.get_clock().now().nanoseconds * 1e-9
 
     def summary(self):
-        return ("%d sets fused (%.1f ms each, conversions and publishing included), %d skipped, %d %s dropped by the "
+        text = ("%d sets fused (%.1f ms each, conversions and publishing included), %d skipped, %d %s dropped by the "
                 "synchroniser" % (self.fused, 1000 * self.busy / max(self.fused, 1), self.skipped, self.sync.dropped,
                                   self.sync.unit))
+        if self.residuals:
+            r = sorted(self.residuals)
+            text += "; matching residual median %.2f px over %d checks, %d above %.0f px" % (
+                r[len(r) // 2], len(r), sum(v > MAX_MATCHING_RESIDUAL for v in r), MAX_MATCHING_RESIDUAL)
+        return text
+
+    def _check_calibration(self, result):
+        every = self.get_parameter("check_calibration_every").value
+        if every <= 0 or (self.fused - 1) % every:
+            return
+        r = self.fusion.matching_residual(result)
+        if r is None:
+            return
+        self.residuals.append(r)
+        if r > MAX_MATCHING_RESIDUAL:
+            self.get_logger().warning(
+                "the LiDAR lies %.2f px (median) from where the images match, more than %.0f px: the fusion is pulled "
+                "off the images; check lidar_to_camera (lidarsgm_fuse --refine-calibration, or "
+                "cv2.lidarsgm.LidarCalibration)" % (r, MAX_MATCHING_RESIDUAL), throttle_duration_sec=10.0)
 
     def _check_sync(self):
         period = self.get_parameter("sync_warning_seconds").value
@@ -174,6 +199,7 @@ class StereoLidarNode(Node):
         for topic, msg in out:
             self.pubs[topic].publish(msg)
         self.fused += 1
+        self._check_calibration(result)
         self.busy += time.perf_counter() - t0
         if self.sync.dropped > self.reported_drops:
             self.get_logger().warning("%d incomplete message sets dropped so far (a topic missing or late: check the "
