@@ -73,6 +73,11 @@ class BagTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("set 2 of ~2 fused", r.stdout)
         self.assertIn("2 sets fused, 0 skipped", r.stdout)
+        # Each set's LiDAR against its images: the shipped frames' 1.00 and 0.62 px, none above 1 px.
+        self.assertIn("matching residual 1.00 px", r.stdout)
+        self.assertIn("matching residual 0.62 px", r.stdout)
+        self.assertIn("matching residual (the LiDAR against the images): median 1.00 px over 2 sets, 0 above 1 px\n",
+                      r.stdout)
         self.expect_tool_output(out)   # the transform came from the bag's /tf_static
         # The mcap library's own ROS 2 decoder (what Foxglove's and rerun's importers build on) reads every topic.
         topics = {}
@@ -102,6 +107,14 @@ class BagTest(unittest.TestCase):
                 "--lidar-to-camera", *[repr(float(v)) for v in t.ravel()])
         self.assertEqual(r.returncode, 0, r.stderr)
         self.expect_tool_output(out)
+        # A degree of pitch: fused, and the residual says the LiDAR has left the images.
+        a = np.radians(1.0)
+        pitch = np.eye(4)
+        pitch[1:3, 1:3] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+        r = run("lidarsgm_ros.bag", bag, os.path.join(self.work, "out_db3_pitch"), "--params-file", PARAMS,
+                "--lidar-to-camera", *[repr(float(v)) for v in (pitch @ t).ravel()])
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("over 2 sets, 2 above 1 px: the LiDAR pulls the fusion off the images there", r.stdout)
         # A transform that puts the scan 1 km behind the camera: every set skipped with the reason, exit code 1.
         flip = t.copy()
         flip[2, 3] -= 1000

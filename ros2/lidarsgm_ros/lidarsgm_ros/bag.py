@@ -8,7 +8,9 @@ Reads <ns>/left/image_rect, <ns>/left/camera_info, <ns>/right/image_rect, <ns>/r
 <ns>/points2 (and <ns>/confidence with --confidence, the inputs with --with-inputs) to OUTPUT, a folder of rosbag2
 MCAP bags of --segment-frames sets each (part_0000, part_0001, ...; Foxglove, rerun and rosbags open them). A
 segment appears only when complete, so an interrupted run continues with --resume where it stopped. The
-LiDAR-to-camera transform comes from --lidar-to-camera or else the bag's /tf_static. Exit codes: 0 done, 1 error
+LiDAR-to-camera transform comes from --lidar-to-camera or else the bag's /tf_static; each fused set's matching
+residual (the LiDAR against the images, cv2.lidarsgm.matchingResidual) is printed, and their median at the end,
+with the sets above 1 px: a transform that is off. Exit codes: 0 done, 1 error
 (unreadable bag, no set fused), 2 bad command line.
 """
 import argparse
@@ -20,7 +22,7 @@ import time
 import cv2
 
 from .conversions import ConversionError, chain_transform, transform_matrix
-from .fusion import MATCHER_PARAMETERS, Fusion
+from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, stamp_ns
 from .sync import ApproximateSync, ExactSync
 
@@ -169,6 +171,7 @@ def main(argv=None):
         if segments.done:
             print("resuming: %d complete segment(s) of %d sets kept" % (segments.done, args.segment_frames))
         counts = {"sets": 0, "fused": 0, "skipped": 0}
+        residuals = []  # each fused set's matching residual (px), where the images can tell
         raw_of = {}
         conns = [by_topic[t] for t in args.topics.values()]
         t_start = time.perf_counter()
@@ -197,8 +200,12 @@ def main(argv=None):
                 items += [raw_of[id(m)] for m in msgs]
             segments.write(number, items)
             counts["fused"] += 1
-            print("set %d of ~%d fused in %.0f ms" % (number + 1, total, 1000 * (time.perf_counter() - t0)),
-                  flush=True)
+            r = fusion.matching_residual(result)
+            if r is not None:
+                residuals.append(r)
+            print("set %d of ~%d fused in %.0f ms, matching residual %s" % (
+                number + 1, total, 1000 * (time.perf_counter() - t0), "%.2f px" % r if r is not None else "-"),
+                flush=True)
 
         for conn, t, raw in reader.messages(connections=conns):
             msg = reader.deserialize(raw, conn.msgtype)
@@ -217,6 +224,12 @@ def main(argv=None):
           % (counts["fused"], counts["skipped"], min(counts["sets"], segments.done * args.segment_frames),
              sync.dropped, sync.unit,
              time.perf_counter() - t_start, args.output))
+    if residuals:
+        r = sorted(residuals)
+        above = sum(v > MAX_MATCHING_RESIDUAL for v in r)
+        print("matching residual (the LiDAR against the images): median %.2f px over %d sets, %d above %.0f px%s"
+              % (r[len(r) // 2], len(r), above, MAX_MATCHING_RESIDUAL,
+                 ": the LiDAR pulls the fusion off the images there; check the transform" if above else ""))
     if counts["sets"] == 0 and sync.dropped and not args.approximate_sync:
         print("lidarsgm_bag: no five messages share a stamp: if the LiDAR is not triggered by the cameras, pass "
               "--approximate-sync", file=sys.stderr)
