@@ -249,7 +249,8 @@ public:
                     CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: only %d LiDAR points land on "
                                                 "a stereo disparity (at least %d needed): the data cannot tell the "
                                                 "calibration (textureless or dark images, an empty scan, or a "
-                                                "transform far off)", used * L.stride, detail::kMinCalibrationPoints));
+                                                "transform far off)", used * L.stride,
+                                                detail::kMinCalibrationPoints));
                 Matx44d A;
                 Vec4d g;
                 for (const Sums& s : sums)
@@ -408,7 +409,8 @@ private:
         if (r.size() < (size_t)detail::kMinCalibrationPoints)
             CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration: only %d LiDAR points land on a stereo "
                                         "disparity (at least %d needed: textureless or dark images, an empty scan, "
-                                        "or a wrong transform or projection)", (int)r.size(), detail::kMinCalibrationPoints));
+                                        "or a wrong transform or projection)", (int)r.size(),
+                                        detail::kMinCalibrationPoints));
         std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
         return r[r.size() / 2];
     }

@@ -31,7 +31,8 @@ double matchingResidual(InputArray left, InputArray right, InputArray sparseDisp
         sparseDisparity.kind() == _InputArray::CUDA_GPU_MAT)
         CV_Error(Error::StsBadArg, "lidarsgm: matchingResidual runs on the CPU: pass cv::Mat inputs");
     detail::checkInputs(left, right, sparseDisparity, noArray(), true, "matchingResidual");
-    CV_CheckTrue(searchRadius >= 1 && searchRadius <= 64, "lidarsgm: matchingResidual: searchRadius must be in [1, 64]");
+    CV_CheckTrue(searchRadius >= 1 && searchRadius <= 64,
+                 "lidarsgm: matchingResidual: searchRadius must be in [1, 64]");
     const Mat l = left.getMat(), r = right.getMat();
     Mat sparse16;
     detail::convertSparse(sparseDisparity.getMat(), 0, l.cols, sparse16);
@@ -53,7 +54,8 @@ double matchingResidual(InputArray left, InputArray right, InputArray sparseDisp
         // The census strings of the rows that the blocks read, and of those alone (a scan covers part of the image:
         // on KITTI the lower two thirds): a string within the band's inner rows is the full image's, its 9x7 window
         // lying inside the band or clamped at the image's own border.
-        const int y0 = std::max(first - 1 - detail::CENSUS_HEIGHT / 2, 0), y1 = std::min(last + 2 + detail::CENSUS_HEIGHT / 2, H);
+        const int ry = detail::CENSUS_HEIGHT / 2;
+        const int y0 = std::max(first - 1 - ry, 0), y1 = std::min(last + 2 + ry, H);
         Mat censusL, censusR;
         detail::censusTransform(l.rowRange(y0, y1), censusL);
         detail::censusTransform(r.rowRange(y0, y1), censusR);
