@@ -9,10 +9,10 @@
 #include "pipeline.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 namespace cv { namespace lidarsgm {
 
@@ -33,20 +33,11 @@ public:
             const size_t colon = line.find(':');
             if (colon == std::string::npos)
                 continue;
-            // strtod rather than istream >> double: in a process where another library exports its own copy of
-            // libstdc++'s number extraction (seen: a CUDA build of OpenCV core loaded by Python), that copy can
-            // be bound instead of libstdc++'s and crash. Both round the decimal text the same way.
+            std::istringstream vals(line.substr(colon + 1));
             std::vector<double>& v = entries_[line.substr(0, colon)];
-            const char* p = line.c_str() + colon + 1;
-            for (;;)
-            {
-                char* end = nullptr;
-                const double x = std::strtod(p, &end);
-                if (end == p)
-                    break;
+            double x;
+            while (vals >> x)
                 v.push_back(x);
-                p = end;
-            }
         }
     }
 
@@ -259,17 +250,9 @@ std::vector<String> readKittiFrameIds(const String& dir)
     if (!list)
         CV_Error(Error::StsObjectNotFound, "cannot open " + dir + "/frames.txt");
     std::vector<String> ids;
-    std::string line;
-    while (std::getline(list, line))   // whitespace-separated ids (no istream >> string: see CalibFile)
-    {
-        size_t b = 0;
-        while ((b = line.find_first_not_of(" \t\r", b)) != std::string::npos)
-        {
-            const size_t e = line.find_first_of(" \t\r", b);
-            ids.push_back(line.substr(b, e == std::string::npos ? std::string::npos : e - b));
-            b = e;
-        }
-    }
+    std::string id;
+    while (list >> id)
+        ids.push_back(id);
     return ids;
 }
 
