@@ -170,10 +170,11 @@ def main():
         sgm.read(fs.root())
         fs.release()
     sgm.setMode(cv2.lidarsgm.StereoLidarSGM_MODE_SDSGM)
-    t_fuse, t_match = [], []
+    t_fuse, t_match, loaded = [], [], []
     for i in ids:
         f = cv2.lidarsgm.loadKittiFrame(a.data, i)
         left, right, sparse = f.left, f.right, f.sparse   # each read of a field converts it to a new array
+        loaded.append((left, right))
         sgm.compute(left, right, sparse)   # buffers allocated outside the timing
         for calls, fn in ((t_fuse, lambda: sgm.compute(left, right, sparse)),
                           (t_match, lambda: cv2.lidarsgm.matchingResidual(left, right, sparse))):
@@ -186,13 +187,12 @@ def main():
     print('matchingResidual() %.2f ms a frame against %.1f ms for the SDSGM call: %.1f %%'
           % (1000 * np.median(t_match), 1000 * np.median(t_fuse), 100 * np.median(t_match) / np.median(t_fuse)))
     print('\nmatching residual of single frames (px), the range over the frames and the frames above 1 px:')
-    loaded = [cv2.lidarsgm.loadKittiFrame(a.data, i) for i in ids]
     for name, err in [('none', {})] + [e for e in ERRORS if e[0] in ('pitch 0.5', 'roll 1', 'yaw 1')]:
         T = calib_transform(perturbed_calib(entries, err.get('pitch', 0), err.get('yaw', 0), err.get('roll', 0)))
         r = []
-        for f, (_, _, _, _, pts) in zip(loaded, frames):
-            sparse = cv2.lidarsgm.projectPointsToDisparity(pts, P2, T, fB, (f.left.shape[1], f.left.shape[0]))
-            r.append(cv2.lidarsgm.matchingResidual(f.left, f.right, sparse))
+        for (left, right), (_, _, _, _, pts) in zip(loaded, frames):
+            sparse = cv2.lidarsgm.projectPointsToDisparity(pts, P2, T, fB, (left.shape[1], left.shape[0]))
+            r.append(cv2.lidarsgm.matchingResidual(left, right, sparse))
         print('%s: %.2f-%.2f, %d of %d above 1 px' % (name, min(r), max(r), sum(v > 1 for v in r), len(r)))
     print('\nsingle frames (one frame per refinement): frames within 0.15 deg on every axis / refused, '
           'the largest axis error of each frame')

@@ -22,7 +22,7 @@ import time
 import cv2
 
 from .conversions import ConversionError, chain_transform, transform_matrix
-from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion
+from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, stamp_ns
 from .sync import ApproximateSync, ExactSync
 
@@ -225,10 +225,9 @@ def main(argv=None):
              sync.dropped, sync.unit,
              time.perf_counter() - t_start, args.output))
     if residuals:
-        r = sorted(residuals)
-        above = sum(v > MAX_MATCHING_RESIDUAL for v in r)
+        median, above = residual_summary(residuals)
         print("matching residual (the LiDAR against the images): median %.2f px over %d sets, %d above %.0f px%s"
-              % (r[len(r) // 2], len(r), above, MAX_MATCHING_RESIDUAL,
+              % (median, len(residuals), above, MAX_MATCHING_RESIDUAL,
                  ": the LiDAR pulls the fusion off the images there; check the transform" if above else ""))
     if counts["sets"] == 0 and sync.dropped and not args.approximate_sync:
         print("lidarsgm_bag: no five messages share a stamp: if the LiDAR is not triggered by the cameras, pass "

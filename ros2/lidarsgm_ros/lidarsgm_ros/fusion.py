@@ -34,6 +34,13 @@ MAX_MATCHING_RESIDUAL = 1.0
 Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse left_grey right_grey")
 
 
+def residual_summary(residuals):
+    """(median, how many above MAX_MATCHING_RESIDUAL) of matching residuals, the median as the module takes it
+    (the upper of two middle values)."""
+    r = sorted(residuals)
+    return r[len(r) // 2], sum(v > MAX_MATCHING_RESIDUAL for v in r)
+
+
 def _to_text(cv2, sgm):
     fs = cv2.FileStorage(".yml", cv2.FILE_STORAGE_WRITE | cv2.FILE_STORAGE_MEMORY)
     sgm.write(fs)

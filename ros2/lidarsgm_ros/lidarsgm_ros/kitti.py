@@ -88,7 +88,8 @@ def write_bag(kitti_dir, out, storage="mcap", ids=None, period_ns=100000000, nam
     ids = ids or cv2.lidarsgm.readKittiFrameIds(kitti_dir)
     plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
     with Writer(out, version=9, storage_plugin=plugin) as writer:
-        conns = {n: writer.add_connection(namespace.rstrip("/") + "/" + n, t, typestore=ts) for n, t in INPUT_TYPES.items()}
+        conns = {n: writer.add_connection(namespace.rstrip("/") + "/" + n, t, typestore=ts)
+                 for n, t in INPUT_TYPES.items()}
         tf_conn = writer.add_connection("/tf_static", "tf2_msgs/msg/TFMessage", typestore=ts)
         for i, fid in enumerate(ids):
             frame = cv2.lidarsgm.loadKittiFrame(kitti_dir, fid)

@@ -24,7 +24,7 @@ from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, qos_profile_sensor_data
 
 from .conversions import ConversionError
-from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion
+from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class, stamp_ns
 from .sync import ApproximateSync, ExactSync
 
@@ -144,9 +144,9 @@ class StereoLidarNode(Node):
                 "synchroniser" % (self.fused, 1000 * self.busy / max(self.fused, 1), self.skipped, self.sync.dropped,
                                   self.sync.unit))
         if self.residuals:
-            r = sorted(self.residuals)
+            median, above = residual_summary(self.residuals)
             text += "; matching residual median %.2f px over %d checks, %d above %.0f px" % (
-                r[len(r) // 2], len(r), sum(v > MAX_MATCHING_RESIDUAL for v in r), MAX_MATCHING_RESIDUAL)
+                median, len(self.residuals), above, MAX_MATCHING_RESIDUAL)
         return text
 
     def _check_calibration(self, result):
