@@ -146,10 +146,15 @@ static LIDARSGM_HD int matchingCost(int h, int d, int k, const CostWeights& w)
 
 /** The penalty of a disparity jump on a path step from q to p (the P2 of paper Eq. 2): P2, or the smaller w.p2Edge
 where the left image steps by more than edgeThreshold between q and p (an intensity edge is a likely depth edge;
-Hirschmueller 2008 adapts P2 to the step likewise). edgeThreshold 0: always P2. */
+Hirschmueller 2008 adapts P2 to the step likewise). edgeThreshold 0: always P2. intensityEdge is the test alone,
+symmetric in p and q. */
+static LIDARSGM_HD bool intensityEdge(int ip, int iq, int edgeThreshold)
+{
+    return edgeThreshold > 0 && (ip > iq ? ip - iq : iq - ip) > edgeThreshold;
+}
 static LIDARSGM_HD int jumpPenalty(int ip, int iq, int edgeThreshold, const CostWeights& w)
 {
-    return edgeThreshold > 0 && (ip > iq ? ip - iq : iq - ip) > edgeThreshold ? w.p2Edge : w.p2;
+    return intensityEdge(ip, iq, edgeThreshold) ? w.p2Edge : w.p2;
 }
 
 //! Integer disparity (pixels) of a 1/16-pixel value, rounded to nearest (halves up).

@@ -8,11 +8,18 @@
 // Measured against one launch per direction, and pairs of opposite directions walking each line from both ends, without
 // atomics: this is the fastest at every size since the census strings' loads span few cache lines (doc/perf.md, "Tried
 // and dropped").
+//
+// A step's work that does not depend on the disparities is kept small: what a pixel contributes besides its census
+// string (the prior, its class, the edges of the jump penalty) is packed into 16 bits by factsKernel before the walk;
+// the kernel is instantiated for what a call uses (prior, edge rule, last group full), so that no flag is tested per
+// step; the DDC term of a lane's pairs is one shared-memory load from a table of the pair terms; addresses are one
+// multiply-add from the step number.
 
 #include "cuda_stages.hpp"
 #include "aggregation.cuh"
 #include "opencv2/cudev/common.hpp"
 #include <algorithm>
+#include <type_traits>
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -21,17 +28,74 @@ namespace {
 const int WARPS_PER_BLOCK = 4;
 using namespace aggregation;
 
+/* The facts of each pixel (packFacts). May write over prior16 (same size and memory): each thread reads its pixel's
+ prior before it writes. */
+template <typename T>
+__global__ void factsKernel(PtrStepSz<short> prior16, PtrStepSz<short> own16, const int* scan, PtrStepSz<T> image,
+                           int minD, int edgeThreshold, PtrStepSz<ushort> facts)
+{
+    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x >= facts.cols || y >= facts.rows)
+        return;
+    int k = 0, cls = 0;
+    if (prior16.data)
+    {
+        const int pr = prior16(y, x);
+        if (pr != NO_DISP)
+        {
+            const bool copied = own16.data && copiedPrior(*scan != 0, pr, own16(y, x));
+            k = roundDisp16(pr) - minD;
+            cls = copied ? 2 : 1;
+        }
+    }
+    unsigned edges = 0;
+    if (edgeThreshold > 0)
+    {
+        const int ip = image(y, x);
+        const int fx[4] = { 1, 0, 1, -1 };
+#pragma unroll
+        for (int b = 0; b < 4; b++)
+        {
+            const int qx = x - fx[b], qy = y - (b == 0 ? 0 : 1);
+            if (qx >= 0 && qx < image.cols && qy >= 0 && intensityEdge(ip, image(qy, qx), edgeThreshold))
+                edges |= 1u << b;
+        }
+    }
+    facts(y, x) = (ushort)packFacts(k, cls, edges);
+}
+
+//! a b as a 64-bit product (mul.wide.u32: the compiler otherwise widens one operand early and multiplies in 64 bits).
+__device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
+{
+    unsigned long long r;
+    asm("mul.wide.u32 %0, %1, %2;" : "=l"(r) : "r"(a), "r"(b));
+    return (size_t)r;
+}
+
 /* One warp walks one line of direction blockIdx.y (lineStart), adding its path costs into the zeroed sum volume with
  64-bit (or 32-bit) reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights
- are scaled for that), so no carry crosses into the other half. The left census and prior are warp-uniform loads; the
- right census strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are
- issued before the current step's recurrence, to hide their latency. The left image is read (warp-uniform) only for
- the edge rule of the jump penalty (jumpPenalty). */
-template <int PPT, int G, typename T>
-__global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16,
-                           PtrStepSz<T> image, PipelineParams p, PtrStepSz<short> own16, const int* scan,
-                           PtrStepSz<ushort> sum)
+ are scaled for that), so no carry crosses into the other half. The left census and the facts are warp-uniform
+ loads; the right census strings are read through L1 (a horizontal line's row stays there). The loads for the next
+ pixel are issued before the current step's recurrence, to hide their latency. Instantiated for G pairs per group
+ (see below), FULL: every lane's last group holds disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty. */
+template <int PPT, int G, bool FULL, bool DDC, bool EDGES>
+__global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
+pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PipelineParams p,
+           PtrStepSz<ushort> sum)
 {
+    // The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u: one load per group and step. A row
+    // takes 1 << FACT_ROW_SHIFT bytes, so that the facts' row bits are its offset.
+    const int ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4;
+    __shared__ __align__(8) unsigned ddcTable[DDC ? FACT_ROWS * ROW_WORDS : 1];
+    if (DDC)
+    {
+        for (int i = threadIdx.x; i < FACT_ROWS * (G + 2) * G; i += blockDim.x)
+        {
+            const int row = i / ((G + 2) * G), u = i / G % (G + 2), j = i % G;
+            ddcTable[row * ROW_WORDS + u * G + j] = ddcPairTerm(row, u, j, p.w, p.wCopy);
+        }
+        __syncthreads();
+    }
     // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
     // indexed by blockIdx would live in local memory).
     const int dir = (int)blockIdx.y;
@@ -45,177 +109,158 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
         return;
     // The line's length: steps until it leaves the image.
     const int n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
-    const CostWeights w = p.w, wCopy = p.wCopy;
     // Lane t holds PPT pairs in NG = PPT / G groups of G adjacent pairs: pair i = gG + j covers disparities
     // e_i = 2 (32 G g + G t + j) and e_i + 1. Across the warp the census strings of one pair index then lie 8 G bytes
     // apart: a load spans 2 G cache lines (with one run of 2 PPT disparities per lane it spanned 2 PPT).
     const int NG = PPT / G;
-    int e[PPT];
-#pragma unroll
-    for (int i = 0; i < PPT; i++)
-        e[i] = 2 * (32 * G * (i / G) + G * lane + i % G);
     // Pairs with e_i < D hold disparities (D is even: a pair never straddles it); all groups but the last are whole.
     // lastActive: the lanes whose last group holds disparities.
-    const int lastActive = ::min(32, (D - 64 * G * (NG - 1) + 2 * G - 1) / (2 * G));
-    const bool lastIn = lane < lastActive;
+    const int lastActive = FULL ? 32 : ::min(32, (D - 64 * G * (NG - 1) + 2 * G - 1) / (2 * G));
+    const bool lastIn = FULL || lane < lastActive;
     const bool active = lastIn || NG > 1;   // the lane holds at least one pair
 
-    // Pointers to the current pixel, moved by one step's byte offsets: no row address is computed per step. pR points
-    // at the right pixel of disparity 2 G t (x - minD - 2 G t); the strings of pair i lie e_i - 2 G t and one more
-    // columns before it. Lanes past D in the last group read group 0's strings, and lanes without any pair lane 0's
-    // (within the padding).
-    const ptrdiff_t stepL = dy * (ptrdiff_t)censusL.step + dx * (ptrdiff_t)sizeof(int);
-    const ptrdiff_t stepR = dy * (ptrdiff_t)censusR.step + dx * (ptrdiff_t)sizeof(int);
-    const ptrdiff_t stepP = dy * (ptrdiff_t)prior16.step + dx * (ptrdiff_t)sizeof(short);
-    const ptrdiff_t stepO = dy * (ptrdiff_t)own16.step + dx * (ptrdiff_t)sizeof(short);
-    const ptrdiff_t stepI = dy * (ptrdiff_t)image.step + dx * (ptrdiff_t)sizeof(T);
-    const ptrdiff_t stepS = dy * (ptrdiff_t)sum.step + dx * (ptrdiff_t)D * (ptrdiff_t)sizeof(ushort);
+    // Addresses of pixel s of the line: all steps in memory have the sign of dy (or of dx on rows), so pixel s lies
+    // idx |step| bytes after an origin, idx = s walking forward, n - 1 - s from the line's last pixel otherwise: one
+    // unsigned multiply-add per address. The right census origin oR points at the right pixel of disparity 2 G t (x - minD - 2 G t); the strings of
+    // pair i lie e_i - 2 G t and one more columns before it. Lanes past D in the last group read group 0's strings,
+    // and lanes without any pair lane 0's (within the padding). The sums of pair i: S[32 G (i / G) + i % G], S at
+    // this lane's first pair.
+    const bool forward = dy > 0 || (dy == 0 && dx > 0);
+    const int xo = forward ? x : x + (n - 1) * dx, yo = forward ? y : y + (n - 1) * dy;
+    const unsigned stepL = (unsigned)abs(dy * (int)censusL.step + dx * (int)sizeof(int));
+    const unsigned stepR = (unsigned)abs(dy * (int)censusR.step + dx * (int)sizeof(int));
+    const unsigned stepF = (unsigned)abs(dy * (int)facts.step + dx * (int)sizeof(ushort));
+    const unsigned stepS = (unsigned)abs(dy * (int)sum.step + dx * D * (int)sizeof(ushort));
     int roff[PPT];   // the strings of pair i: pR[-roff[i]] and pR[-roff[i] - 1]
 #pragma unroll
     for (int i = 0; i < PPT; i++)
         roff[i] = (i / G < NG - 1 || lastIn ? 64 * G * (i / G) : 0) + 2 * (i % G);
-    const int* pL = censusL.ptr(y) + x;
-    const int* pR = censusR.ptr(y) + x - minD - 2 * G * (active ? lane : 0);
-    const bool hasPrior = prior16.data != nullptr, edges = p.edgeThreshold > 0;
-    const short* pP = hasPrior ? prior16.ptr(y) + x : nullptr;
-    // Copied priors take wCopy where the scan test (run on the device before this kernel) passed.
-    const bool copies = own16.data != nullptr && *scan != 0;
-    const short* pO = copies ? own16.ptr(y) + x : nullptr;
-    const T* pI = edges ? image.ptr(y) + x : nullptr;
-    // jumpPenalty's threshold made "never" (not 0) when the edge rule is off: the same penalty, one select a step.
-    const int edgeThreshold = edges ? p.edgeThreshold : INT_MAX;
-    // The sums of pair i: S[32 G (i / G) + i % G], S at this lane's first pair.
-    unsigned* S = (unsigned*)(sum.ptr(y) + (size_t)x * D) + G * lane;
-    int left = n;
+    const char* const oL = (const char*)(censusL.ptr(yo) + xo);
+    const char* const oR = (const char*)(censusR.ptr(yo) + xo - minD - 2 * G * (active ? lane : 0));
+    const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(yo) + xo) : nullptr;
+    char* const oS = (char*)((unsigned*)(sum.ptr(yo) + (size_t)xo * D) + G * lane);
+    const int dIdx = forward ? 1 : -1;
+    int idx = forward ? 0 : n - 1;   // of the pixel whose values are loaded
+
+    // The edge bit of this direction's jump (facts bits 12-15): of the current pixel for a forward direction, of the
+    // previous one (the pair's other pixel) for its opposite. The test reads the current facts low, the previous high.
+    const int edgeBit = dir < 2 ? 0 : dir < 4 ? 1 : (dir == 4 || dir == 7) ? 2 : 3;
+    const bool edgeOfPrev = dir < 4 ? (dir & 1) != 0 : dir >= 6;
+    const unsigned edgeMask = 1u << (FACT_EDGE_SHIFT + edgeBit + (edgeOfPrev ? 16 : 0));
+    const CostWeights w = p.w;
+    unsigned p1x2 = (unsigned)w.p1 * 0x10001u, p2x2 = (unsigned)w.p2 * 0x10001u,
+             p2Edgex2 = (unsigned)w.p2Edge * 0x10001u;
+    unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
+    // Kept in registers (the compiler would reload and rescale them from the parameters at every step).
+    asm("" : "+r"(p1x2), "+r"(p2x2), "+r"(p2Edgex2), "+r"(c256lo), "+r"(c256hi));
 
     // Values of the current pixel, loaded one step ahead.
-    unsigned l = (unsigned)*pL;
-    int pr = hasPrior ? *pP : NO_DISP;
-    int own = copies ? *pO : NO_DISP;
-    int intensity = edges ? (int)*pI : 0, prevIntensity = intensity;
-    unsigned r[2 * PPT];
+    unsigned l, f = 0, fPrev = 0, r[2 * PPT];
+    auto load = [&]() {
+        l = *(const unsigned*)(oL + wideMul(idx, stepL));
+        if (DDC || EDGES)
+            f = *(const ushort*)(oF + wideMul(idx, stepF));
+        const int* pR = (const int*)(oR + wideMul(idx, stepR));
 #pragma unroll
-    for (int i = 0; i < PPT; i++)
-    {
-        r[2 * i] = (unsigned)pR[-roff[i]];
-        r[2 * i + 1] = (unsigned)pR[-roff[i] - 1];
-    }
+        for (int i = 0; i < PPT; i++)
+        {
+            r[2 * i] = (unsigned)pR[-roff[i]];
+            r[2 * i + 1] = (unsigned)pR[-roff[i] - 1];
+        }
+    };
+    load();
 
     // The path costs of the lane's disparities, two per register (e_i low, e_i + 1 high): every value stays below
     // BIG16 and BIG16 + P1 below 2^16, so plain 32-bit adds and subtractions never carry between the halves
     // (C + best - minPrev >= 0 since best >= minPrev), and min.u16x2 takes both minima at once. Pairs past D compute
-    // values that no other pair reads and that are neither stored nor in the minimum.
+    // values that no other pair reads and that are neither stored nor in the minimum. Zero path costs and minimum
+    // before the first pixel make its recurrence give its matching costs (best = 0), as the path's start.
     unsigned P[PPT];
-    int minPrev = 0;
-    const unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
-    for (int step = 0; ; step++)
-    {
-        const bool start = step == 0;
-        // k: the prior's disparity index; without a prior far below every lane's run, so that no lane is near it.
-        const bool hasK = pr != NO_DISP;
-        const int k = hasK ? roundDisp16(pr) - minD : -1024;
-        // matchingCost (pipeline.hpp) in pairs: the census term, plus the DDC term, which is one value (0 without a
-        // prior, Q2 with one) except within one disparity of the prior, in at most two pairs that add it exactly.
-        const bool copied = copiedPrior(copies, pr, own);
-        const CostWeights wk = copied ? wCopy : w;
-        const unsigned ddcFar = hasK ? (unsigned)wk.q2 * 0x10001u : 0u;
-        unsigned h[2 * PPT], Cp[PPT];
-        bool near = false;
 #pragma unroll
-        for (int j = 0; j < 2 * PPT; j++)
-            h[j] = (unsigned)popcount32(l ^ r[j]);
+    for (int i = 0; i < PPT; i++)
+        P[i] = 0;
+    unsigned mp2 = 0;   // the previous pixel's minimum, in both halves
+    // One pixel of the line; loadNext: the next pixel's values are loaded (all but the last pixel).
+    auto step = [&](auto loadNext) {
+        // matchingCost (pipeline.hpp) in pairs: the census term, and the DDC term of the pair from the table (0
+        // without a prior), added with the minimum's subtraction: add[i] = ddc - minPrev.
+        unsigned T[PPT], add[PPT];
 #pragma unroll
         for (int i = 0; i < PPT; i++)
-            Cp[i] = censusTermPair(__byte_perm(h[2 * i], h[2 * i + 1], 0x5410), c256lo, c256hi) + ddcFar;
-#pragma unroll
-        for (int g = 0; g < NG; g++)
-            near |= (unsigned)(k - e[G * g] + 1) <= (unsigned)(2 * G + 1);   // k in [e - 1, e + 2 G], e the group's first
-        if (near)
         {
-#pragma unroll
-            for (int i = 0; i < PPT; i++)
-                Cp[i] = (unsigned)matchingCost((int)h[2 * i], e[i], k, wk) |
-                        ((unsigned)matchingCost((int)h[2 * i + 1], e[i] + 1, k, wk) << 16);
+            const unsigned h = __byte_perm(popcount32(l ^ r[2 * i]), popcount32(l ^ r[2 * i + 1]), 0x5410);
+            T[i] = censusTermPair(h, c256lo, c256hi);
+            add[i] = 0u - mp2;
         }
-        const int curIntensity = intensity;
-        const bool more = --left > 0;
-        if (more)
+        if (DDC)
         {
-            pL = (const int*)((const char*)pL + stepL);
-            pR = (const int*)((const char*)pR + stepR);
-            l = (unsigned)*pL;
-
-            if (hasPrior)
-            {
-                pP = (const short*)((const char*)pP + stepP);
-                pr = *pP;
-            }
-            if (copies)
-            {
-                pO = (const short*)((const char*)pO + stepO);
-                own = *pO;
-            }
-            if (edges)
-            {
-                pI = (const T*)((const char*)pI + stepI);
-                intensity = *pI;
-            }
-#pragma unroll
-            for (int i = 0; i < PPT; i++)
-            {
-                r[2 * i] = (unsigned)pR[-roff[i]];
-                r[2 * i + 1] = (unsigned)pR[-roff[i] - 1];
-            }
-        }
-        if (start)
-        {
-#pragma unroll
-            for (int i = 0; i < PPT; i++)
-                P[i] = Cp[i];
-        }
-        else
-        {
-            // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles
-            // that rotate the warp, so that lane 0 receives lane 31's pair (the previous group's top) and lane 31
-            // lane 0's (the next group's bottom).
-            unsigned up[NG], down[NG];
+            const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
+            const unsigned* row = (const unsigned*)((const char*)ddcTable +
+                                                    (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
 #pragma unroll
             for (int g = 0; g < NG; g++)
             {
-                up[g] = __shfl_sync(0xFFFFFFFFu, P[g * G + G - 1], (lane + 31) & 31);
-                down[g] = __shfl_sync(0xFFFFFFFFu, P[g * G], (lane + 1) & 31);
+                const unsigned u = ::min(a - (unsigned)(32 * G * g + G * lane), (unsigned)(G + 1));
+                if (G == 2)
+                {
+                    const uint2 v = *(const uint2*)(row + 2 * u);
+                    add[2 * g] = v.x - mp2;
+                    add[(2 * g + 1) % PPT] = v.y - mp2;
+                }
+                else
+                    add[g] = row[u] - mp2;
             }
-            const unsigned jump =
-                (unsigned)(minPrev + jumpPenalty(curIntensity, prevIntensity, edgeThreshold, w)) * 0x10001u;
-            const unsigned p1 = (unsigned)w.p1 * 0x10001u, mp = (unsigned)minPrev * 0x10001u;
-            unsigned Pn[PPT];
-#pragma unroll
-            for (int i = 0; i < PPT; i++)
-            {
-                const int g = i / G, j = i % G;
-                const unsigned below = lane > 0 ? up[g] : g > 0 ? up[(g + NG - 1) % NG] : BIG16X2;
-                const unsigned above = g < NG - 1 ? (lane < 31 ? down[g] : down[(g + 1) % NG])
-                                                  : (lane + 1 < lastActive ? down[g] : BIG16X2);
-                const unsigned lm = __byte_perm(j > 0 ? P[i - 1] : below, P[i], 0x5432);
-                const unsigned lp = __byte_perm(P[i], j < G - 1 ? P[i + 1] : above, 0x5432);
-                const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + p1);
-                Pn[i] = Cp[i] + best - mp;
-            }
-#pragma unroll
-            for (int i = 0; i < PPT; i++)
-                P[i] = Pn[i];
         }
+        unsigned jump = mp2 + p2x2;
+        if (EDGES)
+            jump = mp2 + ((f | fPrev << 16) & edgeMask ? p2Edgex2 : p2x2);
+        fPrev = f;
+        // The sums of this pixel's pairs.
+        unsigned* const S = (unsigned*)(oS + wideMul(idx, stepS));
+        if (decltype(loadNext)::value)
+        {
+            idx += dIdx;
+            load();
+        }
+
+        // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles that
+        // rotate the warp, so that lane 0 receives lane 31's pair (the previous group's top) and lane 31 lane 0's
+        // (the next group's bottom).
+        unsigned up[NG], down[NG];
+#pragma unroll
+        for (int g = 0; g < NG; g++)
+        {
+            up[g] = __shfl_sync(0xFFFFFFFFu, P[g * G + G - 1], (lane + 31) & 31);
+            down[g] = __shfl_sync(0xFFFFFFFFu, P[g * G], (lane + 1) & 31);
+        }
+        unsigned Pn[PPT];
+#pragma unroll
+        for (int i = 0; i < PPT; i++)
+        {
+            const int g = i / G, j = i % G;
+            const unsigned below = lane > 0 ? up[g] : g > 0 ? up[(g + NG - 1) % NG] : BIG16X2;
+            const unsigned above = g < NG - 1 ? (lane < 31 ? down[g] : down[(g + 1) % NG])
+                                              : (lane + 1 < lastActive ? down[g] : BIG16X2);
+            const unsigned lm = __byte_perm(j > 0 ? P[i - 1] : below, P[i], 0x5432);
+            const unsigned lp = __byte_perm(P[i], j < G - 1 ? P[i + 1] : above, 0x5432);
+            const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + p1x2);
+            Pn[i] = T[i] + best + add[i];
+        }
+#pragma unroll
+        for (int i = 0; i < PPT; i++)
+            P[i] = Pn[i];
         // The minimum over the pairs that hold disparities: a lane's last group holds all its pairs or none (D is a
-        // multiple of 16; with G = 2 pairs of 4 disparities).
+        // multiple of 16; with G = 2 pairs of 4 disparities). Both halves take it, so that the reduction of the
+        // packed words gives it in both halves.
         unsigned mLast = P[G * (NG - 1)];
 #pragma unroll
         for (int j = 1; j < G; j++)
             mLast = vmin2(mLast, P[G * (NG - 1) + j]);
-        unsigned mPair = lastIn ? mLast : BIG16X2;
+        unsigned m = lastIn ? mLast : BIG16X2;
 #pragma unroll
         for (int i = 0; i < G * (NG - 1); i++)
-            mPair = vmin2(mPair, P[i]);
-        minPrev = (int)__reduce_min_sync(0xFFFFFFFFu, ::min(mPair & 0xFFFFu, mPair >> 16));
+            m = vmin2(m, P[i]);
+        mp2 = __reduce_min_sync(0xFFFFFFFFu, vmin2(m, __byte_perm(m, 0, 0x1032)));
         if (active)
         {
             // Even G: four 16-bit costs per 64-bit reduction (8-byte aligned), half the atomic operations of 32-bit
@@ -236,61 +281,85 @@ __global__ void pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSt
                     }
                 }
         }
-        prevIntensity = curIntensity;
-        if (!more)
-            break;
-        S = (unsigned*)((char*)S + stepS);
-    }
+    };
+#pragma unroll 2
+    for (int s = 1; s < n; s++)
+        step(std::true_type());
+    step(std::false_type());
 }
 
 /* PPT = D / 64 rounded up pairs per lane, in groups of G = 2 adjacent pairs where PPT is even (four costs per 64-bit
  reduction; a load of census strings spans four cache lines), else G = 1 (measured: G = 4 at 256 disparities, one
  run of eight per lane, made each load span eight lines and kept L1 busy; doc/perf.md). */
-template <int PPT, typename T>
-void run(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-         const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum, cudaStream_t stream)
+template <int PPT, bool DDC, bool EDGES>
+void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
+              PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
-    CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
-    const dim3 grid(cv::cudev::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths);
-    pathKernel<PPT, PPT % 2 == 0 ? 2 : 1, T><<<grid, dim3(32 * WARPS_PER_BLOCK), 0, stream>>>(censusL, censusR, prior16,
-                                                                                             image, p, own16, scan, sum);
+    const dim3 grid(cv::cudev::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths), block(32 * WARPS_PER_BLOCK);
+    const int G = PPT % 2 == 0 ? 2 : 1;
+    if (p.numDisparities == 64 * PPT)
+        pathKernel<PPT, G, true, DDC, EDGES><<<grid, block, 0, stream>>>(censusL, censusR, facts, p, sum);
+    else
+        pathKernel<PPT, G, false, DDC, EDGES><<<grid, block, 0, stream>>>(censusL, censusR, facts, p, sum);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
+}
+
+template <int PPT>
+void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
+              bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
+{
+    const bool edges = p.edgeThreshold > 0;
+    if (ddc)
+        edges ? runPaths<PPT, true, true>(censusL, censusR, facts, p, sum, stream)
+              : runPaths<PPT, true, false>(censusL, censusR, facts, p, sum, stream);
+    else
+        edges ? runPaths<PPT, false, true>(censusL, censusR, facts, p, sum, stream)
+              : runPaths<PPT, false, false>(censusL, censusR, facts, p, sum, stream);
 }
 
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-               const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
-               cudaStream_t stream)
+               const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
+               PtrStepSz<ushort> sum, cudaStream_t stream)
 {
+    CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+    const bool ddc = prior16.data != nullptr;
+    if (ddc || p.edgeThreshold > 0)
+    {
+        const dim3 block(32, 8), grid(cv::cudev::divUp(censusL.cols, 32), cv::cudev::divUp(censusL.rows, 8));
+        factsKernel<T><<<grid, block, 0, stream>>>(prior16, own16, scan, image, p.minDisparity, p.edgeThreshold,
+                                                  facts);
+        CV_CUDEV_SAFE_CALL(cudaGetLastError());
+    }
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: run<1>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
-    case 2: run<2>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
-    case 3: run<3>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
-    case 4: run<4>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
-    case 5: run<5>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
-    case 6: run<6>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
-    case 7: run<7>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
-    default: run<8>(censusL, censusR, prior16, image, p, own16, scan, sum, stream); break;
+    case 1: runPaths<1>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 2: runPaths<2>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 3: runPaths<3>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 4: runPaths<4>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 5: runPaths<5>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 6: runPaths<6>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 7: runPaths<7>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    default: runPaths<8>(censusL, censusR, facts, p, ddc, sum, stream); break;
     }
 }
 
 } // namespace
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
-                    cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
+                    PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, own16, scan, sum, stream);
+    aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, sum, stream);
 }
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
-                    cudaStream_t stream)
+                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
+                    PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, own16, scan, sum, stream);
+    aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, sum, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

@@ -1,17 +1,52 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Device helpers of the path kernel (src_cuda/aggregation.cu): the line geometry, the packed 16-bit minimum and census
-// term; and the load of a pixel's cost pairs from the sum volume (the winner-takes-all's, src_cuda/winner_takes_all.cu).
+// Device helpers of the path kernel (src_cuda/aggregation.cu): the per-pixel facts, the DDC term table, the line
+// geometry, the packed 16-bit minimum and census term; and the load of a pixel's cost pairs from the sum volume (the
+// winner-takes-all's, src_cuda/winner_takes_all.cu).
 
 #ifndef OPENCV_LIDARSGM_AGGREGATION_CUH
 #define OPENCV_LIDARSGM_AGGREGATION_CUH
 
 #include "opencv2/core/cuda_types.hpp"
+#include "pipeline.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl { namespace aggregation {
 
 using cv::cuda::PtrStepSz;
+
+/* The per-pixel facts of a path step besides the census strings, packed into 16 bits (factsKernel) so that a step
+ loads one warp-uniform value and tests no run-time flag:
+ - bits 0-8: (k + 1) / 2, k the prior's disparity index (0 without a prior): one more than the index of the pair of
+   disparities that holds k - 1, the first of the three disparities whose DDC term is not Q2;
+ - bits 9-11: 2 c + (k & 1), c the prior's class (0 none, 1 measured, 2 copied: copiedPrior), which selects the row
+   of the DDC term table (ddcPairTerm);
+ - bits 12-15: bit b is intensityEdge between the pixel and its neighbour p - f_b, for the four forward directions
+   f_0..f_3 = (1, 0), (0, 1), (1, 1), (-1, 1). The test is symmetric, so a path walking -f_b reads the bit of the
+   previous pixel on its path. */
+enum { FACT_PAIR_BITS = 9, FACT_ROW_SHIFT = 9, FACT_ROW_BITS = 3, FACT_EDGE_SHIFT = 12, FACT_ROWS = 6 };
+
+//! k in [0, MAX_DISPARITIES) (the priors lie in the search range: sparseInRange), cls 0..2, edges 4 bits.
+__host__ __device__ __forceinline__ unsigned packFacts(int k, int cls, unsigned edges)
+{
+    return cls == 0 ? edges << FACT_EDGE_SHIFT
+                    : (unsigned)(k + 1) >> 1 | (unsigned)(2 * cls + (k & 1)) << FACT_ROW_SHIFT |
+                      edges << FACT_EDGE_SHIFT;
+}
+
+/* The DDC terms (ddcTerm) of pair j of a run of G adjacent pairs of disparities, packed two per word, as a function
+ of the facts' row (class and parity of k) and of u = pairs from the run's first pair to the pair that holds k - 1,
+ plus one: u in [0, G] puts k - 1, k or k + 1 into the run; u = G + 1 stands for every run that none of them reaches.
+ The offsets of the run's disparities from k depend on these alone, so a representative k of the row's parity gives
+ them. */
+__host__ __device__ __forceinline__ unsigned ddcPairTerm(int row, int u, int j, const CostWeights& w,
+                                                         const CostWeights& wCopy)
+{
+    const int cls = row >> 1, k = 8 + (row & 1), pA = (k - 1) >> 1;
+    const int e = 2 * (pA + 1 - u + j), kk = cls == 0 ? -1 : k;
+    const CostWeights& wc = cls == 2 ? wCopy : w;
+    return (unsigned)ddcTerm(e, kk, wc) | (unsigned)ddcTerm(e + 1, kk, wc) << 16;
+}
 
 const unsigned BIG16 = 0x7FFF;    // stands for "no such disparity": above every path cost, never the minimum
 const unsigned BIG16X2 = BIG16 * 0x10001u;

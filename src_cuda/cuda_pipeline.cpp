@@ -37,11 +37,13 @@ struct CudaPipeline::Buffers
 {
     /* The only allocations. Maps whose lifetimes do not overlap share memory (the stages run in stream order): the
     converted sparse map before the visibility filter lives in censusL's memory (the census transform runs after the
-    filter); after the aggregation the census strings are dead, so the winner-takes-all's right-view keys take
+    filter); the path kernel's per-pixel facts overwrite the semidense prior they are made from (the aggregation reads
+    it last); after the aggregation the census strings are dead, so the winner-takes-all's right-view keys take
     censusL's memory and its disparity maps censusRPadded's, its non-unique winners (for the ring check) the memory of
     the semidense prior; after the winner-takes-all the sum volume is dead, so the right-view disparities and the
     median's outputs take its memory. */
     cuda::GpuMat censusL, censusR, sparse16, semidense16, sum;
+    cuda::GpuMat facts;              //!< the path kernel's per-pixel facts where the semidense map does not hold them
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
     cuda::GpuMat ring, ringStats;    //!< ring interpolation's maps (above, then below) and gap statistics
     cuda::GpuMat scanStats;          //!< the visibility filter's scan test (gap histograms and result)
@@ -161,10 +163,23 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const bool weigh = p.weighCopies && scanStats;
     const cuda::PtrStepSz<short> own16 = weigh ? cuda::PtrStepSz<short>(b.sparse16) : cuda::PtrStepSz<short>();
     const int* scan = weigh ? scanStats + 2 * SCAN_GAP_BINS : nullptr;
+    // The path kernel's per-pixel facts: in the semidense map's memory, which the aggregation reads for the last
+    // time (the winner-takes-all reuses it); DSGM's prior, the sparse map, is read by the check later.
+    cuda::GpuMat facts;
+    if (p.semidense)
+        facts = b.semidense16;
+    else if (!prior.empty() || p.edgeThreshold > 0)
+    {
+        b.facts.create(sz, CV_16UC1);
+        facts = b.facts;
+    }
+    const cuda::PtrStepSz<ushort> facts16 = facts.empty() ? cuda::PtrStepSz<ushort>() : cuda::PtrStepSz<ushort>(facts);
     if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, b.sum, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, facts16, b.sum,
+                           st);
     else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, b.sum, st);
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, facts16, b.sum,
+                           st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
     ci::RingCheckMaps ringCheck = {};

@@ -65,13 +65,15 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
 The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). own16: the filtered
 sparse map where copied priors take p.wCopy (copiedPrior) if the scan test's result at *scan (device memory) is
-non-zero; empty: w everywhere. */
+non-zero; empty: w everywhere. facts: a map of the image's size that receives each pixel's packed facts (the
+path kernel's input besides the census strings) where a prior or the edge rule exists; it may be prior16's memory,
+which it then overwrites. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
-                    cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
+                    PtrStepSz<ushort> sum, cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> sum,
-                    cudaStream_t stream);
+                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
+                    PtrStepSz<ushort> sum, cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
 right-view disparity as on the CPU; nonUnique16 (may be empty) the winners that fail the uniqueness check, NO_DISP

@@ -107,10 +107,11 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
     const cuda::PtrStepSz<short> prior = prior16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior16);
     const cuda::PtrStepSz<short> own = own16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(own16);
     const int* flag = own16.empty() ? nullptr : scanFlag.ptr<int>();
+    GpuMat facts(left.size(), CV_16UC1);
     if (left.type() == CV_8UC1)
-        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, sum, 0);
+        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, facts, sum, 0);
     else
-        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, sum, 0);
+        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, facts, sum, 0);
     finish();
 }
 
