@@ -1,7 +1,7 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // The datasets API (opencv2/lidarsgm/datasets.hpp): the KITTI and KITTI raw readers on the shipped frames, Middlebury
-// scenes, the LiDAR ring selection, the output encodings (KITTI disparity and depth PNGs, PFM, PLY), and the errors a
-// user gets for a missing or malformed file.
+// scenes, the LiDAR ring selection, the point cloud reader (PCD, PLY, KITTI .bin), the output encodings (KITTI
+// disparity and depth PNGs, PFM, PLY), and the errors a user gets for a missing or malformed file.
 #include "test_precomp.hpp"
 #include "test_common.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
@@ -225,6 +225,138 @@ TEST(Lidarsgm_Datasets, lidar_rings)
         }
         EXPECT_GT(top * 180 / CV_PI, 1.5) << id;
     }
+}
+
+
+// ---- readPointCloud: PCD, PLY and KITTI .bin (PCL's and plyfile's own writers in the Python tests) ----------------
+
+//! The error of readPointCloud(path), "" where it reads the file.
+static std::string pointCloudError(const std::string& path)
+{
+    try
+    {
+        readPointCloud(path);
+    }
+    catch (const cv::Exception& e)
+    {
+        return e.err;
+    }
+    return std::string();
+}
+
+//! The bytes of a value as a string.
+template <typename T> static std::string bytesOf(T v, bool bigEndian = false)
+{
+    std::string s((const char*)&v, sizeof(T));
+    if (bigEndian)
+        std::reverse(s.begin(), s.end());
+    return s;
+}
+
+static void expectPoints(const Mat& m, const std::vector<Vec4f>& expected)
+{
+    ASSERT_EQ(CV_32FC1, m.type());
+    ASSERT_EQ((int)expected.size(), m.rows);
+    ASSERT_EQ(4, m.cols);
+    for (int i = 0; i < m.rows; i++)
+        for (int c = 0; c < 4; c++)
+            EXPECT_EQ(expected[i][c], m.at<float>(i, c)) << "point " << i << ", column " << c;
+}
+
+TEST(Lidarsgm_Datasets, point_cloud_pcd)
+{
+    TempDir tmp;
+    // ascii: fields in another order, a padding field of three values, an organised 2 x 2 cloud with one empty pixel.
+    const std::string ascii = tmp.file("a.pcd",
+        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS intensity x _ y z\nSIZE 2 4 1 8 4\n"
+        "TYPE U F I F F\nCOUNT 1 1 3 1 1\nWIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
+        "7 1.5 0 0 0 -2.25 3\n8 nan 0 0 0 nan nan\n9 4 1 2 3 5 6\n0 -1e3 0 0 0 0.5 1e-3\n");
+    expectPoints(readPointCloud(ascii), { Vec4f(1.5f, -2.25f, 3.f, 7.f), Vec4f(4.f, 5.f, 6.f, 9.f),
+                                          Vec4f(-1e3f, 0.5f, 1e-3f, 0.f) });
+    // binary: x double, y float, z int16, a 2-byte pad, no intensity.
+    const std::string header = "VERSION 0.7\nFIELDS x y z _\nSIZE 8 4 2 2\nTYPE F F I U\nCOUNT 1 1 1 1\nWIDTH 2\n"
+                               "HEIGHT 1\nPOINTS 2\nDATA binary\n";
+    const std::string records = bytesOf(1.25) + bytesOf(2.5f) + bytesOf((short)-3) + bytesOf((ushort)0) +
+                                bytesOf(-4.0) + bytesOf(0.125f) + bytesOf((short)7) + bytesOf((ushort)0);
+    const std::string binary = tmp.file("b.pcd", header + records);
+    expectPoints(readPointCloud(binary), { Vec4f(1.25f, 2.5f, -3.f, 0.f), Vec4f(-4.f, 0.125f, 7.f, 0.f) });
+    EXPECT_NE(std::string::npos, pointCloudError(tmp.file("short.pcd", header + records.substr(0, 30)))
+                                     .find("truncated")) << "binary data one record short";
+    // binary_compressed: the fields one after the other (x x y y z z, all 1.0f), as LZF: a literal run of 4 bytes,
+    // then a back-reference of 20 bytes 4 back.
+    const std::string lzf = std::string("\x03\x00\x00\x80\x3f\xe0\x0b\x03", 8);
+    const std::string compressed = tmp.file("c.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                                                     "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary_compressed\n" +
+                                                     bytesOf((unsigned)lzf.size()) + bytesOf(24u) + lzf);
+    expectPoints(readPointCloud(compressed), { Vec4f(1.f, 1.f, 1.f, 0.f), Vec4f(1.f, 1.f, 1.f, 0.f) });
+}
+
+TEST(Lidarsgm_Datasets, point_cloud_ply_and_kitti_bin)
+{
+    TempDir tmp;
+    // ascii, CRLF line ends, an extra property, faces after the vertices.
+    const std::string ascii = tmp.file("a.ply",
+        "ply\r\nformat ascii 1.0\r\ncomment made by hand\r\nelement vertex 3\r\nproperty float nx\r\n"
+        "property double x\r\nproperty double y\r\nproperty double z\r\nproperty uchar intensity\r\n"
+        "element face 1\r\nproperty list uchar int vertex_indices\r\nend_header\r\n"
+        "0 1 2 3 200\r\n0 inf 0 0 1\r\n0 -4 5.5 6 0\r\n3 0 1 2\r\n");
+    expectPoints(readPointCloud(ascii), { Vec4f(1.f, 2.f, 3.f, 200.f), Vec4f(-4.f, 5.5f, 6.f, 0.f) });
+    // binary big endian, a list before the vertices, float coordinates, no intensity.
+    const std::string big = tmp.file("b.ply",
+        "ply\nformat binary_big_endian 1.0\nelement camera 1\nproperty list uchar float k\nelement vertex 2\n"
+        "property float x\nproperty float y\nproperty float z\nend_header\n" + bytesOf((unsigned char)2) +
+        bytesOf(9.f, true) + bytesOf(8.f, true) + bytesOf(1.f, true) + bytesOf(2.f, true) + bytesOf(3.f, true) +
+        bytesOf(-1.f, true) + bytesOf(-2.f, true) + bytesOf(-3.f, true));
+    expectPoints(readPointCloud(big), { Vec4f(1.f, 2.f, 3.f, 0.f), Vec4f(-1.f, -2.f, -3.f, 0.f) });
+    // KITTI's .bin: readVelodyneScan's rows (a real scan has no NaN).
+    const std::string scan = cvtest::findDataFile("kitti/velodyne/000002.bin");
+    const Mat a = readPointCloud(scan), b = readVelodyneScan(scan);
+    ASSERT_EQ(b.size(), a.size());
+    EXPECT_EQ(0, cvtest::norm(a, b, NORM_INF));
+}
+
+TEST(Lidarsgm_Datasets, point_cloud_errors_name_the_file_and_fault)
+{
+    TempDir tmp;
+    const std::string xyz = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+    const struct
+    {
+        std::string name, content, message;
+    } cases[] = {
+        { "noz.pcd", "FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 1\nPOINTS 1\nDATA ascii\n1 2\n", "FIELDS has no z" },
+        { "kind.pcd", xyz + "WIDTH 1\nPOINTS 1\nDATA binary_lzma\n", "unknown DATA kind 'binary_lzma'" },
+        { "points.pcd", xyz + "WIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n", "POINTS 3 disagrees with WIDTH x HEIGHT" },
+        { "sizes.pcd", "FIELDS x y z\nSIZE 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 3\n",
+          "SIZE, TYPE and COUNT give" },
+        { "type.pcd", "FIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 3\n",
+          "field z of type F has 2 bytes" },
+        { "token.pcd", xyz + "WIDTH 2\nPOINTS 2\nDATA ascii\n1 2 3\n4 five 6\n", "'five' where a number belongs" },
+        { "ends.pcd", xyz + "WIDTH 2\nPOINTS 2\nDATA ascii\n1 2 3\n4 5\n", "the data ends at point 1 of 2" },
+        { "noheader.pcd", xyz + "WIDTH 1\n", "the header ends before its DATA line" },
+        { "lzf.pcd", xyz + "WIDTH 1\nPOINTS 1\nDATA binary_compressed\n" + bytesOf(2u) + bytesOf(12u) + "\xe0\x01",
+          "the compressed data is corrupt" },
+        { "lzfsize.pcd", xyz + "WIDTH 1\nPOINTS 1\nDATA binary_compressed\n" + bytesOf(2u) + bytesOf(16u) +
+                             std::string("\x00\x01", 2),
+          "uncompressed size 16 disagrees with 1 points of 12 bytes" },
+        { "lzfshort.pcd", xyz + "WIDTH 1\nPOINTS 1\nDATA binary_compressed\n" + bytesOf(9u) + bytesOf(12u) +
+                              std::string("\x00\x01", 2),
+          "truncated: 9 compressed bytes announced, 2 there" },
+        { "notply.ply", "solid cube\n", "not a PLY file" },
+        { "format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n", "unknown format 'binary_middle_endian'" },
+        { "nox.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float y\nproperty float z\nend_header\n1 2\n",
+          "the vertex element has no x" },
+        { "short.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                       "property float z\nend_header\n" + bytesOf(1.f) + bytesOf(2.f) + bytesOf(3.f) + bytesOf(4.f),
+          "truncated in element vertex 1 of 2" },
+        { "cloud.xyz", "1 2 3\n", "unknown file type" },
+    };
+    for (const auto& c : cases)
+    {
+        const std::string err = pointCloudError(tmp.file(c.name, c.content));
+        EXPECT_NE(std::string::npos, err.find(c.name)) << c.name << ": " << err;
+        EXPECT_NE(std::string::npos, err.find(c.message)) << c.name << ": " << err;
+    }
+    EXPECT_NE(std::string::npos, pointCloudError(tmp.path + "/missing.pcd").find("cannot open point cloud"));
 }
 
 }} // namespace

@@ -30,8 +30,8 @@ else
   # into every library, so that each OpenCV library carries its own copy of the C++ runtime, and a stream made by one
   # and used by another crashes cv2 (imread's logging). The system's compiler links the shared libstdc++.
   if [ -x /usr/bin/g++ ]; then export CC=/usr/bin/gcc CXX=/usr/bin/g++ CUDAHOSTCXX=/usr/bin/g++; fi
-  # PY=ON: the bindings' test dependency the device's Python lacks, from the wheel make_opencv_trim.sh downloads.
-  [ "${PY:-OFF}" = ON ] && python3 -m pip install -q --no-index --find-links .device/wheels plyfile
+  # PY=ON: the bindings' test dependencies the device's Python lacks, from the wheels make_opencv_trim.sh downloads.
+  [ "${PY:-OFF}" = ON ] && python3 -m pip install -q --no-index --find-links .device/wheels plyfile pypcd4
   cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=${PY:-OFF} \
     -DLIDARSGM_WITH_RAY=OFF -DLIDARSGM_WITH_ROS2=OFF \
     -DLIDARSGM_OPENCV=$V -DLIDARSGM_OPENCV_ALSO= \

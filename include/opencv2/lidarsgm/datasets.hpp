@@ -62,6 +62,17 @@ CV_EXPORTS_W KittiCalibration readKittiRawDriveCalibration(const String& drive);
  */
 CV_EXPORTS_W Mat readVelodyneScan(const String& path);
 
+/** @brief Reads a LiDAR point cloud, by the file's extension: PCD (`.pcd`, PCL's format: DATA ascii, binary or
+binary_compressed; fields in any order, padding fields, any SIZE / TYPE / COUNT PCL writes, organised or not), PLY
+(`.ply`: ascii, binary little or big endian; the vertex element's x, y, z and an optional intensity, other elements
+skipped) or KITTI's `.bin` (readVelodyneScan).
+@return N x 4 CV_32FC1: x, y, z and the intensity (0 where the file has none), in the file's order; points with a
+NaN or infinite coordinate (an organised cloud's empty pixels) are dropped. Raises cv::Exception naming the file and
+what is wrong: truncated data, no x, y or z, an unknown DATA kind or format, sizes that disagree with the header, a
+corrupt compressed stream.
+ */
+CV_EXPORTS_W Mat readPointCloud(const String& path);
+
 /** @brief The number of laser rings of a Velodyne scan in the driver's order: a new ring starts where the azimuth,
 taken in [0, 360), falls back by more than 90 degrees (each ring sweeps once round from straight ahead).
 @param points N x 3 or more CV_32FC1 (x, y, z first), as readVelodyneScan returns them.

@@ -66,6 +66,64 @@ class lidarsgm_test(NewOpenCVTests):
             cv.lidarsgm.loadKittiFrame(d, '999999')
         self.assertIn('999999', str(e.exception))
 
+    def test_point_clouds_of_other_writers(self):
+        """readPointCloud against PCD files written by pypcd4 (every DATA kind, other field orders and types) and PLY
+        files written by plyfile (ascii, both byte orders, a face element after the vertices)."""
+        import pypcd4
+        import plyfile
+        rng = np.random.default_rng(7)
+        n = 500
+        xyz = (rng.standard_normal((n, 3)) * 20).astype(np.float32)
+        intensity = rng.random(n).astype(np.float32)
+        xyz[5] = np.nan
+        xyz[17, 1] = np.inf
+        keep = np.isfinite(xyz).all(1)
+        clouds = [  # fields, types, columns
+            (('x', 'y', 'z', 'intensity'), (np.float32,) * 4, [xyz[:, 0], xyz[:, 1], xyz[:, 2], intensity]),
+            (('intensity', 'ring', 'z', 'x', 't', 'y'),
+             (np.float32, np.uint16, np.float32, np.float32, np.float64, np.float32),
+             [intensity, rng.integers(0, 64, n), xyz[:, 2], xyz[:, 0], rng.random(n), xyz[:, 1]]),
+            (('x', 'y', 'z', 'intensity'), (np.float64, np.float64, np.float64, np.uint8),
+             [xyz[:, 0], xyz[:, 1], xyz[:, 2], (intensity * 255).astype(np.uint8)]),
+            (('x', 'y', 'z'), (np.float32,) * 3, [xyz[:, 0], xyz[:, 1], xyz[:, 2]]),
+        ]
+        with tempfile.TemporaryDirectory() as tmp:
+            for c, (fields, types, cols) in enumerate(clouds):
+                cols = [np.asarray(col).astype(t) for col, t in zip(cols, types)]
+                pc = pypcd4.PointCloud.from_points(np.stack([col.astype(np.float64) for col in cols], 1), fields, types)
+                for encoding in ('ascii', 'binary', 'binary_compressed'):
+                    path = os.path.join(tmp, '%d_%s.pcd' % (c, encoding))
+                    pc.save(path, encoding=pypcd4.Encoding(encoding))
+                    if encoding == 'ascii':   # the values as the file writes them, parsed by numpy
+                        with open(path) as f:
+                            text = f.read().split('DATA ascii\n')[1]
+                        cols = list(np.array(text.split(), np.float64).reshape(n, len(fields)).T)
+                    byName = dict(zip(fields, cols))
+                    expected = np.stack([byName['x'], byName['y'], byName['z'],
+                                         byName.get('intensity', np.zeros(n))], 1).astype(np.float32)[keep]
+                    np.testing.assert_array_equal(cv.lidarsgm.readPointCloud(path), expected, err_msg=path)
+            vertices = np.empty(n, [('nx', 'f4'), ('x', 'f8'), ('y', 'f8'), ('z', 'f8'), ('intensity', 'u1')])
+            vertices['nx'] = 1
+            vertices['x'], vertices['y'], vertices['z'] = xyz[:, 0], xyz[:, 1], xyz[:, 2]
+            vertices['intensity'] = (intensity * 255).astype(np.uint8)
+            faces = np.empty(2, [('vertex_indices', object)])
+            faces['vertex_indices'][0] = np.array([0, 1, 2], np.int32)
+            faces['vertex_indices'][1] = np.array([3, 4, 5, 6], np.int32)
+            for text, order in ((True, '='), (False, '<'), (False, '>')):
+                path = os.path.join(tmp, 'cloud_%s.ply' % ('ascii' if text else 'le' if order == '<' else 'be'))
+                plyfile.PlyData([plyfile.PlyElement.describe(vertices, 'vertex'),
+                                 plyfile.PlyElement.describe(faces, 'face')], text=text, byte_order=order).write(path)
+                v = plyfile.PlyData.read(path)['vertex'].data
+                expected = np.stack([v['x'], v['y'], v['z'], v['intensity']], 1).astype(np.float32)[keep]
+                np.testing.assert_array_equal(cv.lidarsgm.readPointCloud(path), expected, err_msg=path)
+            bad = os.path.join(tmp, 'noz.pcd')
+            with open(bad, 'w') as f:
+                f.write('FIELDS x y\nSIZE 4 4\nTYPE F F\nWIDTH 1\nDATA ascii\n1 2\n')
+            with self.assertRaises(cv.error) as e:
+                cv.lidarsgm.readPointCloud(bad)
+            self.assertIn('noz.pcd', str(e.exception))
+            self.assertIn('FIELDS has no z', str(e.exception))
+
     def test_defaults_and_setters(self):
         m = cv.lidarsgm.StereoLidarSGM.create()
         self.assertEqual(m.getNumDisparities(), 128)
