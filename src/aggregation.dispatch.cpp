@@ -70,7 +70,9 @@ void runSelectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Ma
 TLB miss (and, in a virtual machine, a two-level page walk). Elsewhere an ordinary allocation. */
 static void createVolume(AggregationState& a, int rows, int cols)
 {
-    if (a.sum.rows == rows && a.sum.cols == cols && a.sum.type() == CV_16UC1)
+    // With windows the rows needed change from frame to frame: a volume large enough stays (refaulting it in every
+    // call would cost more than the windows save).
+    if (a.sum.rows >= rows && a.sum.cols == cols && a.sum.type() == CV_16UC1)
         return;
     a.sum.release();
     a.sumMemory.reset();
@@ -92,7 +94,7 @@ static void createVolume(AggregationState& a, int rows, int cols)
 void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
                     const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight, Mat& nonUnique16,
                     OutputArray finalSum,
-                    Ptr<AggregationState>* work, const Mat& own16)
+                    Ptr<AggregationState>* work, const Mat& own16, const Mat& windows)
 {
     CV_Assert(p.edgeThreshold == 0 || !left.empty());
     Ptr<AggregationState> temporary;
@@ -101,8 +103,37 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         held = makePtr<AggregationState>();
     AggregationState& a = *held;
     initState(a, censusL, censusR, prior16, left, p, own16);
-    const int W = a.W, H = a.H, D = a.D;
-    createVolume(a, H, W * D);
+    const int W = a.W, H = a.H, D = a.D, T = WINDOW_TILE;
+    // The windows (the full range without them) and where each tile row's pixels keep their sums in the volume.
+    const Size tiles((W + T - 1) / T, (H + T - 1) / T);
+    if (!windows.empty())
+    {
+        CV_Assert(windows.type() == CV_16SC2 && windows.size() == tiles);
+        a.windows = windows;
+    }
+    else
+    {
+        a.windows.create(tiles, CV_16SC2);
+        a.windows.setTo(Scalar(0, D));
+    }
+    a.tileBase.resize((size_t)tiles.area());
+    a.rowBase.resize(H);
+    size_t total = 0;
+    for (int ty = 0; ty < tiles.height; ty++)
+    {
+        size_t rowCells = 0;
+        for (int tx = 0; tx < tiles.width; tx++)
+        {
+            const Vec2s w = a.windows.at<Vec2s>(ty, tx);
+            CV_Assert(0 <= w[0] && w[0] < w[1] && w[1] <= D);
+            a.tileBase[(size_t)ty * tiles.width + tx] = rowCells;
+            rowCells += (size_t)std::min(T, W - tx * T) * (w[1] - w[0]);
+        }
+        for (int y = ty * T; y < std::min(H, ty * T + T); y++, total += rowCells)
+            a.rowBase[y] = total;
+    }
+    // At least the rows that hold them (W D cells a row: the full range's layout where no window is narrower).
+    createVolume(a, std::max((int)((total + (size_t)W * D - 1) / ((size_t)W * D)), 1), W * D);
     disp16.create(H, W, CV_16SC1);
     dispInt.create(H, W, CV_16SC1);
     dispRight.create(H, W, CV_16SC1);
@@ -158,17 +189,17 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.rightAt.resize(strips);
     a.rightLo.resize(strips);
     a.rightWidth.resize(strips);
-    size_t total = 0;
+    size_t rightTotal = 0;
     for (int s = 0; s < strips; s++)
     {
         const int x0 = W * s / strips, x1 = W * (s + 1) / strips;
         a.rightLo[s] = std::max(W - x1 + p.minDisparity, 0);
         a.rightWidth[s] = std::max(std::min(W - x0 + p.minDisparity + D - 1, W) - a.rightLo[s], 0);
-        a.rightAt[s] = (int)total;
-        total += (size_t)a.rightWidth[s] * H;
+        a.rightAt[s] = (int)rightTotal;
+        rightTotal += (size_t)a.rightWidth[s] * H;
     }
-    a.rightCost.resize(total);
-    a.rightIndex.resize(total);
+    a.rightCost.resize(rightTotal);
+    a.rightIndex.resize(rightTotal);
 
     const auto strip = [&](int s, int y, bool down) {
         runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, down);

@@ -49,8 +49,27 @@ struct AggregationState
     Mat own16;   // the filtered sparse map where copied priors take wCopy (copiedPrior), else empty
     PipelineParams p;
     int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
-    Mat sum;                                    // H x (W * D) 16-bit: top-down + horizontal paths
+    Mat sum;                                    // the 16-bit volume of the top-down + horizontal paths, every
+                                                // pixel's window in turn (at sumAt), one continuous block
     std::shared_ptr<void> sumMemory;            // sum's memory where aggregation.dispatch.cpp allocates it itself
+    // The disparity windows (searchWindows; [0, D) everywhere without them): tile (tx, ty) searches [lo, hi) =
+    // windows(ty, tx). In the volume, row y starts at rowBase[y] and tile tx of it at rowBase[y] + tileBase[ty][tx].
+    Mat windows;
+    std::vector<size_t> rowBase, tileBase;
+    //! Pixel (x, y)'s window.
+    void window(int x, int y, int& lo, int& hi) const
+    {
+        const Vec2s w = windows.at<Vec2s>(y / WINDOW_TILE, x / WINDOW_TILE);
+        lo = w[0];
+        hi = w[1];
+    }
+    //! Pixel (x, y)'s sums in the volume (hi - lo of them).
+    ushort* sumAt(int x, int y, int n) const
+    {
+        const int tx = x / WINDOW_TILE;
+        return (ushort*)sum.data + rowBase[y] + tileBase[(size_t)(y / WINDOW_TILE) * windows.cols + tx] +
+               (size_t)(x - tx * WINDOW_TILE) * n;
+    }
     int strips, ring;                           // column strips; rows in each ring below
     Mat costRows, downRows;                     // rings (down sweep) of rows of costs and of the sums of the
                                                 // top-down and left-right paths: row y in row y % ring
@@ -185,6 +204,18 @@ inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const usho
         minOut[k] = m[k];
 }
 
+/** The previous pixel's path costs lp (window [plo, phi), with SENTINEL at plo - 1 and phi) as the step at window
+[lo, hi) reads them, at lo - 1 .. hi: lp itself where they lie within what it holds, else a copy in temp with SENTINEL
+for the disparities it has no cost for (searchWindows: they are reached through the minimum + P2 only). */
+inline const ushort* pathInput(const ushort* lp, int plo, int phi, int lo, int hi, ushort* temp)
+{
+    if (lo >= plo && hi <= phi)
+        return lp;
+    for (int d = lo - 1; d <= hi; d++)
+        temp[d] = d >= plo && d < phi ? lp[d] : SENTINEL;
+    return temp;
+}
+
 //! The jump penalty from xq to x on an intensity row I (nullptr: no edge rule, always P2).
 inline ushort jump(const AggregationState& a, const ushort* I, int x, int xq)
 {
@@ -197,41 +228,57 @@ void rightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip)
 {
     const int W = a.W, D = a.D, st = a.stride, slot = y % a.ring;
     const ushort P1 = (ushort)a.p.w.p1;
-    ScratchRow<ushort> pathBuf(2 * (size_t)st);
+    ScratchRow<ushort> pathBuf(3 * (size_t)st);
     ushort* u = pathBuf.data() + 1;
     ushort* v = u + st;
+    ushort* temp = v + st;
     u[-1] = u[D] = v[-1] = v[D] = SENTINEL;
     const ushort* C = a.costRows.ptr<ushort>(slot);
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
     const ushort* V = a.downRows.ptr<ushort>(slot);
-    ushort* S = a.sum.ptr<ushort>(y);
     ushort* edge = a.rlEdge.ptr<ushort>(slot) + 1;
     ushort* edgeMin = &a.rlEdgeMin[(size_t)slot * a.strips];
     // The volume row is read again only by the up sweep, after the whole image: streaming stores write it without
-    // first reading each cache line in (aligned vectors only; a pixel's costs are D * 2 bytes).
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-    const bool stream = ((size_t)S % (size_t)CV_SIMD_WIDTH) == 0 && (D * sizeof(ushort)) % CV_SIMD_WIDTH == 0;
-#else
-    const bool stream = false;
-#endif
+    // first reading each cache line in (aligned vectors only).
+    bool streamed = false;
     // The path enters from strip + 1's first pixel; at the image's right edge it starts.
     const bool enters = x1 < W;
     const ushort* lp = enters ? edge + (size_t)(strip + 1) * st : a.noPath.data() + 1;
     ushort m = enters ? edgeMin[strip + 1] : 0;
+    int plo = 0, phi = D;
+    if (enters)
+        a.window(x1, y, plo, phi);
     for (int x = x1 - 1; x >= x0; x--)
     {
+        int lo, hi;
+        a.window(x, y, lo, hi);
+        const int n = hi - lo;
         const ushort p2 = x + 1 < W ? jump(a, I, x, x + 1) : 0;
         ushort* out = x == x0 ? edge + (size_t)strip * st : u;
+        const ushort* in = pathInput(lp, plo, phi, lo, hi, temp) + lo;
+        ushort* outLo = out + lo;
+        ushort* S = a.sumAt(x, y, n);
+#if (CV_SIMD || CV_SIMD_SCALABLE)
+        const bool stream = ((size_t)S % (size_t)CV_SIMD_WIDTH) == 0 && (n * sizeof(ushort)) % CV_SIMD_WIDTH == 0;
+#else
+        const bool stream = false;
+#endif
+        streamed = streamed || stream;
         // S = (top-down + left-right) + right-left, each volume row written once.
-        pathStepsAndSum<1>(C + (size_t)x * D, &lp, &m, &out, &m, &p2, V + (size_t)x * D, nullptr, S + (size_t)x * D,
-                           D, P1, stream);
+        pathStepsAndSum<1>(C + (size_t)x * D + lo, &in, &m, &outLo, &m, &p2, V + (size_t)x * D + lo, nullptr, S, n,
+                           P1, stream);
+        out[lo - 1] = out[hi] = SENTINEL;
         lp = out;
+        plo = lo;
+        phi = hi;
         std::swap(u, v);
     }
     edgeMin[strip] = m;
 #if CV_SSE2
-    if (stream)
+    if (streamed)
         _mm_sfence();   // the streamed stores are weakly ordered: the row is complete before the item says so
+#else
+    (void)streamed;
 #endif
 }
 
@@ -249,7 +296,6 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const unsigned* L = a.censusL.ptr<unsigned>(y);
     const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
     const short* own = a.own16.empty() ? nullptr : a.own16.ptr<short>(y);
-    ushort* S = a.sum.ptr<ushort>(y);
     // Down: the costs and the sums of the top-down and left-right paths go to the row's ring rows, for
     // rightLeftStrip. Up: the costs to a scratch vector.
     const int slot = down ? y % a.ring : 0;
@@ -293,22 +339,33 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const ushort* lrPrev = down && x0 > 0 ? lrEdge + (size_t)(strip - 1) * st : noPath;
     ushort lrMin = down && x0 > 0 ? lrEdgeMin[strip - 1] : 0;
     const int nd = down ? a.ndirs + 1 : a.ndirs;
+    // The predecessors' path costs where their windows do not hold the pixel's (pathInput), one row per direction.
+    ScratchRow<ushort> tempBuf(4 * (size_t)st);
+    int lrLo = 0, lrHi = D;
+    if (down && x0 > 0)
+        a.window(x0 - 1, y, lrLo, lrHi);
     auto pixel = [&](int x) {
-        ushort* c = down ? costRow + (size_t)x * D : cBuf.data();
+        int lo, hi;
+        a.window(x, y, lo, hi);
+        const int n = hi - lo;
+        ushort* c = (down ? costRow + (size_t)x * D : cBuf.data()) + lo;
         costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1,
-                   own && copiedPrior(true, prior[x], own[x]) ? a.p.wCopy : a.p.w, D, c);
+                   own && copiedPrior(true, prior[x], own[x]) ? a.p.wCopy : a.p.w, lo, n, c);
         const ushort* lp[4] = {};
         ushort* out[4] = {};
+        ushort* outLo[4] = {};
         ushort minPrev[4] = {}, p2[4] = {}, mins[4];
         for (int k = 0; k < a.ndirs; k++)
         {
             const int xp = x - a.dx[k];
             out[k] = curL[k] + (size_t)x * st;
             if (first || xp < 0 || xp >= W)
-                lp[k] = noPath;
+                lp[k] = noPath + lo;
             else
             {
-                lp[k] = prevL[k] + (size_t)xp * st;
+                int plo, phi;
+                a.window(xp, yq, plo, phi);
+                lp[k] = pathInput(prevL[k] + (size_t)xp * st, plo, phi, lo, hi, tempBuf.data() + k * st + 1) + lo;
                 minPrev[k] = prevMin[k][xp];
                 p2[k] = Iq ? (ushort)jumpPenalty(I[x], Iq[xp], a.p.edgeThreshold, a.p.w) : (ushort)a.p.w.p2;
             }
@@ -316,33 +373,43 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
         if (down)
         {
             const int k = a.ndirs;
-            lp[k] = lrPrev;
+            lp[k] = pathInput(lrPrev, lrLo, lrHi, lo, hi, tempBuf.data() + k * st + 1) + lo;
             minPrev[k] = lrMin;
             p2[k] = x > 0 ? jump(a, I, x, x - 1) : 0;
             out[k] = x == x1 - 1 ? lrEdge + (size_t)strip * st : lrU;
         }
+        for (int k = 0; k < nd; k++)
+            outLo[k] = out[k] + lo;
         // Down: the sum of the top-down and left-right paths to the ring row; up: the pixel's complete sum.
-        ushort* f = down ? downRow + (size_t)x * D : fBuf.data();
-        const ushort* base = down ? nullptr : S + (size_t)x * D;
+        ushort* f = down ? downRow + (size_t)x * D + lo : fBuf.data();
+        const ushort* base = down ? nullptr : a.sumAt(x, y, n);
         switch (nd)
         {
-        case 4: pathStepsAndSum<4>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1); break;
-        case 3: pathStepsAndSum<3>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1); break;
-        case 2: pathStepsAndSum<2>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1); break;
-        default: pathStepsAndSum<1>(c, lp, minPrev, out, mins, p2, base, nullptr, f, D, P1);
+        case 4: pathStepsAndSum<4>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1); break;
+        case 3: pathStepsAndSum<3>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1); break;
+        case 2: pathStepsAndSum<2>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1); break;
+        default: pathStepsAndSum<1>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1);
         }
+        for (int k = 0; k < nd; k++)
+            out[k][lo - 1] = out[k][hi] = SENTINEL;
         for (int k = 0; k < a.ndirs; k++)
             curMin[k][x] = mins[k];
         if (down)
         {
             lrPrev = out[a.ndirs];
             lrMin = mins[a.ndirs];
+            lrLo = lo;
+            lrHi = hi;
             std::swap(lrU, lrV);
             return;
         }
         if (finalSum)
-            memcpy(finalSum + (size_t)x * D, f, D * sizeof(ushort));
-        selectPixel(f, x, W, a.p, d16[x], dInt[x], nu ? nu + x : nullptr, rv);
+        {
+            ushort* fs = finalSum + (size_t)x * D;
+            std::fill(fs, fs + D, SENTINEL);
+            memcpy(fs + lo, f, n * sizeof(ushort));
+        }
+        selectPixel(f, x, W, a.p, lo, n, d16[x], dInt[x], nu ? nu + x : nullptr, rv);
     };
     for (int x = x0; x < x1; x++)
         pixel(x);
@@ -361,7 +428,8 @@ void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
         const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
         for (int x = 0; x < W; x++)
             costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), a.censusL.ptr<unsigned>(y)[x],
-                       prior ? priorIndex(prior[x], a.p.minDisparity) : -1, a.p.w, D, cost.ptr<ushort>(y) + (size_t)x * D);
+                       prior ? priorIndex(prior[x], a.p.minDisparity) : -1, a.p.w, 0, D,
+                       cost.ptr<ushort>(y) + (size_t)x * D);
     }
 }
 
@@ -377,7 +445,7 @@ void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& 
         for (int x = 0; x < W; x++)
         {
             memcpy(fBuf.data(), sum.ptr<ushort>(y) + (size_t)x * D, D * sizeof(ushort));
-            selectPixel(fBuf.data(), x, W, a.p, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x],
+            selectPixel(fBuf.data(), x, W, a.p, 0, D, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x],
                         nonUnique16.ptr<short>(y) + x, rv);
         }
         short* dr = dispRight.ptr<short>(y);

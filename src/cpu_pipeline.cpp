@@ -42,8 +42,19 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     }
 
     const Mat prior = p.semidense ? semidense16_ : p.ddc ? sparse16_ : Mat();
+    // The windows from the priors the call has (in plain SGM, the LiDAR's values where given).
+    if (searchWindowOn(p))
+    {
+        searchWindows(p.semidense ? semidense16_ : sparse16_, left, right, p, windows_, nullptr, &coarseAggregation_);
+        searched_ = (double)windowCells(windows_, left.size()) / ((double)left.total() * p.numDisparities);
+    }
+    else
+    {
+        windows_.release();
+        searched_ = 1.0;
+    }
     aggregateCosts(censusL_, censusR_, prior, left, p, disp16_, dispInt_, dispRight_, nonUnique16_, noArray(),
-                   &aggregation_, p.weighCopies && scan ? sparse16_ : Mat());
+                   &aggregation_, p.weighCopies && scan ? sparse16_ : Mat(), windows_);
     if (p.medianSize == 3)
     {
         medianFilter(disp16_, med16_);

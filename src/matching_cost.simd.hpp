@@ -32,12 +32,16 @@ static inline v_uint16 bytePairSums(const v_uint8& b) { return v_uint16(_mm_madd
 static inline v_uint16 mulRound15(const v_uint16& a, const v_uint16& b) { return v_uint16(_mm_mulhrs_epi16(a.val, b.val)); }
 #endif
 
-/** C(p, d) for d in [0, D): left census string l, the right strings' halves at rvLo[d], rvHi[d] (offset W - 1 - x),
-prior index k (-1: none). The vector loop adds Q2 at every disparity where a prior exists; the three costs around it
-then follow the rule. */
-static inline void costVector(const ushort* rvLo, const ushort* rvHi, unsigned l, int k, const CostWeights& w, int D,
-                              ushort* c)
+/** C(p, d) for d in [lo, lo + D) into c[d - lo]: left census string l, the right strings' halves at rvLo[d], rvHi[d]
+(offset W - 1 - x), prior index k (-1: none; it may lie outside the window). The vector loop adds Q2 at every
+disparity where a prior exists; the costs at k - 1 .. k + 1 in the window then follow the rule. */
+static inline void costVector(const ushort* rvLo, const ushort* rvHi, unsigned l, int k, const CostWeights& w, int lo,
+                              int D, ushort* c)
 {
+    const int k0 = k;
+    rvLo += lo;
+    rvHi += lo;
+    k = k >= 0 ? k - lo : -1;   // below: the prior index relative to the window (any value where k0 >= 0)
     int d = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
     // The Hamming distance: byte popcounts of both halves added (at most 16 a byte), then the two bytes of each
@@ -48,7 +52,7 @@ static inline void costVector(const ushort* rvLo, const ushort* rvHi, unsigned l
     const v_uint16 vlLo = vx_setall_u16((ushort)(l & 0xFFFF)), vlHi = vx_setall_u16((ushort)(l >> 16)),
                    vbyte = vx_setall_u16(0xFF), vhi = vx_setall_u16((ushort)(w.census256 >> 8)),
                    vlo = vx_setall_u16((ushort)(w.census256 & 255)), vhalf = vx_setall_u16(128),
-                   vadd = vx_setall_u16(k >= 0 ? (ushort)w.q2 : (ushort)0);
+                   vadd = vx_setall_u16(k0 >= 0 ? (ushort)w.q2 : (ushort)0);
 #ifdef LIDARSGM_EXACT_CENSUS_MUL
     // census256 < 2^15 (every configuration but plain SGM with small penalties): (128 h census256 + 2^14) >> 15 is
     // (census256 h + 128) >> 8 exactly, one rounding high multiply (and the lanes' byte sums one multiply-add).
@@ -74,9 +78,9 @@ static inline void costVector(const ushort* rvLo, const ushort* rvHi, unsigned l
     }
 #endif
     for (; d < D; d++)
-        c[d] = (ushort)matchingCost(popcount32((((unsigned)rvHi[d] << 16) | rvLo[d]) ^ l), d, k, w);
-    for (int j = std::max(k - 1, 0); k >= 0 && j <= std::min(k + 1, D - 1); j++)
-        c[j] = (ushort)matchingCost(popcount32((((unsigned)rvHi[j] << 16) | rvLo[j]) ^ l), j, k, w);
+        c[d] = (ushort)matchingCost(popcount32((((unsigned)rvHi[d] << 16) | rvLo[d]) ^ l), d + lo, k0, w);
+    for (int j = std::max(k - 1, 0); k0 >= 0 && j <= std::min(k + 1, D - 1); j++)
+        c[j] = (ushort)matchingCost(popcount32((((unsigned)rvHi[j] << 16) | rvLo[j]) ^ l), j + lo, k0, w);
 }
 
 //! The prior index of a prior value (1/16 pixel, NO_DISP: none): round(prior) - minD, or -1.

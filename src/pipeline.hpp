@@ -80,6 +80,7 @@ struct PipelineParams
     bool floatOutput;      //!< CV_32F pixels instead of CV_16S x16
     bool weighCopies;      //!< SDSGM with semidenseWeight < 1: copied priors take wCopy on LiDAR scans (copiedPrior)
     bool confidence;       //!< the check also writes each output pixel's confidence (outputConfidence)
+    int searchWindow;      //!< the disparity windows' margin (searchWindowOn; 0: every pixel searches the full range)
     CostWeights w;
     CostWeights wCopy;     //!< w with the DDC terms (q1, q2) scaled by semidenseWeight
 };
@@ -180,6 +181,38 @@ static LIDARSGM_HD int sparseFromFloat(float v, int lo, int hi)
         return NO_DISP;
     const int d16 = (int)floor((double)v * 16.0 + 0.5);
     return sparseInRange(d16, lo, hi) ? d16 : NO_DISP;
+}
+
+/* Disparity windows (searchWindowOn): the aggregation searches each WINDOW_TILE x WINDOW_TILE tile of the image over
+[lo, hi) instead of [0, D): the prior indices (round(prior) - minD of the call's prior map: semidensified and
+ring-interpolated values in SDSGM, the LiDAR's elsewhere) of the tile dilated by one tile on every side, widened by
+the margin on both sides and rounded out to multiples of WINDOW_ALIGN (the CPU's widest vector, eight pairs of the
+GPU's), clamped to the range. A tile whose dilated neighbourhood has no prior takes the coarse pass's disparities
+instead (coarseDisparities: the same rule on the pair at 1 / COARSE_SCALE scale). Along a path, a disparity outside the
+previous pixel's window has no path cost there (infinite): it is reached only through the previous minimum + P2. */
+enum { WINDOW_TILE = 32, WINDOW_ALIGN = 16, COARSE_SCALE = 4 };
+
+static LIDARSGM_HD bool searchWindowOn(const PipelineParams& p) { return p.searchWindow > 0; }
+
+/** A tile's window [lo, hi) from the lowest and highest index kMin <= kMax seen in its dilated neighbourhood, the
+margin and the number of disparities D (a multiple of 16). */
+static LIDARSGM_HD void tileWindow(int kMin, int kMax, int margin, int D, int& lo, int& hi)
+{
+    const int a = kMin - margin, b = kMax + margin + 1;
+    lo = a <= 0 ? 0 : a / WINDOW_ALIGN * WINDOW_ALIGN;
+    hi = b >= D ? D : (b + WINDOW_ALIGN - 1) / WINDOW_ALIGN * WINDOW_ALIGN;
+    if (hi <= lo)   // indices above the range (the coarse pass's rounding): the window at its top
+        lo = hi - WINDOW_ALIGN;
+}
+
+/** The coarse pass's parameters: plain SGM with the paper's P1 and P2 over 4 paths, the whole range of coarse
+disparities, no uniqueness check or subpixel (every pixel gives a disparity; only their range in a tile counts). */
+CV_EXPORTS PipelineParams coarseParams(const PipelineParams& p);
+
+//! A coarse pixel: the mean of a COARSE_SCALE^2 block of pixels (their sum), rounded to nearest.
+static LIDARSGM_HD int coarseMean(int sum)
+{
+    return (sum + COARSE_SCALE * COARSE_SCALE / 2) / (COARSE_SCALE * COARSE_SCALE);
 }
 
 /** The uniqueness check (uniqueness1024 < 1024): the winner's aggregated cost best against second, the lowest cost more
@@ -564,10 +597,14 @@ public:
     //! confidence: written where p.confidence (consistencyCheck).
     void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
              OutputArray out, OutputArray confidence = noArray());
+    //! The share of the cells the last run searched (windowCells over W H D; 0 before any).
+    double searchedFraction() const { return searched_; }
 private:
+    double searched_ = 0;
+    Mat windows_;
     Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, disp16_, dispInt_, dispRight_, nonUnique16_;
     RingMaps rings_;
-    Ptr<AggregationState> aggregation_;
+    Ptr<AggregationState> aggregation_, coarseAggregation_;
     Mat med16_, medInt_, medRight_;
 };
 

@@ -50,6 +50,8 @@ table makes the members, getters, setters, write() and read(); the public header
       "the ring interpolation's longest gap in ring spacings") \
     X(double, SemidenseWeight, semidenseWeight, 1.0, v > 0.0 && v <= 1.0, "in (0, 1]", \
       "the DDC weight of copied priors on LiDAR scans") \
+    X(int, SearchWindow, searchWindow, 0, v >= 0 && v <= MAX_DISPARITIES, "in [0, 512] (0: off)", \
+      "the disparity windows' margin") \
     X(int, Mode, mode, MODE_SDSGM, v == MODE_SGM || v == MODE_DSGM || v == MODE_SDSGM, \
       "MODE_SGM (0), MODE_DSGM (1) or MODE_SDSGM (2)", "the fusion mode") \
     X(int, ConsistencyCheck, consistencyCheck, CHECK_STEREO_LIDAR, v >= CHECK_NONE && v <= CHECK_STEREO_LIDAR, \
@@ -181,6 +183,8 @@ public:
     LIDARSGM_PARAMETERS(LIDARSGM_ACCESSORS)
 #undef LIDARSGM_ACCESSORS
 
+    double getSearchedFraction() const CV_OVERRIDE { return cpu_.searchedFraction(); }
+
     // A FileStorage key: letters, digits and '_' only.
     String getDefaultName() const CV_OVERRIDE { return "lidarsgm_StereoLidarSGM"; }
 
@@ -236,6 +240,7 @@ public:
         p.weighCopies = p.semidense && semidenseWeight_ < 1.0;
         p.wCopy = scaleDdcWeights(p.w, alpha_, Q1_, Q2_, semidenseWeight_);
         p.confidence = false;
+        p.searchWindow = searchWindow_;
         return p;
     }
 
@@ -260,6 +265,9 @@ private:
         const bool needSparse = semidenseOnly || p.ddc || p.lidarCheck;
         const String needer = semidenseOnly ? String("semidensify")
                                             : format("%s with consistency check %d", modeName(mode_), consistencyCheck_);
+        if (searchWindowOn(p) && (left.kind() == _InputArray::CUDA_GPU_MAT || right.kind() == _InputArray::CUDA_GPU_MAT))
+            CV_Error(Error::StsNotImplemented, "lidarsgm: searchWindow > 0 (disparity windows) runs on the CPU path "
+                                               "only in this version; set searchWindow 0 for cv::cuda::GpuMat inputs");
         const bool gpu = detail::checkInputs(left, right, sparse, out, needSparse, needer.c_str());
         if (p.confidence && gpu != (confidence.kind() == _InputArray::CUDA_GPU_MAT))
             CV_Error(Error::StsBadArg, gpu ? "lidarsgm: the CUDA path writes the confidence to a cv::cuda::GpuMat; "

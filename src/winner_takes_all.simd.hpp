@@ -11,29 +11,32 @@
 // Included by aggregation.simd.hpp, inside its CPU-dispatch namespace: compiled once per instruction set.
 // (RightView is defined in aggregation.simd.hpp, outside that namespace.)
 
-//! The winner's disparity x16: with the parabola's offset where enabled and both neighbours exist.
-static inline int winner16(const ushort* s, int best, const PipelineParams& p)
+//! The winner's disparity x16 (s: the window's sums from lo, D of them): with the parabola's offset where enabled
+//! and both neighbours are in the window.
+static inline int winner16(const ushort* s, int best, int lo, int D, const PipelineParams& p)
 {
-    int v16 = (best + p.minDisparity) * 16;
-    if (p.subpixel && best > 0 && best < p.numDisparities - 1)
+    int v16 = (lo + best + p.minDisparity) * 16;
+    if (p.subpixel && best > 0 && best < D - 1)
         v16 += subpixelOffset16(s[best - 1], s[best], s[best + 1]);
     return v16;
 }
 
-static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p, short& d16, short& dInt,
-                               short* nonUnique, RightView rv)
+/** The pixel's winner from s, its sums over its window [lo, lo + D) (searchWindows; lo 0 and D numDisparities without
+windows): indices below are the window's, disparities lo + index. */
+static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p, int lo, int D, short& d16,
+                               short& dInt, short* nonUnique, RightView rv)
 {
-    const int D = p.numDisparities, minD = p.minDisparity;
+    const int minD = p.minDisparity;
     // Right view, before the uniqueness check may reject this pixel (it does not affect the right view). In the
-    // reversed index u = W - 1 - xr this pixel's candidates are contiguous: u = u0 + d.
+    // reversed index u = W - 1 - xr this pixel's candidates are contiguous: u = u0 + d (d the disparity index).
     const int u0 = W - 1 - x + minD;
-    const int k0 = std::max(0, -u0), n = std::min(D, W - u0) - k0;
+    const int k0 = std::max(lo, -u0), n = std::min(lo + D, W - u0) - k0;
     // rc[j], ri[j]: the candidate at u = u0 + k0 + j (disparity index k0 + j); pointers formed only inside the view.
     ushort* rc = n > 0 ? rv.cost + (u0 + k0 - rv.lo) : nullptr;
     ushort* ri = n > 0 ? rv.index + (u0 + k0 - rv.lo) : nullptr;
-    const ushort* sk = s + k0;
+    const ushort* sk = s + (k0 - lo);
     // Where the pixel offers all its costs (away from the left border), the minimum is taken in the same pass.
-    const bool whole = k0 == 0 && n == D;
+    const bool whole = k0 == lo && n == D;
     ushort minv = 0xFFFF;
     int j = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
@@ -106,7 +109,7 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
     {
         // The lowest cost more than one disparity away: the costs at best - 1 .. best + 1 masked out in registers
         // (writing them in s and reading s back in vectors would stall each load on the little stores).
-        const int lo = best - 1, hi = best + 1;
+        const int exLo = best - 1, exHi = best + 1;
         ushort second = 0xFFFF;
         d = 0;
 #if (CV_SIMD || CV_SIMD_SCALABLE)
@@ -117,11 +120,11 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
         for (; n16 <= 64 && d <= D - n16; d += n16)
         {
             v_uint16 v = vx_load(s + d);
-            if (d + n16 > lo && d <= hi)
+            if (d + n16 > exLo && d <= exHi)
             {
-                // index - lo <= 2 (unsigned: indices below lo wrap to large values) marks best - 1 .. best + 1
+                // index - exLo <= 2 (unsigned: indices below exLo wrap to large values) marks best - 1 .. best + 1
                 const v_uint16 rel = v_sub_wrap(v_add_wrap(vx_load(iota16), vx_setall_u16((ushort)d)),
-                                                vx_setall_u16((ushort)lo));
+                                                vx_setall_u16((ushort)exLo));
                 v = v_select(v_le(rel, vx_setall_u16(2)), vx_setall_u16(0xFFFF), v);
             }
             vmin = v_min(vmin, v);
@@ -129,12 +132,12 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
         second = minLane(vmin);
 #endif
         for (; d < D; d++)
-            if (d < lo || d > hi)
+            if (d < exLo || d > exHi)
                 second = std::min(second, s[d]);
         if (!uniqueWinner((int)minv, (int)second, p.uniqueness1024))
         {
             if (nonUnique)
-                *nonUnique = (short)winner16(s, best, p);
+                *nonUnique = (short)winner16(s, best, lo, D, p);
             d16 = NO_DISP;
             dInt = NO_DISP;
             return;
@@ -142,6 +145,6 @@ static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p,
     }
     if (nonUnique)
         *nonUnique = NO_DISP;
-    d16 = (short)winner16(s, best, p);
-    dInt = (short)(best + minD);
+    d16 = (short)winner16(s, best, lo, D, p);
+    dInt = (short)(lo + best + minD);
 }

@@ -8,11 +8,15 @@ namespace opencv_test { namespace {
 using namespace cv::lidarsgm::detail;
 
 /* Straightforward reference of paper Eq. 2, one path at a time, in int arithmetic. With an image and a threshold, a
-jump from q to p costs P2edge instead of P2 where |I(p) - I(q)| > thr. */
+jump from q to p costs P2edge instead of P2 where |I(p) - I(q)| > thr. With windows (CV_16SC2 per WINDOW_TILE tile,
+[lo, hi)), a pixel has path costs in its window only: outside it they are infinite, its sums there SENTINEL (0xFFFF). */
 static void referenceAggregation(const Mat& cost, int W, int D, int numPaths, int P1, int P2, Mat& sum,
-                                 const Mat& image = Mat(), int thr = 0, int P2edge = 0)
+                                 const Mat& image = Mat(), int thr = 0, int P2edge = 0, const Mat& windows = Mat())
 {
-    const int H = cost.rows;
+    const int H = cost.rows, INF = 1 << 28;
+    const auto lowOf = [&](int x, int y) { return windows.empty() ? 0 : (int)windows.at<Vec2s>(y / 32, x / 32)[0]; };
+    const auto highOf = [&](int x, int y) { return windows.empty() ? D : (int)windows.at<Vec2s>(y / 32, x / 32)[1]; };
+    ASSERT_EQ(32, (int)WINDOW_TILE);
     std::vector<int> S((size_t)W * H * D, 0);
     const int dirs[8][2] = { {1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, 1}, {1, -1}, {-1, -1} };
     std::vector<int> L((size_t)W * H * D);
@@ -28,9 +32,12 @@ static void referenceAggregation(const Mat& cost, int W, int D, int numPaths, in
                 const int px = x - dx, py = y - dy;
                 const ushort* C = cost.ptr<ushort>(y) + (size_t)x * D;
                 int* Lp = &L[((size_t)y * W + x) * D];
+                const int lo = lowOf(x, y), hi = highOf(x, y);
+                for (int d = 0; d < D; d++)
+                    Lp[d] = INF;
                 if (px < 0 || px >= W || py < 0 || py >= H)
                 {
-                    for (int d = 0; d < D; d++)
+                    for (int d = lo; d < hi; d++)
                         Lp[d] = C[d];
                     continue;
                 }
@@ -39,7 +46,7 @@ static void referenceAggregation(const Mat& cost, int W, int D, int numPaths, in
                 for (int d = 0; d < D; d++)
                     mq = std::min(mq, Lq[d]);
                 const bool edge = thr > 0 && std::abs(image.at<uchar>(y, x) - image.at<uchar>(py, px)) > thr;
-                for (int d = 0; d < D; d++)
+                for (int d = lo; d < hi; d++)
                 {
                     int best = std::min(Lq[d], mq + (edge ? P2edge : P2));
                     if (d > 0) best = std::min(best, Lq[d - 1] + P1);
@@ -54,9 +61,63 @@ static void referenceAggregation(const Mat& cost, int W, int D, int numPaths, in
     for (int y = 0; y < H; y++)
         for (int k = 0; k < W * D; k++)
         {
+            const int d = k % D, x = k / D;
+            if (d < lowOf(x, y) || d >= highOf(x, y))
+            {
+                sum.at<ushort>(y, k) = 0xFFFF;
+                continue;
+            }
             ASSERT_LE(S[(size_t)y * W * D + k], 65535);
             sum.at<ushort>(y, k) = (ushort)S[(size_t)y * W * D + k];
         }
+}
+
+/* Straightforward winner-takes-all over each pixel's window of a reference volume (SENTINEL outside): the first
+lowest cost, the uniqueness check against the lowest cost more than one disparity away, the parabola where both
+neighbours are in the window, the right view from the candidates in the windows (the lowest cost, then the smallest
+disparity). */
+static void referenceWinners(const Mat& sum, const Mat& windows, int W, const PipelineParams& p, Mat& d16, Mat& di,
+                             Mat& dr, Mat& nu)
+{
+    const int H = sum.rows, D = p.numDisparities, minD = p.minDisparity;
+    d16.create(H, W, CV_16SC1);
+    di.create(H, W, CV_16SC1);
+    dr.create(H, W, CV_16SC1);
+    nu.create(H, W, CV_16SC1);
+    for (int y = 0; y < H; y++)
+    {
+        std::vector<int> rightCost(W, INT_MAX), rightD(W, -1);
+        for (int x = 0; x < W; x++)
+        {
+            const Vec2s w = windows.at<Vec2s>(y / 32, x / 32);
+            const ushort* s = sum.ptr<ushort>(y) + (size_t)x * D;
+            int best = w[0];
+            for (int d = w[0]; d < w[1]; d++)
+            {
+                if (s[d] < s[best])
+                    best = d;
+                const int xr = x - minD - d;
+                if (xr >= 0 && xr < W && (s[d] < rightCost[xr] || (s[d] == rightCost[xr] && d < rightD[xr])))
+                {
+                    rightCost[xr] = s[d];
+                    rightD[xr] = d;
+                }
+            }
+            int second = INT_MAX;
+            for (int d = w[0]; d < w[1]; d++)
+                if (std::abs(d - best) > 1)
+                    second = std::min(second, (int)s[d]);
+            int v16 = (best + minD) * 16;
+            if (p.subpixel && best - 1 >= w[0] && best + 1 < w[1])
+                v16 += subpixelOffset16(s[best - 1], s[best], s[best + 1]);
+            const bool unique = p.uniqueness1024 >= 1024 || uniqueWinner(s[best], second, p.uniqueness1024);
+            d16.at<short>(y, x) = unique ? (short)v16 : NO_DISP;
+            di.at<short>(y, x) = unique ? (short)(best + minD) : NO_DISP;
+            nu.at<short>(y, x) = unique ? NO_DISP : (short)v16;
+        }
+        for (int xr = 0; xr < W; xr++)
+            dr.at<short>(y, xr) = rightD[xr] < 0 ? NO_DISP : (short)(rightD[xr] + minD);
+    }
 }
 
 // One step of the recursion by hand: previous L = [0, 5, 40, 40], C = [1, 1, 1, 1], P1 = 3, P2 = 20:
@@ -298,6 +359,128 @@ TEST(Lidarsgm_Aggregation, stack_placement_does_not_change_results)
         shift = 4080; withStackShift<4080>(check);
     }
     setNumThreads(saved);
+}
+
+/* Disparity windows (searchWindows): random windows per tile, so that paths cross windows that overlap, nest, touch
+and lie apart; the sums, winners and right view equal the reference over the windows, with 1, 2 and 7 threads,
+4 and 8 paths, the edge rule on and off. */
+typedef testing::TestWithParam<tuple<int, int, Size, int> > Lidarsgm_AggregationWindows;
+TEST_P(Lidarsgm_AggregationWindows, match_reference)
+{
+    const int numPaths = get<0>(GetParam()), D = get<1>(GetParam()), thr = get<3>(GetParam());
+    const Size sz = get<2>(GetParam());
+    RNG rng(numPaths * 1000 + D + sz.width * 7 + sz.height + thr);
+    Mat cl, cr, prior, image(sz, CV_8UC1);
+    randomCensusAndPrior(rng, sz, D, cl, cr, prior);
+    rng.fill(image, RNG::UNIFORM, 0, 256);
+    PipelineParams p = aggregationParams(D, numPaths);
+    p.minDisparity = (int)rng.uniform(-3, 3);
+    p.edgeThreshold = thr;
+    p.w = computeCostWeights(10, 120, 5, 160, 0.7, numPaths, true, 0.75);
+    p.ringGapFactor16 = 32;
+    p.semidense = p.lidarCheck = true;
+    Mat windows((sz.height + 31) / 32, (sz.width + 31) / 32, CV_16SC2);
+    for (int ty = 0; ty < windows.rows; ty++)
+        for (int tx = 0; tx < windows.cols; tx++)
+        {
+            const int lo = 16 * rng.uniform(0, D / 16), hi = lo + 16 * rng.uniform(1, (D - lo) / 16 + 1);
+            windows.at<Vec2s>(ty, tx) = Vec2s((short)lo, (short)hi);
+        }
+    Mat cost, ref, e16, ei, er, enu;
+    computeMatchingCost(cl, cr, prior, p, cost);
+    referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref, image, thr, p.w.p2Edge, windows);
+    referenceWinners(ref, windows, sz.width, p, e16, ei, er, enu);
+    const int saved = getNumThreads();
+    Ptr<AggregationState> kept;
+    for (int threads : { 1, 2, 7 })
+    {
+        SCOPED_TRACE(cv::format("%d threads", threads));
+        setNumThreads(threads);
+        Mat sum, d16, di, dr, nu;
+        aggregateCosts(cl, cr, prior, image, p, d16, di, dr, nu, sum, &kept, Mat(), windows);
+        EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
+        EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
+        EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF));
+        EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
+        EXPECT_EQ(0, cvtest::norm(nu, enu, NORM_INF));
+    }
+    setNumThreads(saved);
+    // The full range as windows is the aggregation without them, and the reference winners agree with the
+    // winner-takes-all on the full volume.
+    Mat full((sz.height + 31) / 32, (sz.width + 31) / 32, CV_16SC2, Scalar(0, D));
+    Mat sumW, sumF, d16W, d16F, a, b, c, f, g, h;
+    aggregateCosts(cl, cr, prior, image, p, d16W, a, b, c, sumW, nullptr, Mat(), full);
+    aggregateCosts(cl, cr, prior, image, p, d16F, f, g, h, sumF);
+    EXPECT_EQ(0, cvtest::norm(sumW, sumF, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(d16W, d16F, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(b, g, NORM_INF));
+    referenceWinners(sumF, full, sz.width, p, e16, ei, er, enu);
+    EXPECT_EQ(0, cvtest::norm(d16F, e16, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(g, er, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(h, enu, NORM_INF));
+}
+INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationWindows,
+    testing::Combine(testing::Values(4, 8), testing::Values(48, 128),
+                     testing::Values(Size(1, 1), Size(40, 3), Size(70, 33), Size(97, 70), Size(300, 17)),
+                     testing::Values(0, 60)));
+
+/* The window rule (tileWindow): the priors of a tile and the eight around it, widened by the margin, rounded out to
+multiples of 16 and clamped; tiles with no prior around them take the coarse pass's range; a margin of the whole
+range gives the whole range everywhere. */
+TEST(Lidarsgm_SearchWindows, rule_by_hand)
+{
+    int lo = -1, hi = -1;
+    tileWindow(20, 33, 4, 128, lo, hi);
+    EXPECT_EQ(16, lo); EXPECT_EQ(48, hi);     // [16, 38) rounded out
+    tileWindow(2, 5, 4, 128, lo, hi);
+    EXPECT_EQ(0, lo); EXPECT_EQ(16, hi);
+    tileWindow(120, 127, 4, 128, lo, hi);
+    EXPECT_EQ(112, lo); EXPECT_EQ(128, hi);
+    tileWindow(50, 50, 0, 64, lo, hi);
+    EXPECT_EQ(48, lo); EXPECT_EQ(64, hi);
+    tileWindow(0, 127, 200, 128, lo, hi);
+    EXPECT_EQ(0, lo); EXPECT_EQ(128, hi);
+
+    // 5 x 3 tiles of 32 pixels; priors at 40.5 px in tile (0, 0), 70 px in tile (4, 2); none elsewhere.
+    const Size sz(150, 90);
+    Mat left(sz, CV_8UC1), right;
+    RNG rng(5);
+    rng.fill(left, RNG::UNIFORM, 0, 256);
+    right = left.clone();   // the coarse pass sees disparity 0 everywhere
+    Mat prior(sz, CV_16SC1, Scalar::all(NO_DISP));
+    prior.at<short>(3, 4) = 40 * 16 + 8;   // rounds to 41
+    prior.at<short>(80, 140) = 70 * 16;
+    PipelineParams p = PipelineParams();
+    p.numDisparities = 128;
+    p.minDisparity = 0;
+    p.searchWindow = 4;
+    Mat windows, coarse;
+    searchWindows(prior, left, right, p, windows, &coarse);
+    ASSERT_EQ(Size(5, 3), windows.size());
+    ASSERT_FALSE(coarse.empty());
+    EXPECT_EQ(Size(150 / 4, 90 / 4), coarse.size());
+    const Vec2s nearFirst(32, 48), nearSecond(64, 80), coarseOnly(0, 16);
+    for (int ty = 0; ty < 3; ty++)
+        for (int tx = 0; tx < 5; tx++)
+        {
+            const bool a = tx <= 1 && ty <= 1, b = tx >= 3 && ty >= 1;
+            const Vec2s expect = a ? nearFirst : b ? nearSecond : coarseOnly;
+            EXPECT_EQ(expect, windows.at<Vec2s>(ty, tx)) << "tile " << tx << "," << ty;
+        }
+    EXPECT_EQ((int64)sz.area() * 16, windowCells(windows, sz));
+    // A margin of the whole range: the whole range everywhere.
+    p.searchWindow = 128;
+    searchWindows(prior, left, right, p, windows);
+    for (int ty = 0; ty < 3; ty++)
+        for (int tx = 0; tx < 5; tx++)
+            EXPECT_EQ(Vec2s(0, 128), windows.at<Vec2s>(ty, tx));
+    // No prior at all: the coarse pass alone; with minDisparity -8 its disparity 0 is index 8.
+    p.searchWindow = 4;
+    p.minDisparity = -8;
+    searchWindows(Mat(), left, right, p, windows);
+    for (int ty = 0; ty < 3; ty++)
+        for (int tx = 0; tx < 5; tx++)
+            EXPECT_EQ(Vec2s(0, 32), windows.at<Vec2s>(ty, tx));
 }
 
 // The CUDA twin (src_cuda/aggregation.cu): the aggregated costs of every stage configuration (4 and 8 paths, with

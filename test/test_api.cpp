@@ -74,6 +74,9 @@ TEST(Lidarsgm_API, parameter_validation)
     EXPECT_THROW(m->setMode(3), cv::Exception);
     EXPECT_THROW(m->setConsistencyCheck(4), cv::Exception);
     EXPECT_THROW(m->setOutputType(CV_8U), cv::Exception);
+    EXPECT_THROW(m->setSearchWindow(-1), cv::Exception);
+    EXPECT_THROW(m->setSearchWindow(513), cv::Exception);
+    EXPECT_NE(std::string::npos, messageOf([&] { m->setSearchWindow(100000); }).find("searchWindow"));
     EXPECT_THROW(StereoLidarSGM::create(0, 128, 200, 120), cv::Exception);          // P1 > P2
     EXPECT_THROW(StereoLidarSGM::create(0, 128, 10, 120, 170, 160), cv::Exception); // Q1 > Q2
     EXPECT_NE(std::string::npos, messageOf([&] { m->setNumDisparities(100); }).find("numDisparities"));
@@ -187,6 +190,7 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     m->setCheckThreshold(1.5);
     m->setVisibilityRadiusY(3);
     m->setVisibilityParallax(0.3);
+    m->setSearchWindow(6);
     m->setOutputType(CV_32F);
     const std::string file = cv::tempfile(".yml");
     m->save(file);
@@ -209,6 +213,7 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     EXPECT_DOUBLE_EQ(1.5, n->getCheckThreshold());
     EXPECT_EQ(3, n->getVisibilityRadiusY());
     EXPECT_DOUBLE_EQ(0.3, n->getVisibilityParallax());
+    EXPECT_EQ(6, n->getSearchWindow());
     EXPECT_EQ((int)StereoLidarSGM::MODE_DSGM, n->getMode());
     EXPECT_EQ((int)StereoLidarSGM::CHECK_CAMERA_LIDAR, n->getConsistencyCheck());
     EXPECT_EQ(CV_32F, n->getOutputType());
@@ -223,6 +228,54 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     FileStorage fs("{\"name\": \"lidarsgm_StereoLidarSGM\", \"numDisparities\": 100}",
                    FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_JSON);
     EXPECT_THROW(n->read(fs.root()), cv::Exception);
+}
+
+/* Disparity windows on a shipped KITTI frame in every mode, with kitti_best.yml's steps: a margin of the whole range
+gives the full-range output bit for bit; a margin of 8 searches well under half of the cells and leaves the
+disparity within 1 px of the full range's where both have one nearly everywhere; without a sparse map plain SGM
+takes its windows from the coarse pass alone. The CUDA path refuses windows with a message. */
+TEST(Lidarsgm_API, search_windows)
+{
+    Mat l, r, s;
+    loadKittiTestFrame("000002", l, r, s);
+    for (int mode : { StereoLidarSGM::MODE_SGM, StereoLidarSGM::MODE_DSGM, StereoLidarSGM::MODE_SDSGM })
+    {
+        SCOPED_TRACE(cv::format("mode %d", mode));
+        Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode);
+        setKittiBestSteps(*m);
+        EXPECT_EQ(0.0, m->getSearchedFraction());
+        Mat full, same, narrow;
+        m->compute(l, r, s, full);
+        EXPECT_EQ(1.0, m->getSearchedFraction());
+        m->setSearchWindow(128);
+        m->compute(l, r, s, same);
+        EXPECT_EQ(1.0, m->getSearchedFraction());
+        EXPECT_EQ(0, cvtest::norm(full, same, NORM_INF));
+        m->setSearchWindow(8);
+        m->compute(l, r, s, narrow);
+        EXPECT_LT(m->getSearchedFraction(), 0.5);
+        EXPECT_GT(m->getSearchedFraction(), 0.1);
+        int both = 0, agree = 0;
+        for (int y = 0; y < l.rows; y++)
+            for (int x = 0; x < l.cols; x++)
+            {
+                const short a = full.at<short>(y, x), b = narrow.at<short>(y, x);
+                if (a == -16 || b == -16)   // invalid: (minDisparity - 1) * 16
+                    continue;
+                both++;
+                agree += std::abs(a - b) <= 16;
+            }
+        ASSERT_GT(both, l.total() / 3);
+        EXPECT_GT((double)agree / both, 0.97) << agree << " of " << both;
+    }
+    Ptr<StereoLidarSGM> sgm = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, StereoLidarSGM::MODE_SGM,
+                                                     StereoLidarSGM::CHECK_STEREO);
+    sgm->setSearchWindow(8);
+    Mat d;
+    sgm->compute(l, r, noArray(), d);
+    EXPECT_LT(sgm->getSearchedFraction(), 1.0);
+    cuda::GpuMat gl, gr, gs, gd;
+    EXPECT_NE(std::string::npos, messageOf([&] { sgm->compute(gl, gr, gs, gd); }).find("searchWindow"));
 }
 
 // The stage calls of the per-stage CUDA tests (test_common.hpp, runCpuStages) give the matcher's own output on every

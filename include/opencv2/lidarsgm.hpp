@@ -55,6 +55,7 @@ Parameters (setters on StereoLidarSGM; out-of-range values raise cv::Exception n
 | edgeThreshold, edgeP2Ratio | P2 x ratio across left-image steps above the threshold (beyond the paper) | [0, 65535], (0, 1] | 0 (off), 0.5 |
 | ringGapFactor | interpolation between LiDAR rings after semidensification and the ring check, longest gap in measured ring spacings (beyond the paper) | [0, 16] | 0 (off) |
 | semidenseWeight | SDSGM on LiDAR scans: the DDC terms of priors copied from other pixels, relative to the LiDAR's own values (beyond the paper) | (0, 1] | 1 (as the paper) |
+| searchWindow | disparity windows per 32 x 32 tile from the priors around it, margin in disparities (beyond the paper) | [0, 512] | 0 (off) |
 | outputType | CV_16S (disparity x 16) or CV_32F (pixels) | | CV_16S |
 
 Beyond the paper: `doc/params/kitti_best.yml` (StereoLidarSGM::load) switches on the visibility filter with the
@@ -312,6 +313,19 @@ public:
     doc/params/kitti_best.yml: 0.5 (a copy counts half a measurement). */
     CV_WRAP virtual double getSemidenseWeight() const = 0;
     CV_WRAP virtual void setSemidenseWeight(double weight) = 0;
+    /** The disparity windows' margin (beyond the paper): with searchWindow > 0 the aggregation searches each 32 x 32
+    tile of the image only over the disparities of the priors (semidensified and ring-interpolated in SDSGM, the
+    LiDAR's otherwise) in that tile and the eight around it, widened by searchWindow on each side and rounded out to
+    multiples of 16; tiles without any prior around them take their range from a coarse pass (plain SGM on the pair
+    at quarter size). Along a path, a disparity outside the previous pixel's window is reached through the P2 jump
+    only. Fewer cells, less time and memory; a surface outside its tile's window cannot be found (see
+    doc/design.md). 0 (default): every pixel searches the whole range, as the paper. CPU path only in this version:
+    the CUDA path refuses a call with searchWindow > 0. In [0, 512]. */
+    CV_WRAP virtual int getSearchWindow() const = 0;
+    CV_WRAP virtual void setSearchWindow(int margin) = 0;
+    /** The share of the width x height x numDisparities cells that the last compute() on the CPU searched (1 without
+    windows, 0 before any call). */
+    CV_WRAP virtual double getSearchedFraction() const = 0;
     //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
     CV_WRAP virtual int getOutputType() const = 0;
     CV_WRAP virtual void setOutputType(int type) = 0;

@@ -113,6 +113,7 @@ const OptionSpec kOptions[] = {
     { "edge-p2-ratio", 'd', "R", "edgeP2Ratio", "edgeP2Ratio" },
     { "ring-gap-factor", 'd', "F", "ringGapFactor", "ringGapFactor" },
     { "semidense-weight", 'd', "F", "semidenseWeight", "semidenseWeight" },
+    { "search-window", 'i', "N", "searchWindow", "searchWindow" },
 };
 
 const OptionSpec* findOption(const std::string& name)

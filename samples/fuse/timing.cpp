@@ -84,6 +84,9 @@ int runCpuTiming(const Options& o, const Frame& f, int reps)
     printf("| lidarsgm %-22s | %8.1f ms | %+.1f %%           |\n",
            format("%s + confidence", modeLabel(m->getMode())).c_str(), medianMs(withConfidence),
            100.0 * (medianMs(withConfidence) / ours - 1));
+    printf("cells searched: %.1f %% of width x height x disparities%s\n", 100.0 * m->getSearchedFraction(),
+           m->getSearchWindow() > 0 ? format(" (disparity windows, margin %d)", m->getSearchWindow()).c_str()
+                                    : " (full range)");
     if (rssBefore >= 0 && peakAfter >= 0)
         printf("working memory of one lidarsgm instance (peak resident growth over its first call): %.1f MB\n",
                peakAfter - rssBefore);

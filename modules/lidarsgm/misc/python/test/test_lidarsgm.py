@@ -159,6 +159,20 @@ class lidarsgm_test(NewOpenCVTests):
         semi = m.semidensify(left, right, sparse)
         self.assertGreater(np.count_nonzero(semi > 0), np.count_nonzero(sparse > 0))
 
+    def test_search_window(self):
+        left, right, sparse, gt = self.load_frame()
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        self.assertEqual(m.getSearchWindow(), 0)
+        full = m.compute(left, right, sparse)
+        self.assertEqual(m.getSearchedFraction(), 1.0)
+        m.setSearchWindow(4)
+        narrow = m.compute(left, right, sparse)
+        self.assertLess(m.getSearchedFraction(), 0.5)
+        valid = (full > -16) & (narrow > -16)
+        self.assertGreater(np.mean(np.abs(full[valid].astype(int) - narrow[valid]) <= 16), 0.97)
+        with self.assertRaises(cv.error):
+            m.setSearchWindow(-1)
+
     def test_calibration_refinement(self):
         d = os.path.join(data_dir(), 'kitti')
         left, right, _, _ = self.load_frame()
