@@ -119,6 +119,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.tileBase.resize((size_t)tiles.area());
     a.rowBase.resize(H);
     size_t total = 0;
+    a.narrowed = false;
     for (int ty = 0; ty < tiles.height; ty++)
     {
         size_t rowCells = 0;
@@ -126,6 +127,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         {
             const Vec2s w = a.windows.at<Vec2s>(ty, tx);
             CV_Assert(0 <= w[0] && w[0] < w[1] && w[1] <= D);
+            a.narrowed = a.narrowed || w[0] > 0 || w[1] < D;
             a.tileBase[(size_t)ty * tiles.width + tx] = rowCells;
             rowCells += (size_t)std::min(T, W - tx * T) * (w[1] - w[0]);
         }

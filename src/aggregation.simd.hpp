@@ -54,11 +54,19 @@ struct AggregationState
     std::shared_ptr<void> sumMemory;            // sum's memory where aggregation.dispatch.cpp allocates it itself
     // The disparity windows (searchWindows; [0, D) everywhere without them): tile (tx, ty) searches [lo, hi) =
     // windows(ty, tx). In the volume, row y starts at rowBase[y] and tile tx of it at rowBase[y] + tileBase[ty][tx].
+    // narrowed: some window is narrower than [0, D) (else the lookups below are skipped: the full range's layout).
     Mat windows;
     std::vector<size_t> rowBase, tileBase;
+    bool narrowed;
     //! Pixel (x, y)'s window.
     void window(int x, int y, int& lo, int& hi) const
     {
+        if (!narrowed)
+        {
+            lo = 0;
+            hi = D;
+            return;
+        }
         const Vec2s w = windows.at<Vec2s>(y / WINDOW_TILE, x / WINDOW_TILE);
         lo = w[0];
         hi = w[1];
@@ -66,6 +74,8 @@ struct AggregationState
     //! Pixel (x, y)'s sums in the volume (hi - lo of them).
     ushort* sumAt(int x, int y, int n) const
     {
+        if (!narrowed)
+            return (ushort*)sum.data + ((size_t)y * W + x) * D;
         const int tx = x / WINDOW_TILE;
         return (ushort*)sum.data + rowBase[y] + tileBase[(size_t)(y / WINDOW_TILE) * windows.cols + tx] +
                (size_t)(x - tx * WINDOW_TILE) * n;
@@ -216,6 +226,17 @@ inline const ushort* pathInput(const ushort* lp, int plo, int phi, int lo, int h
     return temp;
 }
 
+/** SENTINEL beside a pixel's path costs L[lo, hi) that pathInput reads as "no cost". At -1 and D they are there from
+the start and never overwritten; inside the range they are written only for a narrower window (a scalar store that the
+next pixel's vector loads overlap stalls their forwarding: about 10 % of the full-range aggregation). */
+inline void fenceWindow(ushort* L, int lo, int hi, int D)
+{
+    if (lo > 0)
+        L[lo - 1] = SENTINEL;
+    if (hi < D)
+        L[hi] = SENTINEL;
+}
+
 //! The jump penalty from xq to x on an intensity row I (nullptr: no edge rule, always P2).
 inline ushort jump(const AggregationState& a, const ushort* I, int x, int xq)
 {
@@ -267,7 +288,7 @@ void rightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip)
         // S = (top-down + left-right) + right-left, each volume row written once.
         pathStepsAndSum<1>(C + (size_t)x * D + lo, &in, &m, &outLo, &m, &p2, V + (size_t)x * D + lo, nullptr, S, n,
                            P1, stream);
-        out[lo - 1] = out[hi] = SENTINEL;
+        fenceWindow(out, lo, hi, D);
         lp = out;
         plo = lo;
         phi = hi;
@@ -341,6 +362,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
     const int nd = down ? a.ndirs + 1 : a.ndirs;
     // The predecessors' path costs where their windows do not hold the pixel's (pathInput), one row per direction.
     ScratchRow<ushort> tempBuf(4 * (size_t)st);
+    const bool narrowed = a.narrowed;
     int lrLo = 0, lrHi = D;
     if (down && x0 > 0)
         a.window(x0 - 1, y, lrLo, lrHi);
@@ -363,9 +385,13 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
                 lp[k] = noPath + lo;
             else
             {
-                int plo, phi;
-                a.window(xp, yq, plo, phi);
-                lp[k] = pathInput(prevL[k] + (size_t)xp * st, plo, phi, lo, hi, tempBuf.data() + k * st + 1) + lo;
+                lp[k] = prevL[k] + (size_t)xp * st;
+                if (narrowed)
+                {
+                    int plo, phi;
+                    a.window(xp, yq, plo, phi);
+                    lp[k] = pathInput(lp[k], plo, phi, lo, hi, tempBuf.data() + k * st + 1) + lo;
+                }
                 minPrev[k] = prevMin[k][xp];
                 p2[k] = Iq ? (ushort)jumpPenalty(I[x], Iq[xp], a.p.edgeThreshold, a.p.w) : (ushort)a.p.w.p2;
             }
@@ -373,7 +399,7 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
         if (down)
         {
             const int k = a.ndirs;
-            lp[k] = pathInput(lrPrev, lrLo, lrHi, lo, hi, tempBuf.data() + k * st + 1) + lo;
+            lp[k] = narrowed ? pathInput(lrPrev, lrLo, lrHi, lo, hi, tempBuf.data() + k * st + 1) + lo : lrPrev;
             minPrev[k] = lrMin;
             p2[k] = x > 0 ? jump(a, I, x, x - 1) : 0;
             out[k] = x == x1 - 1 ? lrEdge + (size_t)strip * st : lrU;
@@ -390,8 +416,8 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
         case 2: pathStepsAndSum<2>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1); break;
         default: pathStepsAndSum<1>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1);
         }
-        for (int k = 0; k < nd; k++)
-            out[k][lo - 1] = out[k][hi] = SENTINEL;
+        for (int k = 0; narrowed && k < nd; k++)
+            fenceWindow(out[k], lo, hi, D);
         for (int k = 0; k < a.ndirs; k++)
             curMin[k][x] = mins[k];
         if (down)
