@@ -399,5 +399,6 @@ CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray project
 #include "opencv2/lidarsgm/depth.hpp"
 #include "opencv2/lidarsgm/calibration.hpp"
 #include "opencv2/lidarsgm/datasets.hpp"
+#include "opencv2/lidarsgm/rig.hpp"
 
 #endif // OPENCV_LIDARSGM_HPP

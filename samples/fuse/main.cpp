@@ -6,6 +6,7 @@
 //
 //   lidarsgm_fuse --kitti-frame DIR --id 000002 [--out OUT]      one frame of a KITTI-layout folder (raw scan)
 //   lidarsgm_fuse --left L --right R (--sparse S | --velodyne V --calib C) [--gt G] [--out OUT]
+//   lidarsgm_fuse --rig RIG.yml --left L --right R --points P.pcd [--out OUT]   raw pair of your own rig
 //   lidarsgm_fuse --kitti DIR [--table5] [--lidar-lines 64,32,16]   every frame listed in DIR/frames.txt
 //   lidarsgm_fuse --kitti-raw DRIVE [--gt-depth DIR] --out OUT --format depth,ply   every frame of a raw drive
 //   lidarsgm_fuse --middlebury DIR [--seed N]                   every scene folder in DIR (1 % of GT as input)
@@ -45,7 +46,27 @@ Frame loadFrame(const Options& o)
     f.leftImage = readImage(o.str("left"));
     f.left = toGrey(f.leftImage);
     f.right = readGrey(o.str("right"));
-    if (o.has("sparse"))
+    if (o.has("rig"))
+    {
+        // Your own rig: the raw pair rectified, the cloud projected into the rectified left view.
+        const Ptr<lidarsgm::StereoRig> rig = lidarsgm::StereoRig::fromFile(o.str("rig"));
+        Mat leftRect, rightRect;
+        rig->rectify(f.leftImage, f.right, leftRect, rightRect);
+        f.leftImage = leftRect;
+        f.left = toGrey(leftRect);
+        f.right = rightRect;
+        const Mat cloud = lidarsgm::readPointCloud(o.has("points") ? o.str("points") : o.str("velodyne"));
+        rig->projectCloud(cloud, f.sparse);
+        f.calibration = rig->getCalibration();
+    }
+    else if (o.has("points") && o.has("calib"))
+    {
+        f.calibration = lidarsgm::readKittiCalibration(o.str("calib"));
+        const lidarsgm::KittiCalibration& c = f.calibration;
+        lidarsgm::projectPointsToDisparity(lidarsgm::readPointCloud(o.str("points")), c.projection, c.lidarToCamera,
+                                           c.focalBaseline, f.left.size(), f.sparse);
+    }
+    else if (o.has("sparse"))
     {
         f.sparse = imread(o.str("sparse"), IMREAD_UNCHANGED);
         if (f.sparse.empty())

@@ -38,6 +38,10 @@ const OptionSpec kOptions[] = {
     { "velodyne", 's', "V", "raw Velodyne scan (float32 x y z r), projected with --calib", nullptr },
     { "calib", 's', "C", "KITTI calibration file (P2, P3, R0_rect, Tr_velo_to_cam); with --sparse only for\n"
       "--format depth / ply", nullptr },
+    { "rig", 's', "FILE", "your own rig (cv::lidarsgm::StereoRig::fromFile: stereoCalibrate's M1 D1 M2 D2 R T,\n"
+      "optional R1 R2 P1 P2, image_width, image_height, lidar_to_left): --left/--right are raw images,\n"
+      "rectified first; --points the cloud; outputs in the rectified left view", nullptr },
+    { "points", 's', "P", "LiDAR cloud of a single frame: .pcd, .ply or KITTI .bin (with --rig or --calib)", nullptr },
     { "gt", 's', "G", "ground truth of a single frame (KITTI 16-bit PNG)", nullptr },
     { "kitti", 's', "DIR", "every frame of DIR/frames.txt, scored with the KITTI devkit's rules", nullptr },
     { "kitti-raw", 's', "DRIVE", "every frame of a KITTI raw drive in order (DRIVE = <date>/<date>_drive_<n>_sync:\n"
@@ -313,8 +317,8 @@ void checkOptions(const Options& o)
                                        "(tools/confidence_benchmark.py evaluates the confidence there)");
         if ((f == "depth" || f == "ply") && o.has("middlebury"))
             CV_Error(Error::StsBadArg, "--format " + f + " needs a calibration, which Middlebury runs do not read");
-        if ((f == "depth" || f == "ply") && o.has("left") && !o.has("calib"))
-            CV_Error(Error::StsBadArg, "--format " + f + " needs the calibration: give --calib");
+        if ((f == "depth" || f == "ply") && o.has("left") && !o.has("calib") && !o.has("rig"))
+            CV_Error(Error::StsBadArg, "--format " + f + " needs the calibration: give --calib or --rig");
     }
     if ((o.has("refine-calibration") || o.has("check-calibration")) && !o.has("kitti") && !o.has("kitti-raw"))
         CV_Error(Error::StsBadArg, "--refine-calibration and --check-calibration go with --kitti or --kitti-raw");
@@ -338,6 +342,12 @@ void checkOptions(const Options& o)
         CV_Error(Error::StsBadArg, "--streams takes 1 to 64 workers, got " + o.str("streams"));
     if (o.has("resume") && (!(o.has("kitti") || o.has("kitti-raw")) || !o.has("out")))
         CV_Error(Error::StsBadArg, "--resume needs --kitti or --kitti-raw, and --out (the earlier run's outputs)");
+    if (o.has("rig") && (!o.has("left") || !o.has("right") || (!o.has("points") && !o.has("velodyne"))))
+        CV_Error(Error::StsBadArg, "--rig goes with --left, --right and --points (the raw pair and its cloud)");
+    if (o.has("rig") && (o.has("calib") || o.has("sparse")))
+        CV_Error(Error::StsBadArg, "--rig holds the calibration: drop --calib and --sparse");
+    if (o.has("points") && !o.has("rig") && !o.has("calib"))
+        CV_Error(Error::StsBadArg, "--points needs the calibration that projects it: --rig or --calib");
     if (o.has("params") && !utils::fs::exists(o.str("params")))
         CV_Error(Error::StsObjectNotFound, "cannot open --params " + o.str("params"));
     makeMatcher(o, Matcher::MODE_SDSGM, check);   // every parameter value and relation

@@ -294,6 +294,38 @@ class ToolTest(unittest.TestCase):
             self.assertEqual(rc, 1, se)
             self.assertIn(message, se)
 
+    def test_own_rig(self):
+        """--rig: a raw pair of the test frame un-rectified (tools/unrectified_rig.py), its scan as PCD, fused as the
+        KITTI frame is, within what the images' two resamplings cost; depth written; bad combinations refused."""
+        rig = os.path.join(self.tmp, "rig")
+        p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "unrectified_rig.py"), "--lines", "64",
+                            "--keep", rig, KITTI], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           universal_newlines=True, timeout=600)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        rc, so, se = run([TOOL, "--kitti-frame", KITTI, "--id", "000002", "--params", BEST])
+        self.assertEqual(rc, 0, se)
+        ref = float(METRICS.search(so).group(3))
+        out = os.path.join(self.tmp, "out")
+        args = [TOOL, "--rig", os.path.join(rig, "rig.yml"), "--left", os.path.join(rig, "left", "000002.png"),
+                "--right", os.path.join(rig, "right", "000002.png"), "--gt", os.path.join(rig, "gt", "000002.png"),
+                "--params", BEST]
+        rc, so, se = run(args + ["--points", os.path.join(rig, "points", "000002.pcd"), "--out", out,
+                                 "--format", "kitti,depth"])
+        self.assertEqual(rc, 0, se)
+        total = float(METRICS.search(so).group(3))
+        self.assertLess(abs(total - ref), 0.3, so)
+        self.assertTrue(os.path.isfile(os.path.join(out, "depth.png")))
+        rc, so2, se = run(args + ["--points", os.path.join(rig, "points", "000002.ply")])
+        self.assertEqual(rc, 0, se)
+        self.assertEqual(METRICS.search(so).group(0), METRICS.search(so2).group(0))
+        rc, so, se = run(args)
+        self.assertEqual(rc, 1)
+        self.assertIn("--rig goes with --left, --right and --points", se)
+        rc, so, se = run(args + ["--points", os.path.join(rig, "points", "000002.pcd"), "--calib",
+                                 os.path.join(KITTI, "calib.txt")])
+        self.assertEqual(rc, 1)
+        self.assertIn("--rig holds the calibration", se)
+
     def test_exit_codes_and_messages(self):
         cases = [
             (["--kitti-frame", os.path.join(self.tmp, "missing"), "--id", "000002"], 1, "cannot read image"),

@@ -173,6 +173,30 @@ class lidarsgm_test(NewOpenCVTests):
         with self.assertRaises(cv.error):
             m.setSearchWindow(-1)
 
+    def test_stereo_rig(self):
+        K = np.array([[700.0, 0, 320], [0, 700, 240], [0, 0, 1]])
+        D = np.array([[-0.2, 0.05, 0.0, 0.0, 0.0]])
+        R = cv.Rodrigues(np.array([0.01, -0.01, 0.005]))[0]
+        T = np.array([[-0.4], [0.0], [0.0]])
+        l2l = np.array([[0, -1, 0, 0], [0, 0, -1, 0], [1, 0, 0, 0], [0, 0, 0, 1]], np.float64)
+        rig = cv.lidarsgm.StereoRig.create(K, D, K, D, R, T, (640, 480), l2l)
+        self.assertFalse(rig.isRectified())
+        self.assertGreater(rig.getFocalBaseline(), 0)
+        path = os.path.join(tempfile.mkdtemp(), 'rig.yml')
+        rig.writeFile(path)
+        again = cv.lidarsgm.StereoRig.fromFile(path)
+        np.testing.assert_allclose(again.getProjectionLeft(), rig.getProjectionLeft(), atol=1e-9)
+        img = np.random.RandomState(1).randint(0, 255, (480, 640), np.uint8)
+        a, b = again.rectify(img, img)
+        self.assertEqual(a.shape, img.shape)
+        pts = np.array([[10.0, 0.5, 0.2, 0.0], [20.0, -1.0, 0.0, 0.0]], np.float32)
+        sparse = again.projectCloud(pts)
+        self.assertEqual(sparse.shape, (480, 640))
+        self.assertEqual(np.count_nonzero(sparse), 2)
+        self.assertAlmostEqual(float(sparse.max()), rig.getFocalBaseline() / 10.0, delta=0.2)
+        with self.assertRaises(cv.error):
+            cv.lidarsgm.StereoRig.fromFile(path + '.missing')
+
     def test_calibration_refinement(self):
         d = os.path.join(data_dir(), 'kitti')
         left, right, _, _ = self.load_frame()
