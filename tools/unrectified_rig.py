@@ -13,7 +13,8 @@ binary_compressed in turn) and PLY (plyfile). The fusion then runs as a user wou
 rectify, readPointCloud, projectCloud, compute (doc/params/kitti_best.yml, SDSGM) and is scored in the rectified view
 against disp_occ_0, beside the KITTI frames themselves, and beside the KITTI frames passed through the un-rectification
 and the rig's rectification alone (cv2.remap twice, KITTI's own sparse map): that last run measures what the two
-resamplings of the images cost. --keep DIR leaves the rig folder (rig.yml, ros/, left/, right/, points/, gt/) there.
+resamplings of the images cost. --keep DIR leaves the rig folder (rig.yml, ros/, left/, right/, points/ with the
+whole scans, gt/) there, as the tool's --rig-folder reads it.
 """
 import os
 import shutil
@@ -144,9 +145,9 @@ def main():
                 write_ros(os.path.join(work, "ros", "left.yaml"), M1, D1, R1, P1, size)
                 write_ros(os.path.join(work, "ros", "right.yaml"), M2, D2, R2, P2, size)
                 np.savetxt(os.path.join(work, "ros", "lidar_to_left.txt"), l2l)
-            # The scan as the rig sees it: the rings kept, in the LiDAR's own frame.
-            scan = cv.lidarsgm.selectLidarRings(cv.lidarsgm.readVelodyneScan(os.path.join(kitti, "velodyne",
-                                                                                          i + ".bin")), every, 0)
+            # The whole scan in the LiDAR's own frame and the driver's order; the rings are kept after reading, as the
+            # tool's --rig-folder --lidar-lines does.
+            scan = cv.lidarsgm.readVelodyneScan(os.path.join(kitti, "velodyne", i + ".bin"))
             pcd, ply = write_cloud(scan, os.path.join(work, "points", i), n)
             gt_back = cv.lidarsgm.readKittiDisparity(os.path.join(work, "gt", i + ".png"))
             runs = {"kitti": (f.left, f.right, f.sparse)}
@@ -154,12 +155,14 @@ def main():
             l, r = rig.rectify(cv.imread(os.path.join(work, "left", i + ".png"), cv.IMREAD_GRAYSCALE),
                                cv.imread(os.path.join(work, "right", i + ".png"), cv.IMREAD_GRAYSCALE))
             runs["remap"] = (l, r, f.sparse)
-            runs["file"] = (l, r, rig.projectCloud(cv.lidarsgm.readPointCloud(pcd)))
+            runs["file"] = (l, r, rig.projectCloud(cv.lidarsgm.selectLidarRings(cv.lidarsgm.readPointCloud(pcd), every,
+                                                                                 0)))
             ros = cv.lidarsgm.StereoRig.fromRos(os.path.join(work, "ros", "left.yaml"),
                                                 os.path.join(work, "ros", "right.yaml"), l2l)
             l2, r2 = ros.rectify(cv.imread(os.path.join(work, "left", i + ".png"), cv.IMREAD_GRAYSCALE),
                                  cv.imread(os.path.join(work, "right", i + ".png"), cv.IMREAD_GRAYSCALE))
-            runs["ros"] = (l2, r2, ros.projectCloud(cv.lidarsgm.readPointCloud(ply)))
+            runs["ros"] = (l2, r2, ros.projectCloud(cv.lidarsgm.selectLidarRings(cv.lidarsgm.readPointCloud(ply), every,
+                                                                                0)))
             for k, (a, b, s) in runs.items():
                 e, g, c = score(m.compute(a, b, s), gt_back)
                 sums[k][0] += e

@@ -396,4 +396,48 @@ int runKittiRaw(const Options& o)
     return runPasses(stereoOnly ? stereoAlone(o) : o, src);
 }
 
+int runRigFolder(const Options& o)
+{
+    const std::string dir = o.str("rig-folder");
+    // The rig is read once: a bad file stops the run before any frame.
+    const Ptr<lidarsgm::StereoRig> rig = lidarsgm::StereoRig::fromFile(dir + "/rig.yml");
+    FrameSource src;
+    src.label = "rig " + dir;
+    std::vector<String> lefts;
+    glob(dir + "/left/*.png", lefts, false);
+    for (const String& p : lefts)
+    {
+        const size_t slash = p.find_last_of("/\\");
+        src.ids.push_back(p.substr(slash + 1, p.size() - slash - 1 - 4));
+    }
+    std::sort(src.ids.begin(), src.ids.end());
+    if (src.ids.empty())
+        CV_Error(Error::StsObjectNotFound, "no frame: " + dir + "/left/ holds no .png");
+    src.load = [dir, rig](const std::string& id, LidarRings rings) {
+        Frame f;
+        f.name = id;
+        Mat leftRect, rightRect;
+        rig->rectify(readImage(dir + "/left/" + id + ".png"), readGrey(dir + "/right/" + id + ".png"), leftRect,
+                     rightRect);
+        f.leftImage = leftRect;
+        f.left = toGrey(leftRect);
+        f.right = rightRect;
+        std::string cloud;
+        for (const char* ext : { ".pcd", ".ply", ".bin" })
+            if (cloud.empty() && utils::fs::exists(dir + "/points/" + id + ext))
+                cloud = dir + "/points/" + id + ext;
+        if (cloud.empty())
+            CV_Error(Error::StsObjectNotFound, "no cloud " + dir + "/points/" + id + ".pcd (or .ply, .bin)");
+        // Rings by the scan's order, as for KITTI scans (--lidar-lines): clouds saved in the driver's order.
+        rig->projectCloud(lidarsgm::selectLidarRings(lidarsgm::readPointCloud(cloud), rings.every, rings.first),
+                          f.sparse);
+        f.calibration = rig->getCalibration();
+        const std::string gt = dir + "/gt/" + id + ".png";
+        if (utils::fs::exists(gt))
+            f.groundTruth = lidarsgm::readKittiDisparity(gt);
+        return f;
+    };
+    return runPasses(o, src);
+}
+
 } // namespace lidarsgm_fuse

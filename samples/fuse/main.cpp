@@ -7,6 +7,7 @@
 //   lidarsgm_fuse --kitti-frame DIR --id 000002 [--out OUT]      one frame of a KITTI-layout folder (raw scan)
 //   lidarsgm_fuse --left L --right R (--sparse S | --velodyne V --calib C) [--gt G] [--out OUT]
 //   lidarsgm_fuse --rig RIG.yml --left L --right R --points P.pcd [--out OUT]   raw pair of your own rig
+//   lidarsgm_fuse --rig-folder DIR [--out OUT] [--resume]       every frame of your own rig's recording
 //   lidarsgm_fuse --kitti DIR [--table5] [--lidar-lines 64,32,16]   every frame listed in DIR/frames.txt
 //   lidarsgm_fuse --kitti-raw DRIVE [--gt-depth DIR] --out OUT --format depth,ply   every frame of a raw drive
 //   lidarsgm_fuse --middlebury DIR [--seed N]                   every scene folder in DIR (1 % of GT as input)
@@ -101,10 +102,10 @@ int main(int argc, char** argv)
         return 0;
     }
     const bool frame = o.has("kitti-frame") || (o.has("left") && o.has("right"));
-    if (!frame && !o.has("kitti") && !o.has("kitti-raw") && !o.has("middlebury"))
+    if (!frame && !o.has("kitti") && !o.has("kitti-raw") && !o.has("rig-folder") && !o.has("middlebury"))
     {
-        fprintf(stderr, "lidarsgm_fuse: give --kitti-frame, --left/--right, --kitti, --kitti-raw or --middlebury "
-                        "(see --help)\n");
+        fprintf(stderr, "lidarsgm_fuse: give --kitti-frame, --left/--right, --kitti, --kitti-raw, --rig-folder or "
+                        "--middlebury (see --help)\n");
         return 2;
     }
     try
@@ -116,6 +117,8 @@ int main(int argc, char** argv)
             return runKittiFolder(o);
         if (o.has("kitti-raw"))
             return runKittiRaw(o);
+        if (o.has("rig-folder"))
+            return runRigFolder(o);
         if (o.has("middlebury"))
             return runMiddlebury(o);
         Frame f = loadFrame(o);

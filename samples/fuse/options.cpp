@@ -47,6 +47,9 @@ const OptionSpec kOptions[] = {
     { "kitti-raw", 's', "DRIVE", "every frame of a KITTI raw drive in order (DRIVE = <date>/<date>_drive_<n>_sync:\n"
       "image_02/data, image_03/data, velodyne_points/data; calibration from <date>/calib_cam_to_cam.txt\n"
       "and <date>/calib_velo_to_cam.txt); no ground truth needed", nullptr },
+    { "rig-folder", 's', "DIR", "every frame of your own rig's recording: DIR/rig.yml (as --rig), DIR/left/NAME.png,\n"
+      "DIR/right/NAME.png, DIR/points/NAME.pcd|.ply|.bin, optional DIR/gt/NAME.png (KITTI disparity PNG in the\n"
+      "rectified left view); NAME in sorted order", nullptr },
     { "gt-depth", 's', "DIR", "(--kitti-raw) ground truth as KITTI depth PNGs DIR/<frame>.png (metres x 256, e.g.\n"
       "the depth-completion set's proj_depth/groundtruth/image_02): scored as disparity fB / depth", nullptr },
     { "middlebury", 's', "DIR", "every scene folder of DIR, 1 % of its ground truth as the sparse input", nullptr },
@@ -340,8 +343,9 @@ void checkOptions(const Options& o)
         CV_Error(Error::StsBadArg, "--resize takes WIDTHxHEIGHT, got '" + o.str("resize") + "'");
     if (o.i("streams", 1) < 1 || o.i("streams", 1) > 64)
         CV_Error(Error::StsBadArg, "--streams takes 1 to 64 workers, got " + o.str("streams"));
-    if (o.has("resume") && (!(o.has("kitti") || o.has("kitti-raw")) || !o.has("out")))
-        CV_Error(Error::StsBadArg, "--resume needs --kitti or --kitti-raw, and --out (the earlier run's outputs)");
+    if (o.has("resume") && (!(o.has("kitti") || o.has("kitti-raw") || o.has("rig-folder")) || !o.has("out")))
+        CV_Error(Error::StsBadArg, "--resume needs --kitti, --kitti-raw or --rig-folder, and --out (the earlier run's "
+                                   "outputs)");
     if (o.has("rig") && (!o.has("left") || !o.has("right") || (!o.has("points") && !o.has("velodyne"))))
         CV_Error(Error::StsBadArg, "--rig goes with --left, --right and --points (the raw pair and its cloud)");
     if (o.has("rig") && (o.has("calib") || o.has("sparse")))

@@ -134,6 +134,8 @@ double medianMs(std::vector<double> v);
 int runFrame(const Options& o, Frame& f);
 int runKittiFolder(const Options& o);
 int runKittiRaw(const Options& o);
+//! --rig-folder: every frame of a user's rig recording (rig.yml, left/, right/, points/, optional gt/).
+int runRigFolder(const Options& o);
 int runMiddlebury(const Options& o);
 int runCpuTiming(const Options& o, const Frame& f, int reps);
 int runCudaTiming(const Options& o, const Frame& f, int reps);

@@ -318,6 +318,21 @@ class ToolTest(unittest.TestCase):
         rc, so2, se = run(args + ["--points", os.path.join(rig, "points", "000002.ply")])
         self.assertEqual(rc, 0, se)
         self.assertEqual(METRICS.search(so).group(0), METRICS.search(so2).group(0))
+        # The whole recording: --rig-folder as the KITTI folder run, resumable.
+        table = re.compile(r"\| SDSGM \(stereo-lidar\) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+) %")
+        rc, so_k, se = run([TOOL, "--kitti", KITTI, "--params", BEST, "--modes", "sdsgm", "--quiet", "1"])
+        self.assertEqual(rc, 0, se)
+        folder_out = os.path.join(self.tmp, "folder_out")
+        rc, so_r, se = run([TOOL, "--rig-folder", rig, "--params", BEST, "--modes", "sdsgm", "--quiet", "1",
+                            "--out", folder_out])
+        self.assertEqual(rc, 0, se)
+        self.assertLess(abs(float(table.search(so_r).group(3)) - float(table.search(so_k).group(3))), 0.3, so_r)
+        self.assertIn("2 computed", so_r)
+        rc, so_r2, se = run([TOOL, "--rig-folder", rig, "--params", BEST, "--modes", "sdsgm", "--quiet", "1",
+                             "--out", folder_out, "--resume"])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("2 taken from earlier runs", so_r2)
+        self.assertEqual(table.search(so_r).group(0), table.search(so_r2).group(0))
         rc, so, se = run(args)
         self.assertEqual(rc, 1)
         self.assertIn("--rig goes with --left, --right and --points", se)
@@ -348,7 +363,7 @@ class ToolTest(unittest.TestCase):
              "cannot open --params"),
             (["--kitti-frame", KITTI, "--id", "000002", "--resize", "10x"], 1, "--resize takes"),
             (["--kitti-frame", KITTI, "--id", "000002", "--resume"], 1,
-             "--resume needs --kitti or --kitti-raw, and --out"),
+             "--resume needs --kitti, --kitti-raw or --rig-folder, and --out"),
             (["--kitti-frame"], 2, "needs a value"),
             (["stray"], 2, "unexpected argument"),
             ([], 2, "give --kitti-frame"),
