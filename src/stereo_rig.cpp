@@ -9,6 +9,8 @@
 #include "precomp.hpp"
 #include "opencv2/lidarsgm/rig.hpp"
 #include "opencv2/imgproc.hpp"
+#include <fstream>
+#include <iterator>
 #if CV_VERSION_MAJOR >= 5
 #include "opencv2/stereo.hpp"     // stereoRectify moved from calib3d to stereo in OpenCV 5
 #else
@@ -291,11 +293,18 @@ Ptr<StereoRig> StereoRig::fromRos(const String& leftYaml, const String& rightYam
     const String files[2] = { leftYaml, rightYaml };
     for (int i = 0; i < 2; i++)
     {
+        // camera_calibration writes plain YAML; cv::FileStorage of OpenCV 4 wants its %YAML:1.0 directive first.
+        std::ifstream in(files[i].c_str(), std::ios::binary);
+        if (!in)
+            fail(files[i], "cannot be opened");
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (text.compare(0, 5, "%YAML") != 0)
+            text = "%YAML:1.0\n---\n" + text;
         FileStorage fs;
-        try { fs.open(files[i], FileStorage::READ); }
+        try { fs.open(text, FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_YAML); }
         catch (const cv::Exception& e) { fail(files[i], "cannot be parsed: " + e.msg); }
         if (!fs.isOpened())
-            fail(files[i], "cannot be opened");
+            fail(files[i], "cannot be parsed as YAML");
         const FileNode root = fs.root();
         const FileNode model = root["distortion_model"];
         if (!model.empty() && model.isString() && (String)model != "plumb_bob" &&
