@@ -13,7 +13,7 @@ jump from q to p costs P2edge instead of P2 where |I(p) - I(q)| > thr. With wind
 static void referenceAggregation(const Mat& cost, int W, int D, int numPaths, int P1, int P2, Mat& sum,
                                  const Mat& image = Mat(), int thr = 0, int P2edge = 0, const Mat& windows = Mat())
 {
-    const int H = cost.rows, INF = 1 << 28;
+    const int H = cost.rows, INF = 1 << 20;   // above every path cost (< 2^16); 8 of them still fit in an int
     const auto lowOf = [&](int x, int y) { return windows.empty() ? 0 : (int)windows.at<Vec2s>(y / 32, x / 32)[0]; };
     const auto highOf = [&](int x, int y) { return windows.empty() ? D : (int)windows.at<Vec2s>(y / 32, x / 32)[1]; };
     ASSERT_EQ(32, (int)WINDOW_TILE);

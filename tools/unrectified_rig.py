@@ -60,8 +60,11 @@ def unrectify(img, M, D, Rr, P, size):
     w, h = size
     xs, ys = np.meshgrid(np.arange(w, dtype=np.float64), np.arange(h, dtype=np.float64))
     pts = np.stack([xs.ravel(), ys.ravel()], 1).reshape(-1, 1, 2)
-    rect = cv.undistortPoints(pts, M, D, R=Rr, P=P,
-                              criteria=(cv.TERM_CRITERIA_COUNT | cv.TERM_CRITERIA_EPS, 50, 1e-9))
+    criteria = (cv.TERM_CRITERIA_COUNT | cv.TERM_CRITERIA_EPS, 50, 1e-9)
+    if hasattr(cv, "undistortPointsIter"):   # OpenCV 4: the iterations' criteria are undistortPointsIter's
+        rect = cv.undistortPointsIter(pts, M, D, Rr, P, criteria)
+    else:
+        rect = cv.undistortPoints(pts, M, D, R=Rr, P=P, criteria=criteria)
     rect = rect.reshape(h, w, 2).astype(np.float32)
     return cv.remap(img, rect[..., 0], rect[..., 1], cv.INTER_LINEAR, borderMode=cv.BORDER_CONSTANT)
 
