@@ -194,15 +194,13 @@ enum { WINDOW_TILE = 32, WINDOW_ALIGN = 16, COARSE_SCALE = 4 };
 
 static LIDARSGM_HD bool searchWindowOn(const PipelineParams& p) { return p.searchWindow > 0; }
 
-/** A tile's window [lo, hi) from the lowest and highest index kMin <= kMax seen in its dilated neighbourhood, the
-margin and the number of disparities D (a multiple of 16). */
+/** A tile's window [lo, hi) from the lowest and highest index 0 <= kMin <= kMax < D seen in its dilated
+neighbourhood, the margin (>= 0) and the number of disparities D (a multiple of 16); lo < hi follows. */
 static LIDARSGM_HD void tileWindow(int kMin, int kMax, int margin, int D, int& lo, int& hi)
 {
     const int a = kMin - margin, b = kMax + margin + 1;
     lo = a <= 0 ? 0 : a / WINDOW_ALIGN * WINDOW_ALIGN;
     hi = b >= D ? D : (b + WINDOW_ALIGN - 1) / WINDOW_ALIGN * WINDOW_ALIGN;
-    if (hi <= lo)   // indices above the range (the coarse pass's rounding): the window at its top
-        lo = hi - WINDOW_ALIGN;
 }
 
 /** The coarse pass's parameters: plain SGM with the paper's P1 and P2 over 4 paths, the whole range of coarse

@@ -20,19 +20,25 @@ struct IndexRange
     void add(const IndexRange& r) { kMin = std::min(kMin, r.kMin); kMax = std::max(kMax, r.kMax); }
 };
 
-//! Per tile, the range of the values of an index map (INT_MIN: none) whose pixels stand for scale x scale pixels.
-template <typename Index>
-void tileRanges(Size size, int scale, Size tiles, const Index& index, std::vector<IndexRange>& ranges)
+//! Per tile, the union of the index ranges of a map's pixels (rangeAt(x, y), empty: none), each pixel standing for
+//! scale x scale pixels.
+template <typename RangeAt>
+void tileRanges(Size size, int scale, Size tiles, const RangeAt& rangeAt, std::vector<IndexRange>& ranges)
 {
     ranges.assign((size_t)tiles.area(), IndexRange());
     const int T = WINDOW_TILE;
     for (int y = 0; y < size.height; y++)
         for (int x = 0; x < size.width; x++)
-        {
-            const int k = index(x, y);
-            if (k != INT_MIN)
-                ranges[(size_t)(y * scale / T) * tiles.width + x * scale / T].add(k);
-        }
+            ranges[(size_t)(y * scale / T) * tiles.width + x * scale / T].add(rangeAt(x, y));
+}
+
+//! The range of one index, clamped to [0, D).
+IndexRange clampedRange(int kMin, int kMax, int D)
+{
+    IndexRange r;
+    r.add(std::min(std::max(kMin, 0), D - 1));
+    r.add(std::min(std::max(kMax, 0), D - 1));
+    return r;
 }
 
 //! Each tile's range joined with those of the tiles around it.
@@ -115,7 +121,7 @@ void searchWindows(const Mat& prior16, const Mat& left, const Mat& right, const 
         CV_Assert(prior16.type() == CV_16SC1 && prior16.size() == size);
         tileRanges(size, 1, tiles, [&](int x, int y) {
             const short v = prior16.at<short>(y, x);
-            return v == NO_DISP ? INT_MIN : std::min(std::max(roundDisp16(v) - minD, 0), D - 1);
+            return v == NO_DISP ? IndexRange() : clampedRange(roundDisp16(v) - minD, roundDisp16(v) - minD, D);
         }, own);
     }
     else
@@ -131,18 +137,12 @@ void searchWindows(const Mat& prior16, const Mat& left, const Mat& right, const 
     {
         coarseDisparities(left, right, p, coarse, work);
         // A coarse disparity c stands for the full-scale disparities c S - S .. c S + S (the rounding of both).
-        std::vector<IndexRange> lowest, highest;
+        std::vector<IndexRange> coarseOwn;
         tileRanges(coarse.size(), S, tiles, [&](int x, int y) {
             const short v = coarse.at<short>(y, x);
-            return v == NO_DISP ? INT_MIN : std::min(std::max(v * S - S - minD, 0), D - 1);
-        }, lowest);
-        tileRanges(coarse.size(), S, tiles, [&](int x, int y) {
-            const short v = coarse.at<short>(y, x);
-            return v == NO_DISP ? INT_MIN : std::min(std::max(v * S + S - minD, 0), D - 1);
-        }, highest);
-        for (size_t i = 0; i < lowest.size(); i++)
-            lowest[i].kMax = highest[i].kMax;
-        dilateRanges(tiles, lowest, coarseNear);
+            return v == NO_DISP ? IndexRange() : clampedRange(v * S - S - minD, v * S + S - minD, D);
+        }, coarseOwn);
+        dilateRanges(tiles, coarseOwn, coarseNear);
     }
     windows.create(tiles, CV_16SC2);
     for (int ty = 0; ty < tiles.height; ty++)

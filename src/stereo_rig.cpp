@@ -41,6 +41,8 @@ Mat checkedMatrix(const Mat& m, int rows, int cols, const String& file, const St
         fail(file, key + " must be a CV_32F or CV_64F matrix");
     Mat d;
     m.convertTo(d, CV_64F);
+    if (!checkRange(d))
+        fail(file, key + " holds a NaN or infinite value");
     if (cols == 0)
     {
         const int n = (int)d.total();
@@ -53,21 +55,15 @@ Mat checkedMatrix(const Mat& m, int rows, int cols, const String& file, const St
         return d.reshape(1, 3);
     if (d.rows != rows || d.cols != cols)
         fail(file, format("%s must be %dx%d; got %dx%d", key.c_str(), rows, cols, d.rows, d.cols));
-    if (!checkRange(d))
-        fail(file, key + " holds a NaN or infinite value");
     return d;
 }
 
-//! A FileStorage matrix, or (ROS's layout) a map with rows, cols and data.
-Mat readMatrix(const FileNode& n, const String& file, const String& key, bool required, int rows, int cols)
+//! A FileStorage matrix, or (ROS's layout) a map with rows, cols and data; a missing key is refused.
+Mat readMatrix(const FileNode& n, const String& file, const String& key, int rows, int cols)
 {
     const FileNode node = n[key];
     if (node.empty())
-    {
-        if (required)
-            fail(file, "no " + key);
-        return Mat();
-    }
+        fail(file, "no " + key);
     Mat m;
     if (node.isMap() && !node["data"].empty())
     {
@@ -182,8 +178,8 @@ public:
     KittiCalibration getCalibration() const CV_OVERRIDE
     {
         KittiCalibration c;
-        // P1 with its first column's translation moved out: projectPointsToDisparity takes the left camera at the
-        // origin (P1(0, 3) is 0 after CALIB_ZERO_DISPARITY; a nonzero one would shift every disparity).
+        // P1 as it is: projectPointsToDisparity takes disparities as focalBaseline / depth, which holds for a
+        // horizontal pair with one principal point (finish() checks it), P1's own fourth column included (KITTI's).
         c.projection = P1.clone();
         c.lidarToCamera = getLidarToRectified();
         c.focalBaseline = getFocalBaseline();
@@ -246,14 +242,14 @@ Ptr<StereoRig> StereoRig::fromFile(const String& path)
         fail(path, "cannot be opened");
     const FileNode root = fs.root();
     const Size size(readInt(root, path, "image_width"), readInt(root, path, "image_height"));
-    const Mat lidar = readMatrix(root, path, "lidar_to_left", true, 4, 4);
+    const Mat lidar = readMatrix(root, path, "lidar_to_left", 4, 4);
     if (root["M1"].empty())
     {
         if (root["P1"].empty())
             fail(path, "holds neither a raw calibration (M1, D1, M2, D2, R, T) nor a rectified one (P1, P2)");
         Ptr<StereoRigImpl> rig = makePtr<StereoRigImpl>();
-        rig->P1 = readMatrix(root, path, "P1", true, 3, 4);
-        rig->P2 = readMatrix(root, path, "P2", true, 3, 4);
+        rig->P1 = readMatrix(root, path, "P1", 3, 4);
+        rig->P2 = readMatrix(root, path, "P2", 3, 4);
         rig->R1 = Mat::eye(3, 3, CV_64F);
         rig->R2 = Mat::eye(3, 3, CV_64F);
         rig->lidarToLeft = lidar;
@@ -261,9 +257,9 @@ Ptr<StereoRig> StereoRig::fromFile(const String& path)
         rig->finish(path);
         return rig;
     }
-    const Mat M1 = readMatrix(root, path, "M1", true, 3, 3), D1 = readMatrix(root, path, "D1", true, 1, 0),
-              M2 = readMatrix(root, path, "M2", true, 3, 3), D2 = readMatrix(root, path, "D2", true, 1, 0),
-              R = readMatrix(root, path, "R", true, 3, 3), T = readMatrix(root, path, "T", true, 3, 1);
+    const Mat M1 = readMatrix(root, path, "M1", 3, 3), D1 = readMatrix(root, path, "D1", 1, 0),
+              M2 = readMatrix(root, path, "M2", 3, 3), D2 = readMatrix(root, path, "D2", 1, 0),
+              R = readMatrix(root, path, "R", 3, 3), T = readMatrix(root, path, "T", 3, 1);
     const bool any = !root["R1"].empty() || !root["R2"].empty() || !root["P1"].empty() || !root["P2"].empty();
     if (!any)
     {
@@ -272,10 +268,10 @@ Ptr<StereoRig> StereoRig::fromFile(const String& path)
     }
     Ptr<StereoRigImpl> rig = makePtr<StereoRigImpl>();
     rig->M1 = M1; rig->D1 = D1; rig->M2 = M2; rig->D2 = D2; rig->R = R; rig->T = T;
-    rig->R1 = readMatrix(root, path, "R1", true, 3, 3);
-    rig->R2 = readMatrix(root, path, "R2", true, 3, 3);
-    rig->P1 = readMatrix(root, path, "P1", true, 3, 4);
-    rig->P2 = readMatrix(root, path, "P2", true, 3, 4);
+    rig->R1 = readMatrix(root, path, "R1", 3, 3);
+    rig->R2 = readMatrix(root, path, "R2", 3, 3);
+    rig->P1 = readMatrix(root, path, "P1", 3, 4);
+    rig->P2 = readMatrix(root, path, "P2", 3, 4);
     rig->lidarToLeft = lidar;
     rig->size = size;
     rig->finish(path);
@@ -312,10 +308,10 @@ Ptr<StereoRig> StereoRig::fromRos(const String& leftYaml, const String& rightYam
             fail(files[i], "distortion_model '" + (String)model + "' is not supported (plumb_bob or "
                            "rational_polynomial; rectify fisheye images with image_proc first)");
         sizes[i] = Size(readInt(root, files[i], "image_width"), readInt(root, files[i], "image_height"));
-        *K[i] = readMatrix(root, files[i], "camera_matrix", true, 3, 3);
-        *Dist[i] = readMatrix(root, files[i], "distortion_coefficients", true, 1, 0);
-        *Rr[i] = readMatrix(root, files[i], "rectification_matrix", true, 3, 3);
-        *P[i] = readMatrix(root, files[i], "projection_matrix", true, 3, 4);
+        *K[i] = readMatrix(root, files[i], "camera_matrix", 3, 3);
+        *Dist[i] = readMatrix(root, files[i], "distortion_coefficients", 1, 0);
+        *Rr[i] = readMatrix(root, files[i], "rectification_matrix", 3, 3);
+        *P[i] = readMatrix(root, files[i], "projection_matrix", 3, 4);
     }
     if (sizes[0] != sizes[1])
         fail(rightYaml, format("its image size %dx%d differs from the left file's %dx%d", sizes[1].width,

@@ -23,7 +23,7 @@ static inline int winner16(const ushort* s, int best, int lo, int D, const Pipel
 
 /** The pixel's winner from s, its sums over its window [lo, lo + D) (searchWindows; lo 0 and D numDisparities without
 windows): indices below are the window's, disparities lo + index. */
-static __attribute__((noinline)) void selectPixel(ushort* s, int x, int W, const PipelineParams& p, int lo, int D, short& d16,
+static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p, int lo, int D, short& d16,
                                short& dInt, short* nonUnique, RightView rv)
 {
     const int minD = p.minDisparity;

@@ -275,6 +275,14 @@ TEST(Lidarsgm_Rig, refusals_name_the_fault)
     m = rigError([&] { StereoRig::create(s.M1, s.D1, s.M2, s.D2, Mat::eye(3, 3, CV_64F), Tdown, s.size,
                                          s.lidarToLeft); });
     EXPECT_NE(std::string::npos, m.find("horizontal")) << m;
+    // A NaN anywhere, distortion coefficients and the translation included.
+    Mat nanD = s.D1.clone(), nanT = s.T.clone();
+    nanD.at<double>(0, 1) = std::numeric_limits<double>::quiet_NaN();
+    nanT.at<double>(2, 0) = std::numeric_limits<double>::quiet_NaN();
+    m = rigError([&] { StereoRig::create(s.M1, nanD, s.M2, s.D2, s.R, s.T, s.size, s.lidarToLeft); });
+    EXPECT_NE(std::string::npos, m.find("D1 holds a NaN")) << m;
+    m = rigError([&] { StereoRig::create(s.M1, s.D1, s.M2, s.D2, s.R, nanT, s.size, s.lidarToLeft); });
+    EXPECT_NE(std::string::npos, m.find("T holds a NaN")) << m;
     m = rigError([&] { StereoRig::fromFile(file + ".missing"); });
     EXPECT_NE(std::string::npos, m.find("cannot be opened")) << m;
     Ptr<StereoRig> rig = StereoRig::create(s.M1, s.D1, s.M2, s.D2, s.R, s.T, s.size, s.lidarToLeft);
