@@ -212,6 +212,147 @@ TEST(Lidarsgm_MatchingResidual, rises_with_a_calibration_error)
     }
 }
 
+/** A ground-like pair: row y's disparity is 8 + y / 8 (so a vertical move of the sparse values changes what they say),
+the right image the left moved by it. Weak images where noise > 0: a faint texture (0-31) and the right image with
+Gaussian noise of that standard deviation, then blurred. sparse gets the true disparity on every third pixel of every
+third row. */
+void slantedPair(double noise, Mat& left, Mat& right, Mat& sparse)
+{
+    RNG rng(11);
+    Mat tex(160, 240, CV_8UC1);
+    rng.fill(tex, RNG::UNIFORM, 0, noise > 0 ? 32 : 256);
+    GaussianBlur(tex, left, Size(3, 3), 0.8);
+    right = Mat(left.size(), CV_8UC1, Scalar(0));
+    sparse = Mat(left.size(), CV_32FC1, Scalar(0));
+    for (int y = 0; y < left.rows; y++)
+    {
+        const int d = 8 + y / 8;
+        left.row(y).colRange(d, left.cols).copyTo(right.row(y).colRange(0, left.cols - d));
+        for (int x = 60; y % 3 == 1 && x < left.cols - 2; x += 3)
+            sparse.at<float>(y, x) = (float)d;
+    }
+    if (noise > 0)
+    {
+        Mat n(right.size(), CV_16SC1), r16;
+        rng.fill(n, RNG::NORMAL, 0, noise);
+        right.convertTo(r16, CV_16S);
+        cv::add(r16, n, r16);
+        r16.convertTo(right, CV_8U);
+        GaussianBlur(right, right, Size(), 1.5);
+    }
+}
+
+Mat moved(const Mat& sparse, int dx, int dy)
+{
+    Mat out(sparse.size(), sparse.type(), Scalar(0));
+    const Matx23d m(1, 0, dx, 0, 1, dy);
+    warpAffine(sparse, out, Mat(m), sparse.size(), INTER_NEAREST, BORDER_CONSTANT, Scalar(0));
+    return out;
+}
+
+TEST(Lidarsgm_CheckLidar, tells_a_misplaced_map_from_weak_images)
+{
+    Mat left, right, sparse;
+    slantedPair(0, left, right, sparse);
+    // Right: within the band, no search.
+    cv::lidarsgm::LidarCheck c = cv::lidarsgm::checkLidar(left, right, sparse);
+    EXPECT_TRUE(c.trusted);
+    EXPECT_LE(c.residual, 0.25);
+    EXPECT_EQ(c.residual, c.shiftedResidual);
+    EXPECT_EQ(c.residual, cv::lidarsgm::matchingResidual(left, right, sparse));
+    EXPECT_EQ(Point(0, 0), c.shift);
+    // Moved by (5, -16): the values are 2 px off where they land; the search finds the move back.
+    c = cv::lidarsgm::checkLidar(left, right, moved(sparse, 5, -16), 1.0, 24);
+    EXPECT_FALSE(c.trusted);
+    EXPECT_NEAR(2.0, c.residual, 0.3);
+    EXPECT_LE(c.shiftedResidual, 0.25);
+    EXPECT_NEAR(0, c.shift.y - 16, 4);   // the rows within one disparity step (8 rows) of the move back
+    // The default search reaches a 32nd of the width (7 px here), not the move back; it finds the move halfway.
+    c = cv::lidarsgm::checkLidar(left, right, moved(sparse, 0, -16));
+    EXPECT_LE(std::abs(c.shift.x), 7);
+    EXPECT_LE(std::abs(c.shift.y), 7);
+    // One that reaches a pixel: trusted, as the best it finds lowers the residual too little.
+    c = cv::lidarsgm::checkLidar(left, right, moved(sparse, 0, -16), 1.0, 1);
+    EXPECT_TRUE(c.trusted);
+    EXPECT_LE(std::abs(c.shift.x), 1);
+    EXPECT_LE(std::abs(c.shift.y), 1);
+    // Weak images: the right one noisy, the map right. The residual is above the band, but no move lowers it.
+    Mat noisy;
+    slantedPair(30, left, noisy, sparse);
+    c = cv::lidarsgm::checkLidar(left, noisy, sparse, 1.0, 24);
+    EXPECT_GT(c.residual, 1.5);
+    EXPECT_TRUE(c.trusted) << c.residual << " " << c.shiftedResidual << " " << c.shift;
+    EXPECT_GE(c.shiftedResidual, 0.8 * c.residual);
+    // A higher band takes the same map without a search.
+    c = cv::lidarsgm::checkLidar(left, noisy, sparse, c.residual);
+    EXPECT_EQ(c.residual, c.shiftedResidual);
+    EXPECT_TRUE(c.trusted);
+}
+
+TEST(Lidarsgm_CheckLidar, kitti_frames_with_a_rotation_error)
+{
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    const cv::lidarsgm::KittiCalibration calib = cv::lidarsgm::readKittiCalibration(dir + "/calib.txt");
+    for (const std::string& id : cv::lidarsgm::readKittiFrameIds(dir))
+    {
+        const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(dir, id);
+        const Mat scan = cv::lidarsgm::readVelodyneScan(dir + "/velodyne/" + id + ".bin");
+        // The exact calibration, at the frame's size and at twice it with JPEG compression (weaker matches: a
+        // residual above the band, at the images' floor).
+        Mat big[2], sparse, bigSparse;
+        for (int k = 0; k < 2; k++)
+        {
+            resize(k ? f.right : f.left, big[k], Size(), 2, 2, INTER_CUBIC);
+            std::vector<uchar> jpeg;
+            imencode(".jpg", big[k], jpeg, { IMWRITE_JPEG_QUALITY, 75 });
+            big[k] = imdecode(jpeg, IMREAD_GRAYSCALE);
+        }
+        Matx34d P2 = Matx34d(Mat(calib.projection)) * 2;
+        for (int c = 0; c < 4; c++)
+            P2(2, c) /= 2;
+        for (int error = 0; error < 2; error++)
+        {
+            // The mix of the issue tried as a new user would: pitch 1.2, yaw -1.5, roll 0.8 degrees.
+            const Mat T(error ? cameraMotion(1.2, -1.5, 0.8) * Matx44d(calib.lidarToCamera) : Matx44d(calib.lidarToCamera));
+            cv::lidarsgm::projectPointsToDisparity(scan, calib.projection, T, calib.focalBaseline, f.left.size(), sparse);
+            cv::lidarsgm::projectPointsToDisparity(scan, P2, T, 2 * calib.focalBaseline, big[0].size(), bigSparse);
+            const cv::lidarsgm::LidarCheck c = cv::lidarsgm::checkLidar(f.left, f.right, sparse);
+            const cv::lidarsgm::LidarCheck cb = cv::lidarsgm::checkLidar(big[0], big[1], bigSparse);
+            EXPECT_EQ(!error, c.trusted) << id << " " << c.residual << " " << c.shiftedResidual;
+            EXPECT_EQ(!error, cb.trusted) << id << " x2 " << cb.residual << " " << cb.shiftedResidual;
+            if (!error)
+            {
+                EXPECT_GT(cb.residual, 1.0) << id;   // the floor of the weaker images, above the band
+            }
+        }
+    }
+}
+
+TEST(Lidarsgm_CheckLidar, refusals)
+{
+    Mat left, right, sparse;
+    slantedPair(0, left, right, sparse);
+    // Nothing to compare: the images cannot tell, and the map is not condemned.
+    const cv::lidarsgm::LidarCheck c = cv::lidarsgm::checkLidar(left, right, Mat::zeros(left.size(), CV_32FC1));
+    EXPECT_TRUE(c.trusted);
+    EXPECT_TRUE(cvIsNaN(c.residual));
+    EXPECT_TRUE(cvIsNaN(c.shiftedResidual));
+    EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, Mat()), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse, 0), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse, 1, -1), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse, 1, 1025), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse.colRange(0, 100)), cv::Exception);
+    try
+    {
+        cv::lidarsgm::checkLidar(left, right, sparse, std::numeric_limits<double>::quiet_NaN());
+        ADD_FAILURE() << "a NaN band was taken";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(std::string::npos, e.err.find("maxResidual")) << e.err;
+    }
+}
+
 TEST(Lidarsgm_MatchingResidual, refuses_what_the_images_cannot_tell)
 {
     Mat left, right;

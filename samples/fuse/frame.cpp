@@ -22,11 +22,12 @@ int runFrame(const Options& o, Frame& f)
         makeDir(out);
     const bool wantConfidence = writesConfidence(o, out);
     PassRows lidarCheck;
-    measureResidual(f, lidarCheck);
+    const Mat fused = checkFrameLidar(o, f, lidarCheck);
     printResiduals({ std::make_pair(f.name, (const PassRows*)&lidarCheck) });
     for (const std::string& name : modes)
     {
-        const int mode = modeFromName(name);
+        // Stereo alone where the LiDAR lands misplaced (the fail-safe): plain SGM, its check without the LiDAR.
+        const int mode = lidarCheck.stereoAlone ? (int)Matcher::MODE_SGM : modeFromName(name);
         Ptr<Matcher> m = makeMatcher(o, mode, check);
         const int minD = m->getMinDisparity();
         Mat disp, confidence;
@@ -34,8 +35,8 @@ int runFrame(const Options& o, Frame& f)
         if (o.has("cuda"))
         {
             cuda::GpuMat gl(f.left), gr(f.right), gs, gd, gc;
-            if (!f.sparse.empty())
-                gs.upload(f.sparse);
+            if (!fused.empty())
+                gs.upload(fused);
             tm.start();
             if (wantConfidence)
                 m->compute(gl, gr, gs, gd, gc);
@@ -50,9 +51,9 @@ int runFrame(const Options& o, Frame& f)
         {
             tm.start();
             if (wantConfidence)
-                m->compute(f.left, f.right, f.sparse, disp, confidence);
+                m->compute(f.left, f.right, fused, disp, confidence);
             else
-                m->compute(f.left, f.right, f.sparse, disp);
+                m->compute(f.left, f.right, fused, disp);
             tm.stop();
         }
         printf("%s %-6s check %-12s %s %8.1f ms", f.name.c_str(), modeLabel(mode), checkLabel(check),

@@ -65,7 +65,9 @@ void writeMetrics(const std::string& path, const std::string& key, PassRows& fr)
                << "est" << (double)r->stats.estimatedPixels << "estBad" << (double)r->stats.estimatedOutliers
                << "totalBad" << (double)r->stats.totalOutliers << "ms" << (r->ms.empty() ? -1.0 : r->ms[0]) << "}";
         fs << "]";
-        fs << "matchingResidual" << fr.residual << "residualFailure" << fr.residualFailure;
+        fs << "matchingResidual" << fr.residual << "residualFailure" << fr.residualFailure
+           << "shiftedResidual" << fr.shiftedResidual << "shift" << fr.shift << "misplaced" << (int)fr.misplaced
+           << "stereoAlone" << (int)fr.stereoAlone;
         return fs.isOpened();
     });
 }
@@ -97,6 +99,13 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr)
         fr.residual = (double)fs["matchingResidual"];
         fr.residualFailure = (std::string)fs["residualFailure"];
     }
+    // A frame of a run before the fail-safe has no verdict: computed again.
+    if (fs["misplaced"].empty())
+        return false;
+    fr.shiftedResidual = (double)fs["shiftedResidual"];
+    fs["shift"] >> fr.shift;
+    fr.misplaced = (int)fs["misplaced"] != 0;
+    fr.stereoAlone = (int)fs["stereoAlone"] != 0;
     return true;
 }
 

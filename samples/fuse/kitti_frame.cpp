@@ -26,6 +26,7 @@ lidarsgm::DisparityErrors score(const Mat& disp, const Mat& gt, int minD)
 struct Job
 {
     Ptr<Matcher> m;
+    int check;
     bool semidense;
     Mat out;
     double ms;
@@ -69,29 +70,37 @@ Ptr<Matcher> FrameWorker::matcher(int mode, int check)
     return m;
 }
 
-void measureResidual(const Frame& f, PassRows& fr)
+Mat checkFrameLidar(const Options& o, const Frame& f, PassRows& fr)
 {
     if (f.sparse.empty())
-        return;
-    try
-    {
-        fr.residual = lidarsgm::matchingResidual(f.left, f.right, f.sparse);
-    }
-    catch (const cv::Exception& e)
-    {
-        fr.residual = std::numeric_limits<double>::quiet_NaN();
-        fr.residualFailure = e.err;
-    }
+        return f.sparse;
+    const lidarsgm::LidarCheck c = lidarsgm::checkLidar(f.left, f.right, f.sparse, kMaxLidarResidual);
+    fr.residual = c.residual;
+    fr.shiftedResidual = c.shiftedResidual;
+    fr.shift = c.shift;
+    fr.misplaced = !c.trusted;
+    fr.stereoAlone = fr.misplaced && !o.has("trust-lidar");
+    if (cvIsNaN(c.residual))
+        fr.residualFailure = format("fewer than 200 LiDAR pixels can be compared with the images");
+    // No sparse value: every mode is stereo alone (DSGM and SDSGM without a prior are SGM, the checks left-right).
+    return fr.stereoAlone ? Mat::zeros(f.sparse.size(), f.sparse.type()) : f.sparse;
 }
 
 void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >& frames)
 {
     std::vector<double> r;
-    std::string worst, above, failed;
+    std::string worst, above, failed, misplaced;
     double largest = -1;
+    bool alone = false;
     for (const auto& f : frames)
     {
         const double v = f.second->residual;
+        if (f.second->misplaced)
+        {
+            misplaced += format("%s%s (%.2f px, %.2f moved by (%d, %d))", misplaced.empty() ? "" : ", ",
+                                f.first.c_str(), v, f.second->shiftedResidual, f.second->shift.x, f.second->shift.y);
+            alone = alone || f.second->stereoAlone;
+        }
         if (v != v)
             failed += (failed.empty() ? "" : ", ") + f.first;
         if (!(v >= 0))
@@ -117,6 +126,10 @@ void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >&
     if (!above.empty())
         printf("  above %.0f px, where the LiDAR pulls the fusion off the images (check the calibration: "
                "--check-calibration, --refine-calibration): %s\n", kMaxLidarResidual, above.c_str());
+    if (!misplaced.empty())
+        printf("  the LiDAR misplaced on the images (cv::lidarsgm::checkLidar: moving the points lowers the residual by "
+               "a fifth or more; check the calibration: --refine-calibration), %s: %s\n",
+               alone ? "fused as stereo alone" : "fused anyway (--trust-lidar)", misplaced.c_str());
     if (!failed.empty())
         printf("  not measured (the images cannot tell): %s\n", failed.c_str());
 }
@@ -128,38 +141,59 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
     const bool wantConfidence = writesConfidence(o_, frameOut);
     std::vector<Job> jobs;
     for (const std::string& name : modes)
-        jobs.push_back({ matcher(modeFromName(name), check), false, Mat(), 0.0, Mat() });
+        jobs.push_back({ matcher(modeFromName(name), check), check, false, Mat(), 0.0, Mat() });
     for (size_t c = 0; c < fr.table5.size(); c++)
-        jobs.push_back({ matcher(Matcher::MODE_SDSGM, (int)c), false, Mat(), 0.0, Mat() });
-    jobs.push_back({ matcher(Matcher::MODE_SDSGM, check), true, Mat(), 0.0, Mat() });
+        jobs.push_back({ matcher(Matcher::MODE_SDSGM, (int)c), (int)c, false, Mat(), 0.0, Mat() });
+    jobs.push_back({ matcher(Matcher::MODE_SDSGM, check), check, true, Mat(), 0.0, Mat() });
+    // Stereo alone: plain SGM with each job's check (DSGM and SDSGM weigh the census by 1 - alpha even without a
+    // prior: smoother than SGM, and worse).
+    const auto stereoAlone = [&]() {
+        for (Job& j : jobs)
+            if (!j.semidense)
+                j.m = matcher(Matcher::MODE_SGM, j.check);
+    };
     const auto withConfidence = [&](size_t j) { return wantConfidence && j < modes.size(); };
     CV_Assert(jobs.size() <= (size_t)kMaxJobs);
+    // The semidense map is the LiDAR's own (scored as such); the fusions take `fused`: the LiDAR, or none (and plain
+    // SGM) where it lands misplaced on the images (the fail-safe, checkFrameLidar).
     if (gpu_)
     {
-        // Everything enqueued on this worker's stream, one wait at the end.
+        // Everything enqueued on this worker's stream, one wait at the end; the check runs on the CPU meanwhile, and
+        // a frame it condemns (rare) has its fusions enqueued again without the LiDAR.
         Gpu& g = *gpu_;
         g.upload(0, f.left);
         g.upload(1, f.right);
-        g.upload(2, f.sparse);
-        for (size_t j = 0; j < jobs.size(); j++)
-        {
-            g.start[j].record(g.stream);
-            if (jobs[j].semidense)
-                jobs[j].m->semidensify(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.stream);
-            else if (withConfidence(j))
-                jobs[j].m->compute(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.gconf[j], g.stream);
-            else
-                jobs[j].m->compute(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.stream);
-            g.stop[j].record(g.stream);
-            g.out[j].create(g.gout[j].size(), g.gout[j].type());
-            g.gout[j].download(g.out[j], g.stream);
-            if (withConfidence(j))
+        const auto enqueue = [&](const Mat& sparse, bool fusionsOnly) {
+            g.upload(2, sparse);
+            for (size_t j = 0; j < jobs.size(); j++)
             {
-                g.conf[j].create(g.gconf[j].size(), g.gconf[j].type());
-                g.gconf[j].download(g.conf[j], g.stream);
+                if (fusionsOnly && jobs[j].semidense)
+                    continue;
+                g.start[j].record(g.stream);
+                if (jobs[j].semidense)
+                    jobs[j].m->semidensify(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.stream);
+                else if (withConfidence(j))
+                    jobs[j].m->compute(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.gconf[j], g.stream);
+                else
+                    jobs[j].m->compute(g.gin[0], g.gin[1], g.gin[2], g.gout[j], g.stream);
+                g.stop[j].record(g.stream);
+                g.out[j].create(g.gout[j].size(), g.gout[j].type());
+                g.gout[j].download(g.out[j], g.stream);
+                if (withConfidence(j))
+                {
+                    g.conf[j].create(g.gconf[j].size(), g.gconf[j].type());
+                    g.gconf[j].download(g.conf[j], g.stream);
+                }
             }
+        };
+        enqueue(f.sparse, false);
+        const Mat fused = checkFrameLidar(o_, f, fr);
+        if (fr.stereoAlone)
+        {
+            g.stream.waitForCompletion();   // the upload buffer of the sparse map is reused
+            stereoAlone();
+            enqueue(fused, true);
         }
-        measureResidual(f, fr);   // on the CPU while the GPU works
         g.stream.waitForCompletion();
         for (size_t j = 0; j < jobs.size(); j++)
         {
@@ -171,6 +205,9 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
     }
     else
     {
+        const Mat fused = checkFrameLidar(o_, f, fr);
+        if (fr.stereoAlone)
+            stereoAlone();
         for (size_t k = 0; k < jobs.size(); k++)
         {
             Job& j = jobs[k];
@@ -179,13 +216,12 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
             if (j.semidense)
                 j.m->semidensify(f.left, f.right, f.sparse, j.out);
             else if (withConfidence(k))
-                j.m->compute(f.left, f.right, f.sparse, j.out, j.confidence);
+                j.m->compute(f.left, f.right, fused, j.out, j.confidence);
             else
-                j.m->compute(f.left, f.right, f.sparse, j.out);
+                j.m->compute(f.left, f.right, fused, j.out);
             tm.stop();
             j.ms = tm.getTimeMilli();
         }
-        measureResidual(f, fr);
     }
     const bool scored = !f.groundTruth.empty();   // raw drives may have no ground truth: times and files only
     for (size_t k = 0; k < modes.size(); k++)

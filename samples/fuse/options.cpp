@@ -75,6 +75,10 @@ const OptionSpec kOptions[] = {
       "the 64-line scans (the paper's Table VI); a folder run prints one table per count", nullptr },
     { "lidar-ring-offset", 'i', "K", "with --lidar-lines: the first ring kept, counted from the top, modulo the 2 or 4\n"
       "(default 0: the top ring; 3 keeps the lowest ring at 16 lines)", nullptr },
+    { "trust-lidar", 'f', nullptr, "fuse every frame with its LiDAR; by default a frame whose LiDAR lands misplaced on\n"
+      "its images (cv::lidarsgm::checkLidar: the matching residual above 1 px and lowered by a\n"
+      "fifth when the points are moved together: a LiDAR-to-camera transform that is off) is\n"
+      "fused as stereo alone, and the run says so per frame", nullptr },
     { "check-calibration", 'f', nullptr, "(KITTI folder, raw drive) print the calibration residual: the median\n"
       "|LiDAR disparity - stereo disparity| over the LiDAR points (cv::lidarsgm::LidarCalibration)", nullptr },
     { "refine-calibration", 'f', nullptr, "(KITTI folder, raw drive) estimate the LiDAR-to-camera rotation's\n"

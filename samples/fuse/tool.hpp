@@ -99,12 +99,21 @@ struct PassRows
     //! images could not tell (residualFailure says why).
     double residual = -1;
     std::string residualFailure;
+    //! cv::lidarsgm::checkLidar's lowest residual of the LiDAR moved by `shift` (where it searched), and its verdict
+    double shiftedResidual = -1;
+    cv::Point shift;
+    bool misplaced = false;
+    //! The frame was fused as stereo alone: its LiDAR misplaced and the run not told --trust-lidar.
+    bool stereoAlone = false;
     std::vector<Row*> all();
 };
-//! The matching residual of a frame's LiDAR (f.sparse) against its images into fr; none without a sparse map.
-void measureResidual(const Frame& f, PassRows& fr);
+/** The fail-safe: a frame's LiDAR (f.sparse) checked against its images (cv::lidarsgm::checkLidar) into fr; none
+without a sparse map. Returns the sparse map to fuse: f.sparse, or one without values where fr.stereoAlone (then the
+run fuses with plain SGM: stereo alone). */
+cv::Mat checkFrameLidar(const Options& o, const Frame& f, PassRows& fr);
 /** What a run prints about its frames' matching residuals (frame name, its rows): the median and the largest, the
-frames above the DDC's Q1 band (1 px) and those the images could not tell; nothing where no frame has a LiDAR. */
+frames above the DDC's Q1 band (1 px), those whose LiDAR is misplaced (fused as stereo alone unless --trust-lidar)
+and those the images could not tell; nothing where no frame has a LiDAR. */
 void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >& frames);
 
 /** Computes the frames of a KITTI folder run, one at a time; several workers (--streams) run on their own threads.

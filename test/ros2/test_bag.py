@@ -3,6 +3,7 @@ outputs read back with rosbags and with the mcap library's own ROS 2 decoder, pi
 the transform from /tf_static or the command line; approximate sync of late scans; resume after an interruption;
 errors with their exit codes."""
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -124,6 +125,46 @@ class BagTest(unittest.TestCase):
         self.assertIn("set 1 of ~2 (stamp 0.100000000) skipped: none of the cloud's 123223 points projects into the "
                       "left image", r.stdout)
         self.assertIn("0 sets fused, 2 skipped", r.stdout)
+
+    def test_fail_safe_and_recalibration(self):
+        """A 2-degree rotation error: the sets are fused as stereo alone (pixel for pixel the tool's SGM with the
+        left-right check), the rotation is refined from them, and the command switches to the corrected transform."""
+        bag = os.path.join(self.work, "kitti_three_times")
+        kitti.write_bag(KITTI, bag, ids=list(FRAMES) * 3)
+        frame = cv2.lidarsgm.loadKittiFrame(KITTI, FRAMES[0])
+        t = kitti.ros_calibration(frame.calibration)[3]
+        wrong = np.eye(4)
+        wrong[:3, :3] = cv2.Rodrigues(np.radians([1.2, -1.5, 0.8]))[0]
+        args = ["--params-file", PARAMS, "--lidar-to-camera"] + [repr(float(v)) for v in (wrong @ t).ravel()]
+        out = os.path.join(self.work, "out_fail_safe")
+        r = run("lidarsgm_ros.bag", bag, out, "--recalibration-sets", "4", "--scan-rate", "10", *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        for k in range(1, 5):
+            self.assertRegex(r.stdout, r"set %d of ~6 fused in \d+ ms, matching residual [\d.]+ px; the LiDAR "
+                                       r"misplaced on the images \([\d.]+ px, [\d.]+ moved by \(-?\d+, -?\d+\)\): "
+                                       r"fused as stereo alone" % k)
+        self.assertRegex(r.stdout, r"correction from 4 sets: pitch [-+\d.]+ \+- [\d.]+, yaw .* calibration residual "
+                                   r"[\d.]+ -> 0\.\d+ px")
+        self.assertIn("switched to the corrected transform from set 5 on", r.stdout)
+        self.assertIn("4 sets fused as stereo alone (their LiDAR misplaced on the images); the corrected transform "
+                      "taken after set 4", r.stdout)
+        for k in (5, 6):
+            m = re.search(r"set %d of ~6 fused in \d+ ms, matching residual ([\d.]+) px\n" % k, r.stdout)
+            self.assertIsNotNone(m, r.stdout)
+            self.assertLessEqual(float(m.group(1)), 1.0)
+        got = disparities(out)
+        stamps = sorted(got)
+        for k, fid in enumerate(FRAMES):
+            tool = os.path.join(self.work, "tool_sgm_" + fid)
+            subprocess.run([TOOL, "--kitti-frame", KITTI, "--id", fid, "--params", PARAMS, "--modes", "sgm",
+                            "--check", "stereo", "--out", tool], check=True, stdout=subprocess.DEVNULL)
+            sgm = cv2.imread(os.path.join(tool, "disparity.png"), cv2.IMREAD_UNCHANGED)
+            np.testing.assert_array_equal(cv2.lidarsgm.encodeKittiDisparity(got[stamps[k]]), sgm)
+        # --trust-lidar: every set fused with the LiDAR, and said to be misplaced.
+        r = run("lidarsgm_ros.bag", bag, out + "_trusted", "--trust-lidar", *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(6, r.stdout.count("fused anyway (trust_lidar)"))
+        self.assertNotIn("stereo alone", r.stdout)
 
     def test_late_scans_need_approximate_sync(self):
         bag = os.path.join(self.work, "kitti_late")

@@ -253,6 +253,21 @@ class NodeTest(unittest.TestCase):
         r = float(re.search(r"the LiDAR lies ([\d.]+) px \(median\) from where the images match, more than 1 px",
                             self.node_log()).group(1))
         self.assertGreater(r, 1.0)
+        # The fail-safe: that set was fused as stereo alone. With a pool of two sets, the next two are too, the
+        # rotation is refined from them in the background, and the node switches to the corrected transform.
+        self.wait(lambda: "fused as stereo alone; check lidar_to_camera" in self.node_log(), 10, "the fail-safe")
+        req = SetParameters.Request(parameters=[Parameter("recalibration_sets", value=2).to_parameter_msg(),
+                                                Parameter("scan_rate", value=10.0).to_parameter_msg()])
+        self.assertTrue(all(r.successful for r in self.call(SetParameters, "set_parameters", req).results))
+        for k, fid in enumerate(FRAMES):
+            self.publish(fid, (6 + k) * 10**9)
+            self.expect_outputs((6 + k) * 10**9)
+        self.wait(lambda: "switched to the corrected transform" in self.node_log(), 120, "the recalibration")
+        m = re.search(r"correction from 2 sets: pitch ([-+\d.]+) \+- [\d.]+, .* calibration residual [\d.]+ -> "
+                      r"([\d.]+) px; switched", self.node_log())
+        self.assertIsNotNone(m, self.node_log())
+        self.assertLess(abs(float(m.group(1)) + 1.0), 0.2)   # the degree of pitch undone
+        self.assertLessEqual(float(m.group(2)), 1.0)
 
 
 if __name__ == "__main__":

@@ -294,6 +294,42 @@ class ToolTest(unittest.TestCase):
             self.assertEqual(rc, 1, se)
             self.assertIn(message, se)
 
+    def test_fail_safe_for_a_wrong_calibration(self):
+        """A LiDAR-to-camera rotation off by 2 degrees (tools/perturb_calibration.py): by default each frame is fused
+        as stereo alone and the run says so per frame; --trust-lidar fuses it anyway, and worse."""
+        wrong = os.path.join(self.tmp, "wrong")
+        subprocess.run([sys.executable, os.path.join(ROOT, "tools", "perturb_calibration.py"), KITTI, wrong,
+                        "--pitch", "1.2", "--yaw", "-1.5", "--roll", "0.8"], check=True)
+        row = r"\| %s \(%s\)\s*\|\s*([\d.]+) %%\s*\|\s*([\d.]+) %%\s*\|\s*([\d.]+) %%"
+        base = [TOOL, "--kitti", wrong, "--quiet", "1", "--params", BEST]
+        rc, so, se = run(base + ["--modes", "sgm,sdsgm"])
+        self.assertEqual(rc, 0, se)
+        self.assertRegex(so, r"the LiDAR misplaced on the images .*, fused as stereo alone: 000002 \([\d.]+ px, "
+                             r"[\d.]+ moved by \(-?\d+, -?\d+\)\), 000046 \(")
+        sdsgm = re.search(row % ("SDSGM", "stereo-lidar"), so).groups()
+        self.assertEqual(sdsgm, re.search(row % ("SGM", "stereo-lidar"), so).groups())
+        rc, so, se = run(base + ["--modes", "sgm", "--check", "stereo"])
+        self.assertEqual(rc, 0, se)
+        self.assertEqual(sdsgm, re.search(row % ("SGM", "stereo"), so).groups())   # stereo alone
+        rc, so, se = run(base + ["--modes", "sdsgm", "--trust-lidar"])
+        self.assertEqual(rc, 0, se)
+        self.assertRegex(so, r"fused anyway \(--trust-lidar\): 000002 \(")
+        trusted = re.search(row % ("SDSGM", "stereo-lidar"), so).groups()
+        self.assertGreater(float(trusted[2]), 3 * float(sdsgm[2]), so)
+        # One frame: the same rule, and the same map as stereo alone's.
+        rc, so, se = run([TOOL, "--kitti-frame", wrong, "--id", "000002", "--params", BEST])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("fused as stereo alone: 000002", so)
+        alone = METRICS.search(so).groups()
+        rc, so, se = run([TOOL, "--kitti-frame", wrong, "--id", "000002", "--params", BEST, "--modes", "sgm", "--check",
+                          "stereo"])
+        self.assertEqual(rc, 0, se)
+        self.assertEqual(alone, METRICS.search(so).groups())
+        # The exact calibration: every frame fused with its LiDAR.
+        rc, so, se = run([TOOL, "--kitti", KITTI, "--quiet", "1", "--params", BEST, "--modes", "sdsgm"])
+        self.assertEqual(rc, 0, se)
+        self.assertNotIn("misplaced", so)
+
     def test_own_rig(self):
         """--rig: a raw pair of the test frame un-rectified (tools/unrectified_rig.py), its scan as PCD, fused as the
         KITTI frame is, within what the images' two resamplings cost; depth written; bad combinations refused."""

@@ -10,8 +10,14 @@ MCAP bags of --segment-frames sets each (part_0000, part_0001, ...; Foxglove, re
 segment appears only when complete, so an interrupted run continues with --resume where it stopped. The
 LiDAR-to-camera transform comes from --lidar-to-camera or else the bag's /tf_static; each fused set's matching
 residual (the LiDAR against the images, cv2.lidarsgm.matchingResidual) is printed, and their median at the end,
-with the sets above 1 px: a transform that is off. Exit codes: 0 done, 1 error
-(unreadable bag, no set fused), 2 bad command line.
+with the sets above 1 px: a transform that is off.
+
+The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar) is fused as stereo alone
+and the set's line says so (--trust-lidar fuses it anyway). Those sets are pooled, and the rotation is refined from
+the last --recalibration-sets of them (cv2.lidarsgm.LidarCalibration; --scan-rate for scans that are not
+motion-compensated); the command switches to the corrected transform once it brings the residual under 1 px and
+every pooled set's LiDAR is trusted under it, and prints the correction with its uncertainty
+(--recalibration-sets 0: never). Exit codes: 0 done, 1 error (unreadable bag, no set fused), 2 bad command line.
 """
 import argparse
 import os
@@ -22,7 +28,10 @@ import time
 import cv2
 
 from .conversions import ConversionError, chain_transform, transform_matrix
+import numpy as np
+
 from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
+from .recalibration import Recalibration
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, stamp_ns
 from .sync import ApproximateSync, ExactSync
 
@@ -43,6 +52,12 @@ def parse_args(argv):
         p.add_argument("--" + name.replace("_", "-"), dest=name, type=typ)
     p.add_argument("--lidar-to-camera", type=float, nargs="+", metavar="V",
                    help="12 or 16 numbers, row by row: points' frame -> left optical frame (default: /tf_static)")
+    p.add_argument("--trust-lidar", action="store_true",
+                   help="fuse every set with its LiDAR, also where it lands misplaced on the images")
+    p.add_argument("--recalibration-sets", type=int, default=8, metavar="N",
+                   help="refine the rotation from the last N sets fused as stereo alone (0: never; default 8)")
+    p.add_argument("--scan-rate", type=float, default=0.0, metavar="HZ",
+                   help="the recalibration's LiDAR sweep rate for scans that are not motion-compensated (KITTI: 10)")
     p.add_argument("--approximate-sync", action="store_true")
     p.add_argument("--tolerance", type=float, default=0.05, help="approximate sync: widest stamp spread (s)")
     p.add_argument("--queue-size", type=int, default=5)
@@ -61,6 +76,8 @@ def parse_args(argv):
         topics[name] = topic
     if args.segment_frames < 1:
         p.error("--segment-frames must be at least 1")
+    if args.recalibration_sets == 1 or args.recalibration_sets < 0:
+        p.error("--recalibration-sets must be 0 (never) or at least 2")
     args.topics = topics
     return args, p
 
@@ -131,7 +148,9 @@ def main(argv=None):
     from pathlib import Path
 
     try:
-        fusion = Fusion(cv2, args.params_file, args.cuda)
+        fusion = Fusion(cv2, args.params_file, args.cuda, trust_lidar=args.trust_lidar)
+        recal = Recalibration(cv2, args.scan_rate, args.recalibration_sets) \
+            if args.recalibration_sets and not args.trust_lidar else None
         if args.mode:
             fusion.set("mode", args.mode)
         for name in MATCHER_PARAMETERS:
@@ -170,7 +189,9 @@ def main(argv=None):
             return 2
         if segments.done:
             print("resuming: %d complete segment(s) of %d sets kept" % (segments.done, args.segment_frames))
-        counts = {"sets": 0, "fused": 0, "skipped": 0}
+        counts = {"sets": 0, "fused": 0, "skipped": 0, "alone": 0}
+        # The recalibration's correction, applied on top of the transform from /tf_static (4x4).
+        state = {"correction": np.eye(4), "switched": []}
         residuals = []  # each fused set's matching residual (px), where the images can tell
         raw_of = {}
         conns = [by_topic[t] for t in args.topics.values()]
@@ -185,8 +206,8 @@ def main(argv=None):
             t0 = time.perf_counter()
             try:
                 if tf_edges is not None:
-                    fusion.set_lidar_to_camera(chain_transform(tf_edges, cloud.header.frame_id,
-                                                               left.header.frame_id or left_info.header.frame_id))
+                    fusion.set_lidar_to_camera(state["correction"] @ chain_transform(
+                        tf_edges, cloud.header.frame_id, left.header.frame_id or left_info.header.frame_id))
                 result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence)
                 out = output_messages(kit, fusion, result, left.header.frame_id, stamp_ns(left), args.depth_encoding)
             except (ConversionError, ValueError) as e:
@@ -203,9 +224,24 @@ def main(argv=None):
             r = fusion.matching_residual(result)
             if r is not None:
                 residuals.append(r)
-            print("set %d of ~%d fused in %.0f ms, matching residual %s" % (
-                number + 1, total, 1000 * (time.perf_counter() - t0), "%.2f px" % r if r is not None else "-"),
-                flush=True)
+            verdict = fusion.verdict(result)
+            print("set %d of ~%d fused in %.0f ms, matching residual %s%s" % (
+                number + 1, total, 1000 * (time.perf_counter() - t0), "%.2f px" % r if r is not None else "-",
+                "; " + verdict if verdict else ""), flush=True)
+            if result.stereo_alone:
+                counts["alone"] += 1
+                if recal is not None:
+                    recal.add(result)
+                    if recal.due():
+                        corrected, text = recal.refine(fusion.lidar_to_camera, fusion.sgm.getNumDisparities())
+                        print("  " + text, flush=True)
+                        if corrected is not None:
+                            state["correction"] = corrected @ np.linalg.inv(fusion.lidar_to_camera) @ \
+                                state["correction"]
+                            fusion.set_lidar_to_camera(corrected)
+                            state["switched"].append(number + 1)
+                            print("  switched to the corrected transform from set %d on: %s" % (
+                                number + 2, " ".join("%.9g" % v for v in corrected.ravel())), flush=True)
 
         for conn, t, raw in reader.messages(connections=conns):
             msg = reader.deserialize(raw, conn.msgtype)
@@ -224,6 +260,10 @@ def main(argv=None):
           % (counts["fused"], counts["skipped"], min(counts["sets"], segments.done * args.segment_frames),
              sync.dropped, sync.unit,
              time.perf_counter() - t_start, args.output))
+    if counts["alone"] or state["switched"]:
+        print("%d sets fused as stereo alone (their LiDAR misplaced on the images)%s" % (
+            counts["alone"], "; the corrected transform taken after set %s" % ", ".join(map(str, state["switched"]))
+            if state["switched"] else ""))
     if residuals:
         median, above = residual_summary(residuals)
         print("matching residual (the LiDAR against the images): median %.2f px over %d sets, %d above %.0f px%s"

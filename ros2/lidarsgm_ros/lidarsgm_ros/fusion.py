@@ -31,7 +31,10 @@ MATCHER_PARAMETERS = {
 # disparity (the tool warns at the same value).
 MAX_MATCHING_RESIDUAL = 1.0
 
-Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse left_grey right_grey")
+# sparse: the LiDAR's map; points: the cloud (N x 3, its own frame); check: cv2.lidarsgm.checkLidar's verdict (None
+# where the images cannot tell); stereo_alone: the set was fused without the LiDAR, its map misplaced on the images.
+Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse left_grey right_grey points check "
+                              "stereo_alone")
 
 
 def residual_summary(residuals):
@@ -61,8 +64,12 @@ def cv_message(cv2, e):
 class Fusion:
     """The matcher, its settings and the LiDAR-to-camera transform (4x4, LiDAR frame -> left optical frame)."""
 
-    def __init__(self, cv2, params_file="", use_cuda=False, lidar_to_camera=None):
+    def __init__(self, cv2, params_file="", use_cuda=False, lidar_to_camera=None, trust_lidar=False):
         self.cv2 = cv2
+        # The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar) is fused as
+        # stereo alone, unless trust_lidar.
+        self.trust_lidar = bool(trust_lidar)
+        self._stereo = None
         self.sgm = cv2.lidarsgm.StereoLidarSGM.load(params_file) if params_file else \
             cv2.lidarsgm.StereoLidarSGM.create()
         self.use_cuda = False
@@ -94,6 +101,15 @@ class Fusion:
         except cv2.error as e:
             raise ValueError(cv_message(cv2, e))
         self.sgm = trial
+        self._stereo = None
+
+    def stereo_matcher(self):
+        """The matcher's settings in MODE_SGM: stereo alone (DSGM and SDSGM weigh the census by 1 - alpha even
+        without a prior: smoother than SGM, and worse)."""
+        if self._stereo is None:
+            self._stereo = _from_text(self.cv2, _to_text(self.cv2, self.sgm))
+            self._stereo.setMode(self._mode("sgm"))
+        return self._stereo
 
     def _mode(self, name):
         return getattr(self.cv2.lidarsgm, "StereoLidarSGM_MODE_" + name.upper())
@@ -120,7 +136,7 @@ class Fusion:
         if self.lidar_to_camera is None:
             raise ConversionError("no LiDAR-to-camera transform: set the lidar_to_camera parameter")
         points, _ = cv_ros.cloud_to_points(cloud)
-        return self.project(geometry, points)
+        return self.project(geometry, points), points
 
     def project(self, geometry, points):
         """The sparse map of N x 3 float32 points (raises ConversionError where none lands in the image)."""
@@ -145,31 +161,47 @@ class Fusion:
         if grey_l.dtype != grey_r.dtype:
             raise ConversionError("the left image is %s, the right %s: send both with one bit depth"
                                   % (left.encoding, right.encoding))
-        sparse = self.sparse(geometry, cloud)
+        sparse, points = self.sparse(geometry, cloud)
+        try:
+            check = cv2.lidarsgm.checkLidar(grey_l, grey_r, sparse, MAX_MATCHING_RESIDUAL)
+        except cv2.error as e:
+            raise ConversionError(cv_message(cv2, e))
+        if check.residual != check.residual:
+            check = None  # NaN: the images cannot tell
+        alone = check is not None and not check.trusted and not self.trust_lidar
+        sgm, fused = (self.stereo_matcher(), np.zeros_like(sparse)) if alone else (self.sgm, sparse)
         conf = None
         try:
             if self.use_cuda:
-                g = [cv2.cuda_GpuMat(a) for a in (grey_l, grey_r, sparse)]
+                g = [cv2.cuda_GpuMat(a) for a in (grey_l, grey_r, fused)]
                 if confidence:
-                    gd, gc = cv2.cuda.computeStereoLidarSGMWithConfidence(self.sgm, *g)
+                    gd, gc = cv2.cuda.computeStereoLidarSGMWithConfidence(sgm, *g)
                     disp, conf = gd.download(), gc.download()
                 else:
-                    disp = cv2.cuda.computeStereoLidarSGM(self.sgm, *g).download()
+                    disp = cv2.cuda.computeStereoLidarSGM(sgm, *g).download()
             elif confidence:
-                disp, conf = self.sgm.computeWithConfidence(grey_l, grey_r, sparse)
+                disp, conf = sgm.computeWithConfidence(grey_l, grey_r, fused)
             else:
-                disp = self.sgm.compute(grey_l, grey_r, sparse)
+                disp = sgm.compute(grey_l, grey_r, fused)
         except cv2.error as e:
             raise ConversionError(cv_message(cv2, e))
-        return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2), sparse, grey_l, grey_r)
+        return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2), sparse, grey_l, grey_r, points, check, alone)
 
-    def matching_residual(self, result):
+    @staticmethod
+    def matching_residual(result):
         """How far the set's LiDAR disparities lie from where the images match (cv2.lidarsgm.matchingResidual,
         px); None where the images cannot tell (too few comparable points)."""
-        try:
-            return self.cv2.lidarsgm.matchingResidual(result.left_grey, result.right_grey, result.sparse)
-        except self.cv2.error:
-            return None
+        return None if result.check is None else result.check.residual
+
+    @staticmethod
+    def verdict(result):
+        """A line on a set whose LiDAR is misplaced on its images; '' for the others."""
+        c = result.check
+        if c is None or c.trusted:
+            return ""
+        return "the LiDAR misplaced on the images (%.2f px, %.2f moved by (%d, %d)): %s" % (
+            c.residual, c.shiftedResidual, c.shift[0], c.shift[1],
+            "fused as stereo alone" if result.stereo_alone else "fused anyway (trust_lidar)")
 
     # -- outputs
     def outputs(self, result, depth_encoding="32FC1", alloc=None):

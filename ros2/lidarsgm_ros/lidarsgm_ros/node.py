@@ -6,6 +6,12 @@ DisparityImage), depth (REP 118) and points2 (an organised x y z rgb PointCloud2
 with publish_confidence the confidence (32FC1 in [0, 1]). Every check_calibration_every-th set it measures how far
 the LiDAR lies from where the images match (cv2.lidarsgm.matchingResidual) and warns above 1 px: a calibration off.
 
+The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar, every set) is fused as
+stereo alone, with a warning (trust_lidar fuses it anyway). Those sets are pooled, and in the background the node
+refines the rotation from the last recalibration_sets of them (cv2.lidarsgm.LidarCalibration; scan_rate for scans
+that are not motion-compensated); it switches to the corrected transform once that brings the residual under 1 px
+and every pooled set's LiDAR is trusted under it, and logs the correction, its uncertainty and the new transform.
+
   python3 -m lidarsgm_ros.node --ros-args -p lidar_to_camera:="[...16 numbers...]" \
       -p params_file:=doc/params/kitti_best.yml -r left/image_rect:=/stereo/left/image_rect ...
 
@@ -13,6 +19,7 @@ Every parameter but params_file can be changed while the node runs; a value the 
 its message and the old value stays. A set of messages that cannot be fused is logged with the reason and skipped.
 """
 import sys
+import threading
 import time
 
 import cv2
@@ -26,6 +33,7 @@ from rclpy.qos import QoSProfile, qos_profile_sensor_data
 from .conversions import ConversionError
 from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class, stamp_ns
+from .recalibration import Recalibration
 from .sync import ApproximateSync, ExactSync
 
 
@@ -54,6 +62,8 @@ class StereoLidarNode(Node):
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
         self.residuals = []  # the matching residuals measured (px)
+        self.alone = 0  # sets fused as stereo alone
+        self.recal, self.refining = None, None  # the pool and the background refinement (a thread)
         self.busy = 0.0  # seconds spent fusing and publishing
         # Messages that never make a set (a camera_info not published, stamps that never match) leave the node
         # silent: say so, with what arrived.
@@ -82,6 +92,10 @@ class StereoLidarNode(Node):
             ("publish_confidence", False, "publish each pixel's confidence (32FC1 in [0, 1]) on confidence"),
             ("check_calibration_every", 10, "every n-th fused set, measure the LiDAR against the images "
              "(matchingResidual, about 3 % of a CPU fusion) and warn above 1 px; 0: never"),
+            ("trust_lidar", False, "fuse every set with its LiDAR, also where it lands misplaced on the images"),
+            ("recalibration_sets", 8, "refine the rotation in the background from the last n sets fused as stereo "
+             "alone, and switch to it once it fits (0: never)"),
+            ("scan_rate", 0.0, "the recalibration's LiDAR sweep rate (Hz) for scans that are not motion-compensated"),
             ("approximate_sync", False, "match the five inputs by nearest stamps rather than equal ones"),
             ("approximate_sync_tolerance_seconds", 0.05, "the widest spread of stamps in one approximate set"),
             ("queue_size", 5, "messages kept per input while waiting for a set"),
@@ -110,6 +124,12 @@ class StereoLidarNode(Node):
                     raise ValueError("depth_encoding must be 32FC1 or 16UC1, not '%s'" % p.value)
                 elif p.name == "check_calibration_every" and p.value < 0:
                     raise ValueError("check_calibration_every must be >= 0 (0: never), not %d" % p.value)
+                elif p.name == "trust_lidar":
+                    f.trust_lidar = bool(p.value)
+                elif p.name == "recalibration_sets" and (p.value < 0 or p.value == 1):
+                    raise ValueError("recalibration_sets must be 0 (never) or at least 2, not %d" % p.value)
+                elif p.name == "scan_rate" and p.value != p.value:
+                    raise ValueError("scan_rate must be a number of Hz")
                 elif p.name in ("approximate_sync", "queue_size", "use_system_default_qos", "sync_warning_seconds",
                                 "approximate_sync_tolerance_seconds") and hasattr(self, "sync"):
                     raise ValueError("%s is read when the node starts" % p.name)
@@ -117,6 +137,8 @@ class StereoLidarNode(Node):
                 problems.append("%s: %s" % (p.name, e))
         if problems:
             f.sgm, f.use_cuda, f.lidar_to_camera = saved
+        elif any(p.name in ("recalibration_sets", "scan_rate", "lidar_to_camera") for p in params):
+            self.recal = None  # a new pool, with the new settings or for the new transform
         return problems
 
     def _set_parameters(self):
@@ -143,6 +165,8 @@ class StereoLidarNode(Node):
         text = ("%d sets fused (%.1f ms each, conversions and publishing included), %d skipped, %d %s dropped by the "
                 "synchroniser" % (self.fused, 1000 * self.busy / max(self.fused, 1), self.skipped, self.sync.dropped,
                                   self.sync.unit))
+        if self.alone:
+            text += "; %d sets fused as stereo alone (their LiDAR misplaced on the images)" % self.alone
         if self.residuals:
             median, above = residual_summary(self.residuals)
             text += "; matching residual median %.2f px over %d checks, %d above %.0f px" % (
@@ -162,6 +186,35 @@ class StereoLidarNode(Node):
                 "the LiDAR lies %.2f px (median) from where the images match, more than %.0f px: the fusion is pulled "
                 "off the images; check lidar_to_camera (lidarsgm_fuse --refine-calibration, or "
                 "cv2.lidarsgm.LidarCalibration)" % (r, MAX_MATCHING_RESIDUAL), throttle_duration_sec=10.0)
+
+    def _fail_safe(self, result):
+        verdict = self.fusion.verdict(result)
+        if verdict:
+            self.get_logger().warning(verdict + "; check lidar_to_camera", throttle_duration_sec=5.0)
+        if not result.stereo_alone:
+            return
+        self.alone += 1
+        sets = self.get_parameter("recalibration_sets").value
+        if sets <= 0 or (self.refining is not None and self.refining.is_alive()):
+            return
+        if self.recal is None:
+            self.recal = Recalibration(cv2, self.get_parameter("scan_rate").value, sets)
+        self.recal.add(result)
+        if not self.recal.due():
+            return
+        recal, start = self.recal, self.fusion.lidar_to_camera
+
+        def refine():
+            corrected, text = recal.refine(start, self.fusion.sgm.getNumDisparities())
+            # Taken only if the transform is still the one refined (not changed by a parameter meanwhile).
+            if corrected is not None and recal is self.recal and self.fusion.lidar_to_camera is start:
+                self.fusion.lidar_to_camera = corrected
+                self.get_logger().warning("%s; switched to the corrected transform (set lidar_to_camera to keep it): "
+                                          "[%s]" % (text, ", ".join("%.9g" % v for v in corrected.ravel())))
+            else:
+                self.get_logger().info(text)
+        self.refining = threading.Thread(target=refine, name="lidarsgm_recalibration", daemon=True)
+        self.refining.start()
 
     def _check_sync(self):
         period = self.get_parameter("sync_warning_seconds").value
@@ -200,6 +253,7 @@ class StereoLidarNode(Node):
             self.pubs[topic].publish(msg)
         self.fused += 1
         self._check_calibration(result)
+        self._fail_safe(result)
         self.busy += time.perf_counter() - t0
         if self.sync.dropped > self.reported_drops:
             self.get_logger().warning("%d incomplete message sets dropped so far (a topic missing or late: check the "

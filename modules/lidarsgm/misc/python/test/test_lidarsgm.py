@@ -173,6 +173,22 @@ class lidarsgm_test(NewOpenCVTests):
         with self.assertRaises(cv.error):
             m.setSearchWindow(-1)
 
+    def test_check_lidar(self):
+        left, right, sparse, _ = self.load_frame()
+        c = cv.lidarsgm.checkLidar(left, right, sparse)
+        self.assertTrue(c.trusted)
+        self.assertEqual(c.residual, cv.lidarsgm.matchingResidual(left, right, sparse))
+        # The LiDAR 15 px below where it belongs (a pitch error of about a degree): condemned, and the move back found.
+        low = np.zeros_like(sparse)
+        low[15:] = sparse[:-15]
+        c = cv.lidarsgm.checkLidar(left, right, low)
+        self.assertFalse(c.trusted)
+        self.assertGreater(c.residual, 1.0)
+        self.assertLess(c.shiftedResidual, 0.8 * c.residual)
+        self.assertLessEqual(abs(c.shift[1] + 15), 3)
+        with self.assertRaises(cv.error):
+            cv.lidarsgm.checkLidar(left, right, sparse, 0.0)
+
     def test_stereo_rig(self):
         K = np.array([[700.0, 0, 320], [0, 700, 240], [0, 0, 1]])
         D = np.array([[-0.2, 0.05, 0.0, 0.0, 0.0]])
