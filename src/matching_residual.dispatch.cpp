@@ -15,10 +15,10 @@ namespace cv { namespace lidarsgm {
 
 namespace detail {
 
-static void runMatchingOffsetRows(const Mat& censusL, const Mat& censusR, const Mat& sparse16, int radius,
-                                  int uniqueness1024, const Range& r, std::vector<int>* offsets16)
+static void runMatchingOffsets(const Mat& censusL, const Mat& censusR, const Point3i* points, int n, Point move,
+                               const Range& rows, int radius, int uniqueness1024, std::vector<int>& offsets16)
 {
-    CV_CPU_DISPATCH(matchingOffsetRows, (censusL, censusR, sparse16, radius, uniqueness1024, r, offsets16),
+    CV_CPU_DISPATCH(matchingOffsets, (censusL, censusR, points, n, move, rows, radius, uniqueness1024, offsets16),
                     CV_CPU_DISPATCH_MODES_ALL);
 }
 
@@ -26,64 +26,71 @@ static void runMatchingOffsetRows(const Mat& censusL, const Mat& censusR, const 
 
 namespace {
 
-//! The first and last rows of sparse16 with values that have a 3x3 block (not the image's first and last rows);
-//! first > last where there are none.
-void valueRows(const Mat& sparse16, int& first, int& last)
+/** The sparse values of a pair, each point (x, y, value in 1/16 pixel) in the coordinates of the census strings of
+rows [y0, y0 + census rows): those rows alone, the points' rows and `reach` more on each side (a scan covers part of
+the image: on KITTI the lower two thirds). A string within the band's inner rows is the full image's, its 9x7 window
+lying inside the band or clamped at the image's own border. */
+struct SparsePoints
 {
-    const auto hasValue = [&](int y) {
-        const short* s = sparse16.ptr<short>(y);
-        return std::any_of(s, s + sparse16.cols, [](short v) { return v != detail::NO_DISP; });
-    };
-    first = 1;
-    last = sparse16.rows - 2;
-    while (first <= last && !hasValue(first))
-        first++;
-    while (last >= first && !hasValue(last))
-        last--;
-}
+    std::vector<Point3i> points;
+    Mat censusL, censusR;
+    int y0 = 0;
+    Range rows;   //!< the band rows a 3x3 block may sit on: not the image's first and last
 
-/** The census strings of rows [y0, y0 + rows) of a pair, for the blocks of sparse values in rows [first, last] and
-of the same values moved by up to `reach` rows. Those rows alone (a scan covers part of the image: on KITTI the lower
-two thirds): a string within the band's inner rows is the full image's, its 9x7 window lying inside the band or
-clamped at the image's own border. */
-struct CensusBand
-{
-    Mat left, right;
-    int y0;
-    CensusBand(const Mat& l, const Mat& r, int first, int last, int reach)
+    SparsePoints(const Mat& l, const Mat& r, const Mat& sparse16, int reach)
     {
+        const int H = sparse16.rows;
+        for (int y = 1; y < H - 1; y++)
+        {
+            const short* s = sparse16.ptr<short>(y);
+            for (int x = 0; x < sparse16.cols; x++)
+                if (s[x] != detail::NO_DISP)
+                    points.push_back(Point3i(x, y, s[x]));
+        }
+        if (points.empty())
+            return;
         const int ry = detail::CENSUS_HEIGHT / 2;
-        y0 = std::max(first - reach - 1 - ry, 0);
-        const int y1 = std::min(last + reach + 2 + ry, l.rows);
-        detail::censusTransform(l.rowRange(y0, y1), left);
-        detail::censusTransform(r.rowRange(y0, y1), right);
+        y0 = std::max(points.front().y - reach - 1 - ry, 0);
+        const int y1 = std::min(points.back().y + reach + 2 + ry, H);
+        detail::censusTransform(l.rowRange(y0, y1), censusL);
+        detail::censusTransform(r.rowRange(y0, y1), censusR);
+        for (Point3i& p : points)
+            p.y -= y0;
+        rows = Range(std::max(1 - y0, 1), std::min(H - 1 - y0, censusL.rows - 1));
+    }
+
+    /** The median |value - matched| (1/16 pixel) over the points (every `step`-th) moved by `move` that have a unique
+    match, or -1 where fewer than kMinCalibrationPoints have one (count receives how many do). */
+    int medianOffset16(Point move, int radius, int step, int& count) const
+    {
+        // The matcher's default uniqueness ratio, as the pipeline takes it (x 1024, rounded).
+        static const int uniqueness1024 = cvRound(StereoLidarSGM::create()->getUniquenessRatio() * 1024);
+        std::vector<Point3i> taken;
+        const std::vector<Point3i>* pts = &points;
+        if (step > 1)
+        {
+            for (size_t i = 0; i < points.size(); i += step)
+                taken.push_back(points[i]);
+            pts = &taken;
+        }
+        // In chunks, so that they run in parallel.
+        const int n = (int)pts->size(), chunk = 1024, chunks = (n + chunk - 1) / chunk;
+        std::vector<std::vector<int> > offsets(chunks);
+        parallel_for_(Range(0, chunks), [&](const Range& range) {
+            for (int c = range.start; c < range.end; c++)
+                detail::runMatchingOffsets(censusL, censusR, pts->data() + c * chunk, std::min(chunk, n - c * chunk),
+                                           move, rows, radius, uniqueness1024, offsets[c]);
+        });
+        std::vector<int> all;
+        for (const std::vector<int>& v : offsets)
+            all.insert(all.end(), v.begin(), v.end());
+        count = (int)all.size();
+        if (count < detail::kMinCalibrationPoints)
+            return -1;
+        std::nth_element(all.begin(), all.begin() + all.size() / 2, all.end());
+        return all[all.size() / 2];
     }
 };
-
-/** The median |sparse - matched| (1/16 pixel) over the values of sparse16 (rows [first, last], which the band covers)
-with a unique match, or -1 where fewer than kMinCalibrationPoints have one (count receives how many do). */
-int medianOffset16(const CensusBand& band, const Mat& sparse16, int first, int last, int radius, int& count)
-{
-    count = 0;
-    if (first > last)
-        return -1;
-    // The matcher's default uniqueness ratio, as the pipeline takes it (x 1024, rounded).
-    static const int uniqueness1024 = cvRound(StereoLidarSGM::create()->getUniquenessRatio() * 1024);
-    const Mat rows16 = sparse16.rowRange(band.y0, band.y0 + band.left.rows);
-    // |sparse - matched| in 1/16 pixel, per row, so that the rows run in parallel.
-    std::vector<std::vector<int> > rows(rows16.rows);
-    parallel_for_(Range(first - band.y0, last - band.y0 + 1), [&](const Range& range) {
-        detail::runMatchingOffsetRows(band.left, band.right, rows16, radius, uniqueness1024, range, rows.data());
-    }, detail::rowStripes(last - first + 1));
-    std::vector<int> all;
-    for (const std::vector<int>& v : rows)
-        all.insert(all.end(), v.begin(), v.end());
-    count = (int)all.size();
-    if (count < detail::kMinCalibrationPoints)
-        return -1;
-    std::nth_element(all.begin(), all.begin() + all.size() / 2, all.end());
-    return all[all.size() / 2];
-}
 
 //! The inputs of matchingResidual and checkLidar checked, and the sparse map in 1/16 pixel.
 void residualInputs(InputArray left, InputArray right, InputArray sparseDisparity, const char* fn, Mat& l, Mat& r,
@@ -98,17 +105,6 @@ void residualInputs(InputArray left, InputArray right, InputArray sparseDisparit
     detail::convertSparse(sparseDisparity.getMat(), 0, l.cols, sparse16);
 }
 
-//! sparse16's values moved by (dx, dy) pixels into moved16 (NO_DISP where nothing lands).
-void moveValues(const Mat& sparse16, int dx, int dy, Mat& moved16)
-{
-    moved16.create(sparse16.size(), sparse16.type());
-    moved16.setTo(Scalar::all(detail::NO_DISP));
-    const int w = sparse16.cols - std::abs(dx), h = sparse16.rows - std::abs(dy);
-    if (w > 0 && h > 0)
-        sparse16(Rect(std::max(-dx, 0), std::max(-dy, 0), w, h))
-            .copyTo(moved16(Rect(std::max(dx, 0), std::max(dy, 0), w, h)));
-}
-
 } // namespace
 
 double matchingResidual(InputArray left, InputArray right, InputArray sparseDisparity, int searchRadius)
@@ -118,10 +114,9 @@ double matchingResidual(InputArray left, InputArray right, InputArray sparseDisp
     residualInputs(left, right, sparseDisparity, "matchingResidual", l, r, sparse16);
     CV_CheckTrue(searchRadius >= 1 && searchRadius <= 64,
                  "lidarsgm: matchingResidual: searchRadius must be in [1, 64]");
-    int first, last, count = 0, median16 = -1;
-    valueRows(sparse16, first, last);
-    if (first <= last)
-        median16 = medianOffset16(CensusBand(l, r, first, last, 0), sparse16, first, last, searchRadius, count);
+    const SparsePoints sp(l, r, sparse16, 0);
+    int count = 0;
+    const int median16 = sp.points.empty() ? -1 : sp.medianOffset16(Point(), searchRadius, 1, count);
     if (median16 < 0)
         CV_Error_(Error::StsError, ("lidarsgm: matchingResidual: only %d sparse pixels can be compared with the images "
                                     "(at least %d needed): textureless images, an empty sparse map, or one outside "
@@ -140,50 +135,47 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
         maxShift = std::max(l.cols / detail::kLidarShiftFraction, 1);
     const int radius = 6;   // matchingResidual's default
     LidarCheck c;
-    int first, last, count = 0;
-    valueRows(sparse16, first, last);
-    if (first > last)
-        return c;   // nothing to compare: residual NaN, trusted
-    const CensusBand band(l, r, first, last, maxShift);
-    const int at0 = medianOffset16(band, sparse16, first, last, radius, count);
+    const SparsePoints sp(l, r, sparse16, maxShift);
+    int count = 0;
+    const int at0 = sp.points.empty() ? -1 : sp.medianOffset16(Point(), radius, 1, count);
     if (at0 < 0)
-        return c;
+        return c;   // the images cannot tell: residual NaN, trusted
     c.residual = c.shiftedResidual = at0 / 16.0;
     if (c.residual <= maxResidual)
         return c;
-    // Above the band: is the map right but misplaced (a calibration error moves the points on the image) or do the
-    // images match poorly? Search the moves of the map, coarse to fine, for the one with the lowest residual.
-    Mat moved16;
-    int best = at0;
+    // Above the band: is the map right but misplaced (a calibration error moves the points on the image), or do the
+    // images match poorly? Search the moves of the map, coarse to fine, for the one with the lowest residual, on
+    // every step-th point (the median of a few thousand is as good, at a fraction of the cost).
+    const int step = std::max(1, (int)sp.points.size() / detail::kLidarSearchPoints);
+    int best = step > 1 ? sp.medianOffset16(Point(), radius, step, count) : at0;
+    if (best < 0)
+        return c;
+    const int start = best;
     const auto tryMove = [&](int dx, int dy) {
-        dx = std::max(-maxShift, std::min(maxShift, dx));
-        dy = std::max(-maxShift, std::min(maxShift, dy));
-        moveValues(sparse16, dx, dy, moved16);
-        int f, t, n;
-        valueRows(moved16, f, t);
-        const int m = f <= t ? medianOffset16(band, moved16, f, t, radius, n) : -1;
+        const Point move(std::max(-maxShift, std::min(maxShift, dx)), std::max(-maxShift, std::min(maxShift, dy)));
+        const int m = sp.medianOffset16(move, radius, step, count);
         if (m >= 0 && m < best)
         {
             best = m;
-            c.shift = Point(dx, dy);
+            c.shift = move;
         }
     };
-    int step = (maxShift + 3) / 4;
+    int grid = (maxShift + 3) / 4;
     for (int j = -4; j <= 4; j++)
         for (int i = -4; i <= 4; i++)
             if (i != 0 || j != 0)
-                tryMove(i * step, j * step);
-    while (step > 1)
+                tryMove(i * grid, j * grid);
+    while (grid > 1)
     {
-        step = (step + 1) / 2;
+        grid = (grid + 1) / 2;
         const Point centre = c.shift;
         for (int j = -1; j <= 1; j++)
             for (int i = -1; i <= 1; i++)
                 if (i != 0 || j != 0)
-                    tryMove(centre.x + i * step, centre.y + j * step);
+                    tryMove(centre.x + i * grid, centre.y + j * grid);
     }
     c.shiftedResidual = best / 16.0;
-    c.trusted = !(c.shiftedResidual < detail::kLidarShiftGain * c.residual);
+    c.trusted = !(best < detail::kLidarShiftGain * start);
     return c;
 }
 

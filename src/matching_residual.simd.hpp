@@ -11,8 +11,8 @@
 namespace cv { namespace lidarsgm { namespace detail {
 CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 
-void matchingOffsetRows(const Mat& censusL, const Mat& censusR, const Mat& sparse16, int radius, int uniqueness1024,
-                        const Range& rows, std::vector<int>* offsets16);
+void matchingOffsets(const Mat& censusL, const Mat& censusR, const Point3i* points, int n, Point move, const Range& rows,
+                     int radius, int uniqueness1024, std::vector<int>& offsets16);
 
 #ifndef CV_CPU_OPTIMIZATION_DECLARATIONS_ONLY
 
@@ -61,45 +61,42 @@ inline void blockCosts(const unsigned* const* l, const unsigned* const* r, int x
 
 } // namespace
 
-void matchingOffsetRows(const Mat& censusL, const Mat& censusR, const Mat& sparse16, int radius, int uniqueness1024,
-                        const Range& rows, std::vector<int>* offsets16)
+void matchingOffsets(const Mat& censusL, const Mat& censusR, const Point3i* points, int n, Point move, const Range& rows,
+                     int radius, int uniqueness1024, std::vector<int>& offsets16)
 {
-    const int W = censusL.cols, n = 2 * radius + 1;
-    std::vector<int> cost(n);
-    for (int y = rows.start; y < rows.end; y++)
+    const int W = censusL.cols, k = 2 * radius + 1;
+    std::vector<int> cost(k);
+    for (int i = 0; i < n; i++)
     {
-        const short* s = sparse16.ptr<short>(y);
+        const int x = points[i].x + move.x, y = points[i].y + move.y, s = points[i].z;
+        if (y < rows.start || y >= rows.end || x < 1 || x > W - 2)
+            continue;
+        const int lo = roundDisp16(s) - radius;
+        if (x - 1 - (lo + k - 1) < 0 || x + 1 - lo > W - 1)
+            continue;   // the 3x3 block's match would leave the right image
         const unsigned* l[3] = { censusL.ptr<unsigned>(y - 1), censusL.ptr<unsigned>(y), censusL.ptr<unsigned>(y + 1) };
         const unsigned* r[3] = { censusR.ptr<unsigned>(y - 1), censusR.ptr<unsigned>(y), censusR.ptr<unsigned>(y + 1) };
-        for (int x = 1; x < W - 1; x++)
+        blockCosts(l, r, x, lo, k, W, cost.data());
+        int best = 0, worst = cost[0];
+        for (int j = 1; j < k; j++)
         {
-            if (s[x] == NO_DISP)
-                continue;
-            const int lo = roundDisp16(s[x]) - radius;
-            if (x - 1 - (lo + n - 1) < 0 || x + 1 - lo > W - 1)
-                continue;   // the 3x3 block's match would leave the right image
-            blockCosts(l, r, x, lo, n, W, cost.data());
-            int best = 0, worst = cost[0];
-            for (int k = 1; k < n; k++)
-            {
-                best = cost[k] < cost[best] ? k : best;
-                worst = std::max(worst, cost[k]);
-            }
-            if (worst == cost[best])
-                continue;   // flat: no texture to match
-            // The matcher's uniqueness check at its default ratio: an ambiguous block (repetitive or faint texture)
-            // has no match to compare with, and would add chance offsets.
-            int second = INT_MAX;
-            for (int k = 0; k < n; k++)
-                if (k < best - 1 || k > best + 1)
-                    second = std::min(second, cost[k]);
-            if (!uniqueWinner(cost[best], second, uniqueness1024))
-                continue;
-            int matched16 = (lo + best) * 16;
-            if (best > 0 && best < n - 1)
-                matched16 += subpixelOffset16(cost[best - 1], cost[best], cost[best + 1]);
-            offsets16[y].push_back(std::abs(s[x] - matched16));
+            best = cost[j] < cost[best] ? j : best;
+            worst = std::max(worst, cost[j]);
         }
+        if (worst == cost[best])
+            continue;   // flat: no texture to match
+        // The matcher's uniqueness check at its default ratio: an ambiguous block (repetitive or faint texture)
+        // has no match to compare with, and would add chance offsets.
+        int second = INT_MAX;
+        for (int j = 0; j < k; j++)
+            if (j < best - 1 || j > best + 1)
+                second = std::min(second, cost[j]);
+        if (!uniqueWinner(cost[best], second, uniqueness1024))
+            continue;
+        int matched16 = (lo + best) * 16;
+        if (best > 0 && best < k - 1)
+            matched16 += subpixelOffset16(cost[best - 1], cost[best], cost[best + 1]);
+        offsets16.push_back(std::abs(s - matched16));
     }
 }
 

@@ -21,6 +21,8 @@ to condemn the transform. On the 20 shared KITTI frames a rotation error of 0.5-
 (doc/accuracy.md, "Calibration errors"). */
 const int kLidarShiftFraction = 32;
 const double kLidarShiftGain = 0.8;
+//! checkLidar's search evaluates every k-th point, at least this many (the median of a few thousand is stable).
+const int kLidarSearchPoints = 4096;
 
 //! A 3x4, or 4x4 with last row [0 0 0 1], single-channel CV_32F / CV_64F matrix with finite entries, as Matx34d;
 //! raises cv::Exception naming `name` otherwise.
