@@ -16,9 +16,9 @@ const int kMinCalibrationPoints = 200;
 
 /** checkLidar: the moves of the sparse map searched reach a 32nd of the image width (about 3 degrees of rotation on
 KITTI, f = 721 px: twice the errors a hand-measured rig shows), and a move must lower the matching residual by a fifth
-to condemn the transform. On the 20 shared KITTI frames a rotation error of 0.5-2 degrees finds moves that lower it by
-38-77 %, their exact calibration at most 6 %, also at twice the resolution with JPEG compression
-(doc/accuracy.md, "Calibration errors"). */
+to condemn the transform. On the 20 shared KITTI frames, pitch errors of half a degree and mixes of 1-2 degrees find
+moves that lower it by 29-80 %, the exact calibration at most 6 %, also at twice the resolution with JPEG compression
+(doc/benchmarks/fail_safe_kitti20.txt). */
 const int kLidarShiftFraction = 32;
 const double kLidarShiftGain = 0.8;
 //! checkLidar's search evaluates every k-th point, at least this many (the median of a few thousand is stable).
