@@ -166,6 +166,67 @@ class BagTest(unittest.TestCase):
         self.assertEqual(6, r.stdout.count("fused anyway (trust_lidar)"))
         self.assertNotIn("stereo alone", r.stdout)
 
+    def test_raw_images_refused_or_rectified(self):
+        """Raw images (image_raw) of an un-rectified rig (tools/unrectified_rig.py: each camera turned by about a
+        degree, k1 -0.2): refused with the reason, and with --rectify fused pixel for pixel as StereoRig rectifies the
+        pair and projects the scan (the transform ending in the raw left camera's frame, camera_info's R after it)."""
+        sys.path.insert(0, os.path.join(HERE, "..", "..", "tools"))
+        from unrectified_rig import rig_of, unrectify
+        from rosbags.rosbag2 import StoragePlugin, Writer
+        from rosbags.typesys import Stores, get_typestore
+        from lidarsgm_ros.messages import INPUT_TYPES, MessageKit
+        ts = get_typestore(Stores.ROS2_JAZZY)
+        kit = MessageKit.rosbags(ts)
+        frame = cv2.lidarsgm.loadKittiFrame(KITTI, FRAMES[0])
+        size = (frame.left.shape[1], frame.left.shape[0])
+        M1, D1, M2, D2, R, T, R1, R2, P1, P2, l2l = rig_of(frame.calibration, size)
+        raw_l = unrectify(frame.left, M1, D1, R1, P1[:, :3], size)
+        raw_r = unrectify(frame.right, M2, D2, R2, P2[:, :3], size)
+        scan = cv2.lidarsgm.readVelodyneScan(os.path.join(KITTI, "velodyne", FRAMES[0] + ".bin"))
+        bag = os.path.join(self.work, "raw_bag")
+        topics = {"left/image_rect": "/cam/left/image_raw", "right/image_rect": "/cam/right/image_raw",
+                  "left/camera_info": "/cam/left/camera_info", "right/camera_info": "/cam/right/camera_info",
+                  "points": "/points"}
+        stamp = 10**8
+        records, fields = kitti.velodyne_records(scan)
+        msgs = {"left/image_rect": kit.image(kit.header(stamp, "left_optical"), raw_l, "mono8"),
+                "right/image_rect": kit.image(kit.header(stamp, "right_optical"), raw_r, "mono8"),
+                "left/camera_info": kit.camera_info(kit.header(stamp, "left_optical"), size[0], size[1], M1, P1, D1.ravel(),
+                                                    R1),
+                "right/camera_info": kit.camera_info(kit.header(stamp, "right_optical"), size[0], size[1], M2, P2,
+                                                     D2.ravel(), R2),
+                "points": kit.cloud(kit.header(stamp, "velodyne"), records, fields)}
+        with Writer(bag, version=9, storage_plugin=StoragePlugin.MCAP) as w:
+            for name, msg in msgs.items():
+                w.write(w.add_connection(topics[name], INPUT_TYPES[name], typestore=ts), stamp,
+                        ts.serialize_cdr(msg, INPUT_TYPES[name]))
+        args = ["--params-file", PARAMS, "--lidar-to-camera"] + [repr(float(v)) for v in l2l.ravel()]
+        for name, topic in topics.items():
+            args += ["--topic", "%s=%s" % (name, topic)]
+        r = run("lidarsgm_ros.bag", bag, os.path.join(self.work, "out_raw_refused"), *args)
+        self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
+        self.assertIn("skipped: the images come on image_raw and their camera_info has distortion (or a "
+                      "rectification): rectify them first (image_proc), or set rectify", r.stdout)
+        out = os.path.join(self.work, "out_raw")
+        r = run("lidarsgm_ros.bag", bag, out, "--rectify", *args)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        got = disparities(out)[stamp]
+        rig = os.path.join(self.work, "rig.yml")
+        fs = cv2.FileStorage(rig, cv2.FILE_STORAGE_WRITE)
+        fs.write("image_width", size[0])
+        fs.write("image_height", size[1])
+        for k, v in (("M1", M1), ("D1", D1), ("M2", M2), ("D2", D2), ("R", R), ("T", T), ("R1", R1), ("R2", R2),
+                     ("P1", P1), ("P2", P2), ("lidar_to_left", l2l)):
+            fs.write(k, np.asarray(v, np.float64))
+        fs.release()
+        stereo_rig = cv2.lidarsgm.StereoRig.fromFile(rig)
+        left, right = stereo_rig.rectify(raw_l, raw_r)
+        sgm = cv2.lidarsgm.StereoLidarSGM.load(PARAMS)
+        want = sgm.compute(left, right, stereo_rig.projectCloud(scan))
+        np.testing.assert_array_equal(np.round(got * 16).astype(np.int16), want)
+        e = cv2.lidarsgm.evaluateDisparity(want, frame.groundTruth)
+        self.assertLess(e.totalError(), 3.0)
+
     def test_late_scans_need_approximate_sync(self):
         bag = os.path.join(self.work, "kitti_late")
         self.assertEqual(run("lidarsgm_ros.kitti", KITTI, bag, "--lidar-offset-ms", "30").returncode, 0)

@@ -58,6 +58,36 @@ class StereoGeometry(unittest.TestCase):
         self.assertEqual(g.frame_id, "left_optical")
         np.testing.assert_array_equal(g.projection, left)
 
+    def test_rectification_and_raw_images(self):
+        left, right = self.pair()
+        r = cv2.Rodrigues(np.array([0.01, -0.02, 0.005]))[0]
+        li = info(left)
+        li.r = list(r.ravel())
+        np.testing.assert_array_equal(cr.stereo_geometry(li, info(right)).rectification, r)
+        np.testing.assert_array_equal(cr.stereo_geometry(info(left), info(right)).rectification, np.eye(3))
+        li.r = list((2 * r).ravel())
+        with self.assertRaises(ConversionError) as e:
+            cr.stereo_geometry(li, info(right))
+        self.assertIn("left camera_info R is not a rotation", str(e.exception))
+        # Raw: distortion, a rotation or K other than P's; the rectification maps of each distortion model.
+        rect = Msg(width=64, height=48, d=[0.0] * 5, k=list(self.K.ravel()), r=list(np.eye(3).ravel()),
+                   p=list(left.ravel()), distortion_model="plumb_bob")
+        self.assertFalse(cr.is_raw(rect))
+        for change in (dict(d=[-0.2, 0, 0, 0, 0]), dict(r=list(r.ravel())), dict(k=list((self.K * 1.01).ravel()))):
+            self.assertTrue(cr.is_raw(Msg(**dict(vars(rect), **change))))
+        mx, my = cr.rectification_maps(cv2, rect, "left")
+        self.assertEqual(mx.shape, (48, 64))
+        self.assertAlmostEqual(float(mx[10, 20]), 20.0, places=3)   # nothing to undo: the identity map
+        fisheye = Msg(**dict(vars(rect), distortion_model="equidistant", d=[0.1, 0.0, 0.0, 0.0]))
+        self.assertEqual(cr.rectification_maps(cv2, fisheye, "left")[0].shape, (48, 64))
+        for change, text in ((dict(distortion_model="kannala"), "distortion model 'kannala' is not one of"),
+                             (dict(distortion_model="equidistant"), "equidistant model needs 4 coefficients, got 5"),
+                             (dict(d=[0.1, 0.2]), "has 2 distortion coefficients"),
+                             (dict(k=[0.0] * 9), "has no camera matrix K")):
+            with self.assertRaises(ConversionError) as e:
+                cr.rectification_maps(cv2, Msg(**dict(vars(rect), **change)), "right")
+            self.assertIn(text, str(e.exception))
+
     def test_refusals_say_what_is_wrong(self):
         left, right = self.pair()
         cases = []

@@ -12,6 +12,10 @@ LiDAR-to-camera transform comes from --lidar-to-camera or else the bag's /tf_sta
 residual (the LiDAR against the images, cv2.lidarsgm.matchingResidual) is printed, and their median at the end,
 with the sets above 1 px: a transform that is off.
 
+Raw images (--topic left/image_rect=.../image_raw): refused where their camera_info has distortion or a rectification
+rotation, unless --rectify rectifies them with it. The LiDAR-to-camera transform ends in the left camera's optical
+frame (as tf gives it); the left camera_info's R then turns it into the rectified frame.
+
 The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar) is fused as stereo alone
 and the set's line says so (--trust-lidar fuses it anyway). Those sets are pooled, and the rotation is refined from
 the last --recalibration-sets of them (cv2.lidarsgm.LidarCalibration; --scan-rate for scans that are not
@@ -52,6 +56,8 @@ def parse_args(argv):
         p.add_argument("--" + name.replace("_", "-"), dest=name, type=typ)
     p.add_argument("--lidar-to-camera", type=float, nargs="+", metavar="V",
                    help="12 or 16 numbers, row by row: points' frame -> left optical frame (default: /tf_static)")
+    p.add_argument("--rectify", action="store_true",
+                   help="the images are raw (image_raw): rectify them with their camera_info's K, D, R and P")
     p.add_argument("--trust-lidar", action="store_true",
                    help="fuse every set with its LiDAR, also where it lands misplaced on the images")
     p.add_argument("--recalibration-sets", type=int, default=8, metavar="N",
@@ -148,7 +154,7 @@ def main(argv=None):
     from pathlib import Path
 
     try:
-        fusion = Fusion(cv2, args.params_file, args.cuda, trust_lidar=args.trust_lidar)
+        fusion = Fusion(cv2, args.params_file, args.cuda, trust_lidar=args.trust_lidar, rectify=args.rectify)
         recal = Recalibration(cv2, args.scan_rate, args.recalibration_sets) \
             if args.recalibration_sets and not args.trust_lidar else None
         if args.mode:
@@ -182,6 +188,7 @@ def main(argv=None):
             else ExactSync(len(INPUTS), args.queue_size)
         total = by_topic[args.topics["left/image_rect"]].msgcount
         ns = args.namespace.rstrip("/")
+        raw = any(args.topics[n].endswith("image_raw") for n in ("left/image_rect", "right/image_rect"))
         try:
             segments = Segments(args.output, args.segment_frames, args.resume, typestore)
         except SystemExit as e:
@@ -208,7 +215,7 @@ def main(argv=None):
                 if tf_edges is not None:
                     fusion.set_lidar_to_camera(state["correction"] @ chain_transform(
                         tf_edges, cloud.header.frame_id, left.header.frame_id or left_info.header.frame_id))
-                result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence)
+                result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence, raw=raw)
                 out = output_messages(kit, fusion, result, left.header.frame_id, stamp_ns(left), args.depth_encoding)
             except (ConversionError, ValueError) as e:
                 counts["skipped"] += 1

@@ -9,7 +9,7 @@ from collections import namedtuple
 
 import numpy as np
 
-__all__ = ["ConversionError", "StereoGeometry", "stereo_geometry", "image_to_array", "to_grey", "to_bgr",
+__all__ = ["ConversionError", "StereoGeometry", "stereo_geometry", "rectification_maps", "is_raw", "image_to_array", "to_grey", "to_bgr",
            "cloud_fields", "cloud_to_points", "transform_matrix", "rotation_quaternion", "chain_transform",
            "disparity_image", "valid_window", "depth_image", "point_cloud_array", "POINT_FIELDS", "INVALID_DEPTH_MM"]
 
@@ -21,9 +21,14 @@ class ConversionError(ValueError):
 # ---------------------------------------------------------------------------------------------------------------
 # CameraInfo pair -> the projection inputs
 
-StereoGeometry = namedtuple("StereoGeometry", "projection focal_baseline size fx cx cy baseline frame_id")
+StereoGeometry = namedtuple("StereoGeometry", "projection focal_baseline size fx cx cy baseline frame_id rectification")
 StereoGeometry.__doc__ = """A rectified pair's geometry: the left 3x4 projection (float64), f x baseline (px m), the
-image size (width, height), the left focal length and principal point (px), the baseline (m) and the left frame."""
+image size (width, height), the left focal length and principal point (px), the baseline (m), the left frame, and the
+left rectification rotation R (3x3, the left camera's optical frame to the rectified one; identity where the
+camera_info leaves it zero)."""
+
+# camera_info distortion models the module can undo (cv2.initUndistortRectifyMap; equidistant: cv2.fisheye).
+DISTORTION_MODELS = ("plumb_bob", "rational_polynomial", "equidistant")
 
 
 def _matrix(values, rows, cols, what):
@@ -69,7 +74,53 @@ def stereo_geometry(left_info, right_info, tolerance=1e-3):
                               "baseline must be > 0 (left and right swapped?)" % (pr[0, 3], pl[0, 3]))
     frame = getattr(getattr(left_info, "header", None), "frame_id", "") or ""
     return StereoGeometry(pl, fb, (lw, lh), float(pl[0, 0]), float(pl[0, 2]), float(pl[1, 2]), fb / float(pl[0, 0]),
-                          frame)
+                          frame, _rotation(left_info, "left"))
+
+
+def _rotation(info, side):
+    values = getattr(info, "r", None)
+    if values is None or not np.any(np.asarray(values, np.float64)):
+        return np.eye(3)  # left zero: no rectification rotation
+    r = _matrix(values, 3, 3, "%s camera_info R" % side)
+    if not np.any(r):
+        return np.eye(3)  # left zero: no rectification rotation
+    if not np.all(np.isfinite(r)) or np.abs(r @ r.T - np.eye(3)).max() > 1e-4 or np.linalg.det(r) < 0:
+        raise ConversionError("%s camera_info R is not a rotation" % side)
+    return r
+
+
+def is_raw(info):
+    """Whether images with this camera_info differ from their rectified view: distortion, a rectification rotation,
+    or a camera matrix K other than P's."""
+    d = np.asarray(info.d, np.float64)
+    k = _matrix(info.k, 3, 3, "camera_info K")
+    p = _matrix(info.p, 3, 4, "camera_info P")
+    r = np.asarray(info.r, np.float64).reshape(3, 3)
+    return bool(np.any(d != 0) or (np.any(r) and np.abs(r - np.eye(3)).max() > 1e-9) or
+                np.abs(k - p[:, :3]).max() > 1e-9)
+
+
+def rectification_maps(cv2, info, side):
+    """(map x, map y) float32 of cv2.remap that rectify a raw image of this camera_info: its K and D undone, turned by
+    R and projected with P's camera matrix (image_proc's rectification)."""
+    model = info.distortion_model or "plumb_bob"
+    if model not in DISTORTION_MODELS:
+        raise ConversionError("the %s camera_info's distortion model '%s' is not one of %s: rectify the images "
+                              "first (image_proc)" % (side, model, ", ".join(DISTORTION_MODELS)))
+    k = _matrix(info.k, 3, 3, "%s camera_info K" % side)
+    p = _matrix(info.p, 3, 4, "%s camera_info P" % side)
+    if not np.all(np.isfinite(k)) or k[0, 0] <= 0 or k[1, 1] <= 0:
+        raise ConversionError("the %s camera_info has no camera matrix K: is the camera calibrated?" % side)
+    d = np.asarray(info.d, np.float64)
+    size = (int(info.width), int(info.height))
+    if model == "equidistant":
+        if d.size != 4:
+            raise ConversionError("the %s camera_info's equidistant model needs 4 coefficients, got %d" % (side, d.size))
+        return cv2.fisheye.initUndistortRectifyMap(k, d, _rotation(info, side), p[:, :3], size, cv2.CV_32FC1)
+    if d.size not in (0, 4, 5, 8, 12, 14):
+        raise ConversionError("the %s camera_info has %d distortion coefficients (plumb_bob: 5, rational_polynomial: "
+                              "8)" % (side, d.size))
+    return cv2.initUndistortRectifyMap(k, d if d.size else None, _rotation(info, side), p[:, :3], size, cv2.CV_32FC1)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -103,6 +154,9 @@ def image_to_array(msg):
     a = np.ascontiguousarray(rows).view(np.dtype(dtype).newbyteorder(">" if msg.is_bigendian else "<"))
     a = a.astype(dtype, copy=False)
     return a.reshape(h, w, ch) if ch > 1 else a.reshape(h, w)
+
+
+COLOUR_ENCODINGS = ("bgr8", "rgb8", "bgra8", "rgba8")
 
 
 def to_grey(msg, cv2):

@@ -64,8 +64,12 @@ def cv_message(cv2, e):
 class Fusion:
     """The matcher, its settings and the LiDAR-to-camera transform (4x4, LiDAR frame -> left optical frame)."""
 
-    def __init__(self, cv2, params_file="", use_cuda=False, lidar_to_camera=None, trust_lidar=False):
+    def __init__(self, cv2, params_file="", use_cuda=False, lidar_to_camera=None, trust_lidar=False, rectify=False):
         self.cv2 = cv2
+        # Raw images (a camera driver's image_raw): rectified here with their camera_info's K, D, R and P when
+        # rectify, refused otherwise where they differ from their rectified view.
+        self.rectify = bool(rectify)
+        self._maps = {}
         # The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar) is fused as
         # stereo alone, unless trust_lidar.
         self.trust_lidar = bool(trust_lidar)
@@ -132,7 +136,7 @@ class Fusion:
 
     # -- one frame
     def sparse(self, geometry, cloud):
-        """The projected scan: CV_32F disparities of the left view, 0 = none."""
+        """The projected scan: CV_32F disparities of the rectified left view, 0 = none."""
         if self.lidar_to_camera is None:
             raise ConversionError("no LiDAR-to-camera transform: set the lidar_to_camera parameter")
         points, _ = cv_ros.cloud_to_points(cloud)
@@ -140,7 +144,11 @@ class Fusion:
 
     def project(self, geometry, points):
         """The sparse map of N x 3 float32 points (raises ConversionError where none lands in the image)."""
-        sparse = self.cv2.lidarsgm.projectPointsToDisparity(points, geometry.projection, self.lidar_to_camera,
+        # lidar_to_camera ends in the left camera's optical frame (camera_info's frame_id, as tf gives it); the
+        # left camera_info's R turns that frame into the rectified one that P projects (applied after, not before).
+        r = np.eye(4)
+        r[:3, :3] = geometry.rectification
+        sparse = self.cv2.lidarsgm.projectPointsToDisparity(points, geometry.projection, r @ self.lidar_to_camera,
                                                             geometry.focal_baseline, geometry.size)
         if not self.cv2.countNonZero(sparse):
             # Stereo alone under a wrong transform would pass for a fusion: say so instead.
@@ -148,8 +156,19 @@ class Fusion:
                                   "the transform from the cloud's frame to the left optical frame?)" % len(points))
         return sparse
 
-    def fuse(self, left, left_info, right, right_info, cloud, confidence=False):
-        """Fuses one synchronised set; raises ConversionError (the reason) where it cannot."""
+    def rectified(self, side, info, image):
+        """A raw image rectified with its camera_info (the maps kept while the camera_info stays the same)."""
+        key = (side, info.distortion_model, tuple(info.d), tuple(info.k), tuple(info.r), tuple(info.p),
+               int(info.width), int(info.height))
+        if key not in self._maps:
+            self._maps = {k: v for k, v in self._maps.items() if k[0] != side}
+            self._maps[key] = cv_ros.rectification_maps(self.cv2, info, side)
+        mx, my = self._maps[key]
+        return self.cv2.remap(image, mx, my, self.cv2.INTER_LINEAR, borderMode=self.cv2.BORDER_CONSTANT)
+
+    def fuse(self, left, left_info, right, right_info, cloud, confidence=False, raw=False):
+        """Fuses one synchronised set; raises ConversionError (the reason) where it cannot. raw: the images come on
+        image_raw topics (refused unless rectify where they differ from their rectified view)."""
         cv2 = self.cv2
         geometry = cv_ros.stereo_geometry(left_info, right_info)
         size = geometry.size
@@ -157,7 +176,19 @@ class Fusion:
             if (int(img.width), int(img.height)) != size:
                 raise ConversionError("the %s image is %dx%d, its camera_info %dx%d"
                                       % (side, img.width, img.height, size[0], size[1]))
-        grey_l, grey_r = cv_ros.to_grey(left, cv2), cv_ros.to_grey(right, cv2)
+        if self.rectify:
+            # As the tool's --rig: the left image rectified in colour, then made grey.
+            left_bgr = self.rectified("left", left_info, cv_ros.to_bgr(left, cv2))
+            grey_l = cv2.cvtColor(left_bgr, cv2.COLOR_BGR2GRAY) if left.encoding in cv_ros.COLOUR_ENCODINGS else \
+                self.rectified("left", left_info, cv_ros.to_grey(left, cv2))
+            grey_r = self.rectified("right", right_info, cv_ros.to_grey(right, cv2))
+        else:
+            if raw and (cv_ros.is_raw(left_info) or cv_ros.is_raw(right_info)):
+                raise ConversionError("the images come on image_raw and their camera_info has distortion (or a "
+                                      "rectification): rectify them first (image_proc), or set rectify to rectify "
+                                      "them here")
+            left_bgr = None
+            grey_l, grey_r = cv_ros.to_grey(left, cv2), cv_ros.to_grey(right, cv2)
         if grey_l.dtype != grey_r.dtype:
             raise ConversionError("the left image is %s, the right %s: send both with one bit depth"
                                   % (left.encoding, right.encoding))
@@ -185,7 +216,8 @@ class Fusion:
                 disp = sgm.compute(grey_l, grey_r, fused)
         except cv2.error as e:
             raise ConversionError(cv_message(cv2, e))
-        return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2), sparse, grey_l, grey_r, points, check, alone)
+        return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2) if left_bgr is None else left_bgr, sparse, grey_l,
+                      grey_r, points, check, alone)
 
     @staticmethod
     def matching_residual(result):

@@ -6,6 +6,10 @@ DisparityImage), depth (REP 118) and points2 (an organised x y z rgb PointCloud2
 with publish_confidence the confidence (32FC1 in [0, 1]). Every check_calibration_every-th set it measures how far
 the LiDAR lies from where the images match (cv2.lidarsgm.matchingResidual) and warns above 1 px: a calibration off.
 
+lidar_to_camera (or tf) ends in the left camera's optical frame; the left camera_info's R turns it into the rectified
+frame. Raw images (left/image_rect remapped to an image_raw topic) are refused where their camera_info has distortion
+or a rectification rotation, unless rectify rectifies them here.
+
 The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar, every set) is fused as
 stereo alone, with a warning (trust_lidar fuses it anyway). Those sets are pooled, and in the background the node
 refines the rotation from the last recalibration_sets of them (cv2.lidarsgm.LidarCalibration; scan_rate for scans
@@ -92,6 +96,8 @@ class StereoLidarNode(Node):
             ("publish_confidence", False, "publish each pixel's confidence (32FC1 in [0, 1]) on confidence"),
             ("check_calibration_every", 10, "every n-th fused set, measure the LiDAR against the images "
              "(matchingResidual, about 3 % of a CPU fusion) and warn above 1 px; 0: never"),
+            ("rectify", False, "the images are raw (left/image_rect remapped to an image_raw topic): rectify them "
+             "with their camera_info's K, D, R and P"),
             ("trust_lidar", False, "fuse every set with its LiDAR, also where it lands misplaced on the images"),
             ("recalibration_sets", 8, "refine the rotation in the background from the last n sets fused as stereo "
              "alone, and switch to it once it fits (0: never)"),
@@ -109,7 +115,7 @@ class StereoLidarNode(Node):
     def _apply(self, params):
         """Applies the parameters to the matcher; returns the problems (nothing is changed where there is one)."""
         f = self.fusion
-        saved = (f.sgm, f.use_cuda, f.lidar_to_camera)
+        saved = (f.sgm, f.use_cuda, f.lidar_to_camera, f.trust_lidar, f.rectify)
         problems = []
         for p in params:
             try:
@@ -126,6 +132,8 @@ class StereoLidarNode(Node):
                     raise ValueError("check_calibration_every must be >= 0 (0: never), not %d" % p.value)
                 elif p.name == "trust_lidar":
                     f.trust_lidar = bool(p.value)
+                elif p.name == "rectify":
+                    f.rectify = bool(p.value)
                 elif p.name == "recalibration_sets" and (p.value < 0 or p.value == 1):
                     raise ValueError("recalibration_sets must be 0 (never) or at least 2, not %d" % p.value)
                 elif p.name == "scan_rate" and p.value != p.value:
@@ -136,7 +144,7 @@ class StereoLidarNode(Node):
             except ValueError as e:
                 problems.append("%s: %s" % (p.name, e))
         if problems:
-            f.sgm, f.use_cuda, f.lidar_to_camera = saved
+            f.sgm, f.use_cuda, f.lidar_to_camera, f.trust_lidar, f.rectify = saved
         elif any(p.name in ("recalibration_sets", "scan_rate", "lidar_to_camera") for p in params):
             self.recal = None  # a new pool, with the new settings or for the new transform
         return problems
@@ -241,7 +249,8 @@ class StereoLidarNode(Node):
         left = msgs[0]
         t0 = time.perf_counter()
         try:
-            result = self.fusion.fuse(*msgs, confidence=self.get_parameter("publish_confidence").value)
+            raw = any(self.subs[i].topic_name.endswith("image_raw") for i in (0, 2))
+            result = self.fusion.fuse(*msgs, confidence=self.get_parameter("publish_confidence").value, raw=raw)
             out = output_messages(self.kit, self.fusion, result, left.header.frame_id, stamp_ns(left),
                                   self.get_parameter("depth_encoding").value)
         except ConversionError as e:
