@@ -31,20 +31,13 @@ ROOT = os.path.join(HERE, "..")
 PACKAGE = os.path.join(ROOT, "ros2", "lidarsgm_ros")
 sys.path.insert(0, HERE)
 sys.path.insert(0, PACKAGE)
+from calibration_benchmark import calib_transform as transform  # noqa: E402
 from perturb_calibration import perturbed_calib, read_calib, rotation  # noqa: E402
 
 PARAMS = os.path.join(ROOT, "doc", "params", "kitti_best.yml")
 MIX2 = dict(pitch=1.2, yaw=-1.5, roll=0.8)
 ERRORS = [("none", {}), ("pitch 0.5", dict(pitch=0.5)), ("yaw 1", dict(yaw=1)), ("roll 1", dict(roll=1)),
           ("mix 1 deg (0.6, -0.7, 0.5)", dict(pitch=0.6, yaw=-0.7, roll=0.5)), ("mix 2 deg (1.2, -1.5, 0.8)", MIX2)]
-
-
-def transform(entries):
-    r0 = np.eye(4)
-    r0[:3, :3] = np.array(entries["R0_rect"]).reshape(3, 3)
-    tr = np.eye(4)
-    tr[:3, :] = np.array(entries["Tr_velo_to_cam"]).reshape(3, 4)
-    return r0 @ tr
 
 
 def tool_row(args, folder, extra, label):
