@@ -30,8 +30,10 @@ def row_labels(modes, check):
     return ["%s (%s)" % (m.upper(), check) for m in modes] + ["LiDAR points alone", "semidense map (SDSGM input)"]
 
 
-def write_metrics(path, key, rows):
-    """metrics.yml as the C++ tool writes it: the options key, then per row the devkit's counts and the time."""
+def write_metrics(path, key, rows, check=None, stereo_alone=False):
+    """metrics.yml as the C++ tool writes it: the options key, then per row the devkit's counts and the time, then the
+    frame's LiDAR check (cv.lidarsgm.checkLidar's result, None where the images could not tell) and whether the frame
+    was fused as stereo alone."""
     def write(tmp):
         fs = cv.FileStorage(tmp, cv.FILE_STORAGE_WRITE)
         fs.write("options", key)
@@ -43,6 +45,17 @@ def write_metrics(path, key, rows):
                 fs.write(k, float(r[k]))
             fs.endWriteStruct()
         fs.endWriteStruct()
+        nan = float("nan")
+        fs.write("matchingResidual", check.residual if check is not None else nan)
+        fs.write("residualFailure", "" if check is not None else
+                 "fewer than 200 LiDAR pixels can be compared with the images")
+        fs.write("shiftedResidual", check.shiftedResidual if check is not None else nan)
+        fs.startWriteStruct("shift", cv.FILE_NODE_SEQ | cv.FILE_NODE_FLOW)
+        for v in (check.shift if check is not None else (0, 0)):
+            fs.write("", int(v))
+        fs.endWriteStruct()
+        fs.write("misplaced", int(check is not None and not check.trusted))
+        fs.write("stereoAlone", int(stereo_alone))
         fs.release()
     write_atomically(path, write)
 
@@ -66,7 +79,8 @@ def read_metrics(path, key, labels):
 
 def options_key(args):
     """The tool's key of the options that decide a frame's results: '--NAME VALUE ' for each given one, by name."""
-    given = {"kitti": None, "modes": args.modes_given, "check": args.check_given, "params": args.params}
+    given = {"kitti": None, "modes": args.modes_given, "check": args.check_given, "params": args.params,
+             "trust-lidar": "1" if args.trust_lidar else None}
     return lambda folder: "".join("--%s %s " % (k, folder if k == "kitti" else v)
                                   for k, v in sorted(given.items()) if k == "kitti" or v is not None)
 

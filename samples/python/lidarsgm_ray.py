@@ -4,7 +4,7 @@ there is none), each holding its own matchers; the same per-frame outputs, metri
 tool's folder run (lidarsgm_lidarsgm_fuse --kitti DIR --out OUT), so the two can resume each other's runs.
 
   python3 lidarsgm_ray.py --kitti DIR [DIR ...] --out OUT [--modes sgm,dsgm,sdsgm] [--check C] [--params FILE]
-                          [--resume] [--address auto] [--cpu] [--num-cpus N] [--threads-per-worker T] [--quiet]
+                          [--resume] [--trust-lidar] [--address auto] [--cpu] [--num-cpus N] [--threads-per-worker T] [--quiet]
 
 One folder writes OUT/ID/; several write OUT/NAME/ID/ (NAME: the folder's own name). Every file is written under a
 temporary name and renamed when complete, metrics.yml last; --resume takes a frame whose metrics.yml exists from the
@@ -48,6 +48,7 @@ class FrameFuser:
                 return m
             self.matchers = [(mode, make(mode)) for mode in modes]
             self.sdsgm = make("sdsgm")
+            self.stereo = make("sgm")   # a frame whose LiDAR lands misplaced: stereo alone, as the tool fuses it
         finally:
             if path:
                 os.remove(path)
@@ -64,7 +65,7 @@ class FrameFuser:
         self.stream.waitForCompletion()
         return out
 
-    def fuse(self, root, fid, frame_out, key):
+    def fuse(self, root, fid, frame_out, key, trust_lidar=False):
         """Computes frame fid of folder root, writes the tool's outputs to frame_out, metrics.yml last; its rows."""
         try:
             frame = cv.lidarsgm.loadKittiFrame(root, fid)
@@ -78,10 +79,17 @@ class FrameFuser:
             if name.startswith(".") and ".partial-" in name:
                 os.remove(os.path.join(frame_out, name))
 
+        # The tool's fail-safe: a LiDAR misplaced on the images (a transform that is off) is left out.
+        check = cv.lidarsgm.checkLidar(left, right, sparse, 1.0)
+        if check.residual != check.residual:
+            check = None   # NaN: the images cannot tell
+        alone = check is not None and not check.trusted and not trust_lidar
+        fused = sparse * 0 if alone else sparse
         rows = []
         for (mode, m), label in zip(self.matchers, self.labels):
+            m = self.stereo if alone else m
             t0 = time.perf_counter()
-            disp16 = self._compute(m, left, right, sparse)
+            disp16 = self._compute(m, left, right, fused)
             ms = 1000 * (time.perf_counter() - t0)
             rows.append(self._row(label, disp16, gt, m.getMinDisparity(), ms))
             self._write_disparity(frame_out, "_" + mode, disp16, m, gt)
@@ -98,8 +106,8 @@ class FrameFuser:
         lfo.imwrite_atomically(os.path.join(frame_out, "semidense.png"), cv.lidarsgm.encodeKittiDisparity(semi))
         lfo.imwrite_atomically(os.path.join(frame_out, "semidense_color.png"),
                                cv.lidarsgm.colorizeDisparity(semi, max_d))
-        lfo.write_metrics(os.path.join(frame_out, "metrics.yml"), key, rows)
-        return rows
+        lfo.write_metrics(os.path.join(frame_out, "metrics.yml"), key, rows, check, alone)
+        return rows, (fid if alone else None)
 
     @staticmethod
     def _row(label, disp, gt, min_d, ms):
@@ -126,6 +134,8 @@ def parse(argv):
     p.add_argument("--check", dest="check_given", choices=CHECK_NAMES, help="default stereo-lidar")
     p.add_argument("--params", help="matcher parameters saved with StereoLidarSGM.save (e.g. doc/params/kitti_best.yml)")
     p.add_argument("--resume", action="store_true", help="take frames with a metrics.yml from the earlier run")
+    p.add_argument("--trust-lidar", action="store_true", help="fuse every frame with its LiDAR (by default a frame "
+                   "whose LiDAR lands misplaced on its images is fused as stereo alone, as the tool does)")
     p.add_argument("--address", help="Ray cluster to join ('auto': the one `ray start` runs here); default: a local one")
     p.add_argument("--num-cpus", type=int, help="CPUs of the local Ray instance (default: all)")
     p.add_argument("--cpu", action="store_true", help="CPU workers even where the cluster has GPUs")
@@ -166,6 +176,7 @@ def main(argv):
         return 1
 
     failures, done, resumed, frames = [], 0, 0, {folder: 0 for folder in args.kitti}
+    alone = []   # frames fused as stereo alone, their LiDAR misplaced
 
     def add(folder, rows):
         frames[folder] += 1
@@ -219,12 +230,15 @@ def main(argv):
             while queue and free:
                 folder, fid, frame_out = queue.pop(0)
                 a = free.pop(0)
-                pending[a.fuse.remote(folder, fid, frame_out, key_of(folder))] = (a, folder, fid)
+                pending[a.fuse.remote(folder, fid, frame_out, key_of(folder), args.trust_lidar)] = (a, folder, fid)
             ready, _ = ray.wait(list(pending), num_returns=1)
             a, folder, fid = pending.pop(ready[0])
             free.append(a)
             try:
-                add(folder, ray.get(ready[0]))
+                rows, condemned = ray.get(ready[0])
+                add(folder, rows)
+                if condemned:
+                    alone.append(condemned)
                 done += 1
             except ray.exceptions.RayError as e:
                 cause = e.cause if isinstance(e, ray.exceptions.RayTaskError) and e.cause is not None else e
@@ -242,6 +256,9 @@ def main(argv):
     for folder in args.kitti:
         lfo.print_table("KITTI %s: %d frames, D1 (KITTI devkit rules), sums over frames, %d Ray workers (%s)"
                     % (folder, frames[folder], workers, "GPU" if gpus else "CPU"), sums[folder], times[folder])
+    if alone:
+        print("the LiDAR misplaced on the images (cv.lidarsgm.checkLidar; check the calibration), fused as stereo alone: "
+              + ", ".join(sorted(alone)))
     print("frames: %d computed, %d taken from earlier runs (--resume), %d failed" % (done, resumed, len(failures)))
     if failures:
         print("lidarsgm_ray.py: %d frame(s) failed:" % len(failures), file=sys.stderr)

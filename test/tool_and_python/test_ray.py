@@ -40,13 +40,15 @@ def files(folder):
 
 
 def metrics(path):
-    """metrics.yml without the times: the options key and each row's counts."""
+    """metrics.yml without the times: the options key, each row's counts and the frame's LiDAR check."""
     fs = cv.FileStorage(path, cv.FILE_STORAGE_READ)
     rows = fs.getNode("rows")
+    shift = fs.getNode("shift")
+    check = [fs.getNode(k).real() for k in ("matchingResidual", "shiftedResidual", "misplaced", "stereoAlone")]
     return fs.getNode("options").string(), [
         tuple([rows.at(i).getNode("label").string()] +
               [rows.at(i).getNode(k).real() for k in ("gt", "est", "estBad", "totalBad")])
-        for i in range(rows.size())]
+        for i in range(rows.size())], check, [shift.at(i).real() for i in range(shift.size())]
 
 
 def ray_workers():
@@ -96,6 +98,21 @@ class RaySampleTest(unittest.TestCase):
         rc, so, se = run([TOOL, "--kitti", KITTI, "--out", ray_out, "--quiet", "1", "--resume"])
         self.assertEqual(rc, 0, se)
         self.assertIn("frames: 0 computed, 2 taken from earlier runs (--resume), 0 failed", so)
+
+    def test_wrong_calibration_as_the_tool(self):
+        """A 2-degree rotation error: the sample fuses the frames as stereo alone, as the tool does, byte for byte."""
+        wrong = os.path.join(self.tmp, "wrong")
+        subprocess.run([sys.executable, os.path.join(ROOT, "tools", "perturb_calibration.py"), KITTI, wrong,
+                        "--pitch", "1.2", "--yaw", "-1.5", "--roll", "0.8"], check=True)
+        tool_out, ray_out = os.path.join(self.tmp, "tool"), os.path.join(self.tmp, "ray")
+        rc, so_tool, se = run([TOOL, "--kitti", wrong, "--out", tool_out, "--quiet", "1", "--modes", "sgm,sdsgm"])
+        self.assertEqual(rc, 0, se)
+        rc, so_ray, se = run(ray_cmd(wrong, ray_out, "--modes", "sgm,sdsgm"))
+        self.assertEqual(rc, 0, se)
+        self.assertIn("fused as stereo alone: 000002, 000046", so_ray)
+        self.assertSameOutputs(tool_out, ray_out)
+        self.assertEqual(ROWS.findall(so_tool), ROWS.findall(so_ray))
+        self.assertEqual(metrics(os.path.join(ray_out, "000002", "metrics.yml"))[2][2:], [1.0, 1.0])
 
     def test_worker_killed_mid_run(self):
         # Six frames (the two shipped ones under three ids each), two workers.
