@@ -63,6 +63,22 @@ if [ "${SIZES:-0}" = 1 ]; then
     $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
   done
 fi
+if [ "${FAILSAFE:-0}" = 1 ]; then
+  # The fail-safe on the GPU path: the test frames with a 2-degree rotation error, CUDA (2 streams) against the CPU.
+  python3 tools/perturb_calibration.py testdata/kitti /tmp/wrong --pitch 1.2 --yaw -1.5 --roll 0.8
+  for dev in "--cuda 1 --streams 2" "--threads 16"; do
+    for dir in testdata/kitti /tmp/wrong; do
+      echo "== $dir $dev"
+      $B/lidarsgm_lidarsgm_fuse --kitti $dir $dev --quiet 1 --params doc/params/kitti_best.yml --modes sgm,sdsgm \
+        --out /tmp/fs_$(basename $dir)_${dev%% *} | grep -E "^\| S|stereo alone|anyway"
+    done
+  done
+  for dir in kitti wrong; do
+    cmp -s /tmp/fs_${dir}_--cuda/000002/disparity_sdsgm.png /tmp/fs_${dir}_--threads/000002/disparity_sdsgm.png &&
+      cmp -s /tmp/fs_${dir}_--cuda/000046/disparity_sdsgm.png /tmp/fs_${dir}_--threads/000046/disparity_sdsgm.png &&
+      echo "$dir: CUDA and CPU SDSGM maps byte for byte equal" || echo "$dir: CUDA and CPU SDSGM maps DIFFER"
+  done
+fi
 if [ "${BASE:-0}" = 1 ] && [ -f .device/prebuilt_base.tar.xz ]; then
   # The same timings with .device/prebuilt_base.tar.xz (tools/pack_device_build.sh with PACK_NAME=prebuilt_base, from
   # an earlier commit), for a before/after on the same card.
