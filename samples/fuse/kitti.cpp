@@ -72,9 +72,10 @@ void writeMetrics(const std::string& path, const std::string& key, PassRows& fr)
     });
 }
 
-//! A finished frame's rows from its metrics.yml; false where the file was written with other options.
-bool readMetrics(const std::string& path, const std::string& key, PassRows& fr)
+//! A finished frame's rows from its metrics.yml; false where the file cannot be taken (why says so).
+bool readMetrics(const std::string& path, const std::string& key, PassRows& fr, std::string& why)
 {
+    why = " was written with other options";
     FileStorage fs(path, FileStorage::READ);
     if ((std::string)fs["options"] != key)
         return false;
@@ -99,7 +100,8 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr)
         fr.residual = (double)fs["matchingResidual"];
         fr.residualFailure = (std::string)fs["residualFailure"];
     }
-    // A frame of a run before the fail-safe has no verdict: computed again.
+    // A frame of a run before the fail-safe has no verdict.
+    why = " was written by an earlier version of the tool, without the frame's LiDAR check";
     if (fs["misplaced"].empty())
         return false;
     fr.shiftedResidual = (double)fs["shiftedResidual"];
@@ -163,9 +165,9 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
         {
             if (o.has("resume") && utils::fs::exists(metrics))
             {
-                if (!readMetrics(metrics, key, res.rows))
-                    CV_Error(Error::StsBadArg, metrics + " was written with other options (rerun without "
-                                               "--resume, or into another --out)");
+                std::string why;
+                if (!readMetrics(metrics, key, res.rows, why))
+                    CV_Error(Error::StsBadArg, metrics + why + " (rerun without --resume, or into another --out)");
                 res.resumed = true;
             }
             else

@@ -201,6 +201,16 @@ class ToolTest(unittest.TestCase):
         rc, so, se = run([TOOL, "--kitti", kitti, "--out", out, "--modes", "dsgm", "--resume"])
         self.assertEqual(rc, 1)
         self.assertIn("metrics.yml was written with other options", se)
+        # A frame of an earlier version of the tool, without the frame's LiDAR check: not taken, and said so.
+        metrics = os.path.join(out, "000002", "metrics.yml")
+        with open(metrics) as f:
+            text = f.read()
+        with open(metrics, "w") as f:
+            f.write("".join(l for l in text.splitlines(True) if not l.startswith(("misplaced", "stereoAlone"))))
+        rc, so, se = run(cmd + ["--resume"])
+        self.assertEqual(rc, 1)
+        self.assertIn("000002/metrics.yml was written by an earlier version of the tool, without the frame's LiDAR "
+                      "check (rerun without --resume", se)
 
     def test_middlebury_folder(self):
         rc, so, se = run([TOOL, "--middlebury", os.path.join(DATA, "middlebury"), "--modes", "sgm,sdsgm", "--quiet", "1"])
