@@ -69,6 +69,16 @@ def unrectify(img, M, D, Rr, P, size):
     return cv.remap(img, rect[..., 0], rect[..., 1], cv.INTER_LINEAR, borderMode=cv.BORDER_CONSTANT)
 
 
+def write_rig(path, rig, size):
+    """rig_of's rig as one cv::FileStorage file: the stereo_calib sample's names, the image size, lidar_to_left."""
+    fs = cv.FileStorage(path, cv.FILE_STORAGE_WRITE)
+    fs.write("image_width", size[0])
+    fs.write("image_height", size[1])
+    for k, v in zip(("M1", "D1", "M2", "D2", "R", "T", "R1", "R2", "P1", "P2", "lidar_to_left"), rig):
+        fs.write(k, np.asarray(v, np.float64))
+    fs.release()
+
+
 def write_ros(path, M, D, Rr, P, size):
     def data(m):
         return "[" + ", ".join("%.17g" % v for v in np.asarray(m, np.float64).ravel()) + "]"
@@ -138,13 +148,7 @@ def main():
             cv.imwrite(os.path.join(work, "right", i + ".png"), rawR)
             cv.imwrite(os.path.join(work, "gt", i + ".png"), cv.lidarsgm.encodeKittiDisparity(f.groundTruth))
             if n == 0:
-                fs = cv.FileStorage(os.path.join(work, "rig.yml"), cv.FILE_STORAGE_WRITE)
-                for k, v in (("image_width", size[0]), ("image_height", size[1])):
-                    fs.write(k, v)
-                for k, v in (("M1", M1), ("D1", D1), ("M2", M2), ("D2", D2), ("R", R), ("T", T), ("R1", R1),
-                             ("R2", R2), ("P1", P1), ("P2", P2), ("lidar_to_left", l2l)):
-                    fs.write(k, np.asarray(v, np.float64))
-                fs.release()
+                write_rig(os.path.join(work, "rig.yml"), (M1, D1, M2, D2, R, T, R1, R2, P1, P2, l2l), size)
                 write_ros(os.path.join(work, "ros", "left.yaml"), M1, D1, R1, P1, size)
                 write_ros(os.path.join(work, "ros", "right.yaml"), M2, D2, R2, P2, size)
                 np.savetxt(os.path.join(work, "ros", "lidar_to_left.txt"), l2l)

@@ -188,7 +188,7 @@ def main(argv=None):
             else ExactSync(len(INPUTS), args.queue_size)
         total = by_topic[args.topics["left/image_rect"]].msgcount
         ns = args.namespace.rstrip("/")
-        raw = any(args.topics[n].endswith("image_raw") for n in ("left/image_rect", "right/image_rect"))
+        raw_images = any(args.topics[n].endswith("image_raw") for n in ("left/image_rect", "right/image_rect"))
         try:
             segments = Segments(args.output, args.segment_frames, args.resume, typestore)
         except SystemExit as e:
@@ -215,7 +215,8 @@ def main(argv=None):
                 if tf_edges is not None:
                     fusion.set_lidar_to_camera(state["correction"] @ chain_transform(
                         tf_edges, cloud.header.frame_id, left.header.frame_id or left_info.header.frame_id))
-                result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence, raw=raw)
+                result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence,
+                                     raw=raw_images)
                 out = output_messages(kit, fusion, result, left.header.frame_id, stamp_ns(left), args.depth_encoding)
             except (ConversionError, ValueError) as e:
                 counts["skipped"] += 1

@@ -37,6 +37,21 @@ Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse l
                               "stereo_alone")
 
 
+def rectified_transform(geometry, lidar_to_camera):
+    """lidar_to_camera, which ends in the left camera's optical frame (camera_info's frame_id, as tf gives it),
+    followed by the left camera_info's R: the transform to the rectified frame that P projects (R after, not before)."""
+    r = np.eye(4)
+    r[:3, :3] = geometry.rectification
+    return r @ np.asarray(lidar_to_camera, np.float64)
+
+
+def optical_transform(geometry, rectified):
+    """The inverse of rectified_transform: a transform to the rectified frame as one to the left optical frame."""
+    r = np.eye(4)
+    r[:3, :3] = geometry.rectification.T
+    return r @ rectified
+
+
 def residual_summary(residuals):
     """(median, how many above MAX_MATCHING_RESIDUAL) of matching residuals, the median as the module takes it
     (the upper of two middle values)."""
@@ -144,11 +159,8 @@ class Fusion:
 
     def project(self, geometry, points):
         """The sparse map of N x 3 float32 points (raises ConversionError where none lands in the image)."""
-        # lidar_to_camera ends in the left camera's optical frame (camera_info's frame_id, as tf gives it); the
-        # left camera_info's R turns that frame into the rectified one that P projects (applied after, not before).
-        r = np.eye(4)
-        r[:3, :3] = geometry.rectification
-        sparse = self.cv2.lidarsgm.projectPointsToDisparity(points, geometry.projection, r @ self.lidar_to_camera,
+        sparse = self.cv2.lidarsgm.projectPointsToDisparity(points, geometry.projection,
+                                                            rectified_transform(geometry, self.lidar_to_camera),
                                                             geometry.focal_baseline, geometry.size)
         if not self.cv2.countNonZero(sparse):
             # Stereo alone under a wrong transform would pass for a fusion: say so instead.

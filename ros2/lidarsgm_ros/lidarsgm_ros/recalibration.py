@@ -11,7 +11,7 @@ from collections import deque
 
 import numpy as np
 
-from .fusion import MAX_MATCHING_RESIDUAL
+from .fusion import MAX_MATCHING_RESIDUAL, optical_transform, rectified_transform
 
 
 class Recalibration:
@@ -36,13 +36,17 @@ class Recalibration:
         cv2 = self.cv2
         self.new = 0
         g = self.pool[-1][3]
-        pool = [p for p in self.pool if p[3].size == g.size and np.array_equal(p[3].projection, g.projection)]
+        pool = [p for p in self.pool if p[3].size == g.size and np.array_equal(p[3].projection, g.projection) and
+                np.array_equal(p[3].rectification, g.rectification)]
+        # LidarCalibration and the check work in the rectified frame that P projects; the caller's transform ends in
+        # the left optical frame (Fusion applies camera_info's R after it), and so does the corrected one returned.
+        rectified = rectified_transform(g, lidar_to_camera)
         try:
             cal = cv2.lidarsgm.LidarCalibration.create(g.projection, g.focal_baseline, num_disparities,
                                                        self.scan_rate)
             for left, right, points, _ in pool:
                 cal.addFrame(left, right, points)
-            c = cal.refine(np.asarray(lidar_to_camera, np.float64))
+            c = cal.refine(rectified)
         except cv2.error as e:
             return None, "recalibration from %d sets failed: %s" % (len(pool), getattr(e, "err", e))
         deg = np.degrees(np.asarray(c.rotation).ravel())
@@ -63,4 +67,4 @@ class Recalibration:
             if not ok:
                 return None, text + ": a pooled set's LiDAR is still misplaced under it, not taken"
         self.pool.clear()
-        return corrected, text
+        return optical_transform(g, corrected), text
