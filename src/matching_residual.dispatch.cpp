@@ -59,26 +59,18 @@ struct SparsePoints
         rows = Range(std::max(1 - y0, 1), std::min(H - 1 - y0, censusL.rows - 1));
     }
 
-    /** The median |value - matched| (1/16 pixel) over the points (every `step`-th) moved by `move` that have a unique
-    match, or -1 where fewer than kMinCalibrationPoints have one (count receives how many do). */
-    int medianOffset16(Point move, int radius, int step, int& count) const
+    /** The median |value - matched| (1/16 pixel) over pts (points or a subset of them) moved by `move` that have a
+    unique match, or -1 where fewer than kMinCalibrationPoints have one (count receives how many do). */
+    int medianOffset16(const std::vector<Point3i>& pts, Point move, int radius, int& count) const
     {
         // The matcher's default uniqueness ratio, as the pipeline takes it (x 1024, rounded).
         static const int uniqueness1024 = cvRound(StereoLidarSGM::create()->getUniquenessRatio() * 1024);
-        std::vector<Point3i> taken;
-        const std::vector<Point3i>* pts = &points;
-        if (step > 1)
-        {
-            for (size_t i = 0; i < points.size(); i += step)
-                taken.push_back(points[i]);
-            pts = &taken;
-        }
         // In chunks, so that they run in parallel.
-        const int n = (int)pts->size(), chunk = 1024, chunks = (n + chunk - 1) / chunk;
+        const int n = (int)pts.size(), chunk = 1024, chunks = (n + chunk - 1) / chunk;
         std::vector<std::vector<int> > offsets(chunks);
         parallel_for_(Range(0, chunks), [&](const Range& range) {
             for (int c = range.start; c < range.end; c++)
-                detail::runMatchingOffsets(censusL, censusR, pts->data() + c * chunk, std::min(chunk, n - c * chunk),
+                detail::runMatchingOffsets(censusL, censusR, pts.data() + c * chunk, std::min(chunk, n - c * chunk),
                                            move, rows, radius, uniqueness1024, offsets[c]);
         });
         std::vector<int> all;
@@ -116,7 +108,7 @@ double matchingResidual(InputArray left, InputArray right, InputArray sparseDisp
                  "lidarsgm: matchingResidual: searchRadius must be in [1, 64]");
     const SparsePoints sp(l, r, sparse16, 0);
     int count = 0;
-    const int median16 = sp.points.empty() ? -1 : sp.medianOffset16(Point(), searchRadius, 1, count);
+    const int median16 = sp.medianOffset16(sp.points, Point(), searchRadius, count);
     if (median16 < 0)
         CV_Error_(Error::StsError, ("lidarsgm: matchingResidual: only %d sparse pixels can be compared with the images "
                                     "(at least %d needed): textureless images, an empty sparse map, or one outside "
@@ -137,7 +129,7 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
     LidarCheck c;
     const SparsePoints sp(l, r, sparse16, maxShift);
     int count = 0;
-    const int at0 = sp.points.empty() ? -1 : sp.medianOffset16(Point(), radius, 1, count);
+    const int at0 = sp.medianOffset16(sp.points, Point(), radius, count);
     if (at0 < 0)
         return c;   // the images cannot tell: residual NaN, trusted
     c.residual = c.shiftedResidual = at0 / 16.0;
@@ -145,15 +137,18 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
         return c;
     // Above the band: is the map right but misplaced (a calibration error moves the points on the image), or do the
     // images match poorly? Search the moves of the map, coarse to fine, for the one with the lowest residual, on
-    // every step-th point (the median of a few thousand is as good, at a fraction of the cost).
-    const int step = std::max(1, (int)sp.points.size() / detail::kLidarSearchPoints);
-    int best = step > 1 ? sp.medianOffset16(Point(), radius, step, count) : at0;
+    // every step-th point (the median of a few thousand is as good, at a fraction of the cost), taken once.
+    const size_t step = std::max<size_t>(1, sp.points.size() / detail::kLidarSearchPoints);
+    std::vector<Point3i> taken;
+    for (size_t i = 0; i < sp.points.size(); i += step)
+        taken.push_back(sp.points[i]);
+    int best = step > 1 ? sp.medianOffset16(taken, Point(), radius, count) : at0;
     if (best < 0)
         return c;
     const int start = best;
     const auto tryMove = [&](int dx, int dy) {
         const Point move(std::max(-maxShift, std::min(maxShift, dx)), std::max(-maxShift, std::min(maxShift, dy)));
-        const int m = sp.medianOffset16(move, radius, step, count);
+        const int m = sp.medianOffset16(taken, move, radius, count);
         if (m >= 0 && m < best)
         {
             best = m;

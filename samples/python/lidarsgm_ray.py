@@ -4,7 +4,8 @@ there is none), each holding its own matchers; the same per-frame outputs, metri
 tool's folder run (lidarsgm_lidarsgm_fuse --kitti DIR --out OUT), so the two can resume each other's runs.
 
   python3 lidarsgm_ray.py --kitti DIR [DIR ...] --out OUT [--modes sgm,dsgm,sdsgm] [--check C] [--params FILE]
-                          [--resume] [--trust-lidar] [--address auto] [--cpu] [--num-cpus N] [--threads-per-worker T] [--quiet]
+                          [--resume] [--trust-lidar] [--address auto] [--cpu] [--num-cpus N]
+                          [--threads-per-worker T] [--quiet]
 
 One folder writes OUT/ID/; several write OUT/NAME/ID/ (NAME: the folder's own name). Every file is written under a
 temporary name and renamed when complete, metrics.yml last; --resume takes a frame whose metrics.yml exists from the

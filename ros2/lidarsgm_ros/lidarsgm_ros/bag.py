@@ -31,12 +31,12 @@ import time
 
 import cv2
 
-from .conversions import ConversionError, chain_transform, transform_matrix
 import numpy as np
 
+from .conversions import ConversionError, chain_transform, transform_matrix
 from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
-from .recalibration import Recalibration
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, stamp_ns
+from .recalibration import Recalibration
 from .sync import ApproximateSync, ExactSync
 
 INPUTS = tuple(INPUT_TYPES)

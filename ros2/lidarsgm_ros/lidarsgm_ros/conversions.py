@@ -9,9 +9,9 @@ from collections import namedtuple
 
 import numpy as np
 
-__all__ = ["ConversionError", "StereoGeometry", "stereo_geometry", "rectification_maps", "is_raw", "image_to_array", "to_grey", "to_bgr",
-           "cloud_fields", "cloud_to_points", "transform_matrix", "rotation_quaternion", "chain_transform",
-           "disparity_image", "valid_window", "depth_image", "point_cloud_array", "POINT_FIELDS", "INVALID_DEPTH_MM"]
+__all__ = ["ConversionError", "StereoGeometry", "stereo_geometry", "rectification_maps", "is_raw", "image_to_array",
+           "to_grey", "to_bgr", "cloud_fields", "cloud_to_points", "transform_matrix", "rotation_quaternion",
+           "chain_transform", "disparity_image", "valid_window", "depth_image", "point_cloud_array", "POINT_FIELDS", "INVALID_DEPTH_MM"]
 
 
 class ConversionError(ValueError):
@@ -82,21 +82,18 @@ def _rotation(info, side):
     if values is None or not np.any(np.asarray(values, np.float64)):
         return np.eye(3)  # left zero: no rectification rotation
     r = _matrix(values, 3, 3, "%s camera_info R" % side)
-    if not np.any(r):
-        return np.eye(3)  # left zero: no rectification rotation
     if not np.all(np.isfinite(r)) or np.abs(r @ r.T - np.eye(3)).max() > 1e-4 or np.linalg.det(r) < 0:
         raise ConversionError("%s camera_info R is not a rotation" % side)
     return r
 
 
-def is_raw(info):
+def is_raw(info, side=""):
     """Whether images with this camera_info differ from their rectified view: distortion, a rectification rotation,
     or a camera matrix K other than P's."""
     d = np.asarray(info.d, np.float64)
-    k = _matrix(info.k, 3, 3, "camera_info K")
-    p = _matrix(info.p, 3, 4, "camera_info P")
-    r = np.asarray(info.r, np.float64).reshape(3, 3)
-    return bool(np.any(d != 0) or (np.any(r) and np.abs(r - np.eye(3)).max() > 1e-9) or
+    k = _matrix(info.k, 3, 3, "%s camera_info K" % side)
+    p = _matrix(info.p, 3, 4, "%s camera_info P" % side)
+    return bool(np.any(d != 0) or np.abs(_rotation(info, side) - np.eye(3)).max() > 1e-9 or
                 np.abs(k - p[:, :3]).max() > 1e-9)
 
 
@@ -115,7 +112,8 @@ def rectification_maps(cv2, info, side):
     size = (int(info.width), int(info.height))
     if model == "equidistant":
         if d.size != 4:
-            raise ConversionError("the %s camera_info's equidistant model needs 4 coefficients, got %d" % (side, d.size))
+            raise ConversionError("the %s camera_info's equidistant model needs 4 coefficients, got %d"
+                                  % (side, d.size))
         return cv2.fisheye.initUndistortRectifyMap(k, d, _rotation(info, side), p[:, :3], size, cv2.CV_32FC1)
     if d.size not in (0, 4, 5, 8, 12, 14):
         raise ConversionError("the %s camera_info has %d distortion coefficients (plumb_bob: 5, rational_polynomial: "

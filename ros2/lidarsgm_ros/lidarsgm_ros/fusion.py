@@ -195,7 +195,7 @@ class Fusion:
                 self.rectified("left", left_info, cv_ros.to_grey(left, cv2))
             grey_r = self.rectified("right", right_info, cv_ros.to_grey(right, cv2))
         else:
-            if raw and (cv_ros.is_raw(left_info) or cv_ros.is_raw(right_info)):
+            if raw and (cv_ros.is_raw(left_info, "left") or cv_ros.is_raw(right_info, "right")):
                 raise ConversionError("the images come on image_raw and their camera_info has distortion (or a "
                                       "rectification): rectify them first (image_proc), or set rectify to rectify "
                                       "them here")

@@ -62,6 +62,8 @@ class StereoLidarNode(Node):
             else qos_profile_sensor_data
         self.subs = [self.create_subscription(rclpy_class(t), topic, self._callback(i), qos)
                      for i, (topic, t) in enumerate(INPUT_TYPES.items())]
+        # Images remapped to image_raw topics (fixed once subscribed): refused or rectified (Fusion.fuse).
+        self.raw_images = any(self.subs[i].topic_name.endswith("image_raw") for i in (0, 2))
         self.pubs = {topic: self.create_publisher(rclpy_class(t), topic, 1) for topic, t in OUTPUT_TYPES.items()}
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
@@ -249,8 +251,8 @@ class StereoLidarNode(Node):
         left = msgs[0]
         t0 = time.perf_counter()
         try:
-            raw = any(self.subs[i].topic_name.endswith("image_raw") for i in (0, 2))
-            result = self.fusion.fuse(*msgs, confidence=self.get_parameter("publish_confidence").value, raw=raw)
+            result = self.fusion.fuse(*msgs, confidence=self.get_parameter("publish_confidence").value,
+                                      raw=self.raw_images)
             out = output_messages(self.kit, self.fusion, result, left.header.frame_id, stamp_ns(left),
                                   self.get_parameter("depth_encoding").value)
         except ConversionError as e:
