@@ -33,14 +33,19 @@ CV_EXPORTS void semidensify(const GpuMat& censusL, const GpuMat& censusR, const 
 CV_EXPORTS void interpolateRings(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& sparse16,
                                  const PipelineParams& p, GpuMat& semidense16, GpuMat& above16, GpuMat& below16,
                                  int& gap);
-/** The aggregated costs (the CPU's finalSum). own16 and scan: copied priors take p.wCopy where scan is true
-(copiedPrior); own16 empty: w everywhere. */
+/** The disparity windows (CV_16SC2 per tile, as the CPU's searchWindows); coarse (where given): the coarse pass's
+integer disparities, which the CUDA path computes on every call. */
+CV_EXPORTS void searchWindows(const GpuMat& prior16, const GpuMat& left, const GpuMat& right, const PipelineParams& p,
+                              GpuMat& windows, GpuMat* coarse = nullptr);
+/** The aggregated costs (the CPU's finalSum, where windows are given within them only: the rest is 0). own16 and
+scan: copied priors take p.wCopy where scan is true (copiedPrior); own16 empty: w everywhere. */
 CV_EXPORTS void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& prior16,
                                const GpuMat& left, const PipelineParams& p, const GpuMat& own16, bool scan,
-                               GpuMat& sum);
+                               GpuMat& sum, const GpuMat& windows = GpuMat());
 //! nonUnique16 is written only where ringCheckOn(p), as on the CPU.
 CV_EXPORTS void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMat& disp16,
-                               GpuMat& dispInt, GpuMat& dispRight, GpuMat& nonUnique16);
+                               GpuMat& dispInt, GpuMat& dispRight, GpuMat& nonUnique16,
+                               const GpuMat& windows = GpuMat());
 CV_EXPORTS void medianFilter(const GpuMat& src, GpuMat& dst);
 /** rings: above16, below16 and gap of interpolateRings, or empty maps for none (as RingMaps with valid false).
 confidence: written where p.confidence. */

@@ -33,6 +33,11 @@ void CudaPipeline::projectPoints(const cuda::GpuMat&, int, int, const double*, d
     noCuda();
 }
 
+double CudaPipeline::searchedFraction() const
+{
+    return 0.0;   // no call ever ran here
+}
+
 namespace cuda_host {
 
 void convertSparse(const GpuMat&, int, int, GpuMat&) { noCuda(); }
@@ -45,12 +50,16 @@ void interpolateRings(const GpuMat&, const GpuMat&, const GpuMat&, const Pipelin
 {
     noCuda();
 }
+void searchWindows(const GpuMat&, const GpuMat&, const GpuMat&, const PipelineParams&, GpuMat&, GpuMat*) { noCuda(); }
 void aggregateCosts(const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const PipelineParams&, const GpuMat&,
-                    bool, GpuMat&)
+                    bool, GpuMat&, const GpuMat&)
 {
     noCuda();
 }
-void winnerTakesAll(const GpuMat&, int, const PipelineParams&, GpuMat&, GpuMat&, GpuMat&, GpuMat&) { noCuda(); }
+void winnerTakesAll(const GpuMat&, int, const PipelineParams&, GpuMat&, GpuMat&, GpuMat&, GpuMat&, const GpuMat&)
+{
+    noCuda();
+}
 void medianFilter(const GpuMat&, GpuMat&) { noCuda(); }
 void consistencyCheck(const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&,
                       const GpuMat&, int, const PipelineParams&, GpuMat&, GpuMat&)

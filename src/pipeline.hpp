@@ -204,7 +204,8 @@ static LIDARSGM_HD void tileWindow(int kMin, int kMax, int margin, int D, int& l
 }
 
 /** The coarse pass's parameters: plain SGM with the paper's P1 and P2 over 4 paths, the whole range of coarse
-disparities, no uniqueness check or subpixel (every pixel gives a disparity; only their range in a tile counts). */
+disparities (their count rounded up to a multiple of 16), no uniqueness check or subpixel (every pixel gives a
+disparity; only their range in a tile counts). */
 CV_EXPORTS PipelineParams coarseParams(const PipelineParams& p);
 
 //! A coarse pixel: the mean of a COARSE_SCALE^2 block of pixels (their sum), rounded to nearest.
@@ -619,6 +620,8 @@ public:
     //! cv::cuda::projectPointsToDisparity's device work; PT = projection * lidarToCamera, row-major 3x4.
     static void projectPoints(const cuda::GpuMat& points, int n, int strideFloats, const double PT[12],
                               double focalBaseline, Size imageSize, int dtype, OutputArray out, cuda::Stream& stream);
+    //! As CpuPipeline's; waits for the last call to finish.
+    double searchedFraction() const;
 private:
     struct Buffers;
     Buffers* b_;

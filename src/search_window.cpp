@@ -58,10 +58,11 @@ PipelineParams coarseParams(const PipelineParams& p)
 {
     const int S = COARSE_SCALE;
     PipelineParams q = PipelineParams();
-    // Whole coarse disparities covering [minD, minD + D) at full scale: floor(minD / S) up to the last one.
+    // Whole coarse disparities covering [minD, minD + D) at full scale: floor(minD / S) up to the last one, their
+    // count rounded up to a multiple of 16 (the aggregation's unit on the GPU; the extra ones are clamped away).
     const auto floorDiv = [](int a, int b) { return (a - (((a % b) + b) % b)) / b; };
     q.minDisparity = floorDiv(p.minDisparity, S);
-    q.numDisparities = floorDiv(p.minDisparity + p.numDisparities - 1, S) + 1 - q.minDisparity;
+    q.numDisparities = (floorDiv(p.minDisparity + p.numDisparities - 1, S) + 1 - q.minDisparity + 15) / 16 * 16;
     q.numPaths = 4;
     q.subpixel = false;
     q.uniqueness1024 = 1024;

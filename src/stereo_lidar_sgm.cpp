@@ -183,7 +183,11 @@ public:
     LIDARSGM_PARAMETERS(LIDARSGM_ACCESSORS)
 #undef LIDARSGM_ACCESSORS
 
-    double getSearchedFraction() const CV_OVERRIDE { return cpu_.searchedFraction(); }
+    double getSearchedFraction() const CV_OVERRIDE
+    {
+        AutoLock lock(mutex_);
+        return lastGpu_ ? gpu_.searchedFraction() : cpu_.searchedFraction();
+    }
 
     // A FileStorage key: letters, digits and '_' only.
     String getDefaultName() const CV_OVERRIDE { return "lidarsgm_StereoLidarSGM"; }
@@ -265,9 +269,6 @@ private:
         const bool needSparse = semidenseOnly || p.ddc || p.lidarCheck;
         const String needer = semidenseOnly ? String("semidensify")
                                             : format("%s with consistency check %d", modeName(mode_), consistencyCheck_);
-        if (searchWindowOn(p) && (left.kind() == _InputArray::CUDA_GPU_MAT || right.kind() == _InputArray::CUDA_GPU_MAT))
-            CV_Error(Error::StsNotImplemented, "lidarsgm: searchWindow > 0 (disparity windows) runs on the CPU path "
-                                               "only in this version; set searchWindow 0 for cv::cuda::GpuMat inputs");
         const bool gpu = detail::checkInputs(left, right, sparse, out, needSparse, needer.c_str());
         if (p.confidence && gpu != (confidence.kind() == _InputArray::CUDA_GPU_MAT))
             CV_Error(Error::StsBadArg, gpu ? "lidarsgm: the CUDA path writes the confidence to a cv::cuda::GpuMat; "
@@ -276,6 +277,8 @@ private:
         if (!gpu && stream)
             CV_Error(Error::StsBadArg, "lidarsgm: the Stream overloads take cv::cuda::GpuMat inputs");
         AutoLock lock(mutex_);
+        if (!semidenseOnly)
+            lastGpu_ = gpu;
         if (gpu)
             gpu_.run(left.getGpuMat(), right.getGpuMat(), sparse.empty() ? cuda::GpuMat() : sparse.getGpuMat(), p,
                      semidenseOnly, out, stream, confidence);
@@ -287,7 +290,8 @@ private:
     LIDARSGM_PARAMETERS(LIDARSGM_MEMBER)
 #undef LIDARSGM_MEMBER
 
-    Mutex mutex_;
+    mutable Mutex mutex_;
+    bool lastGpu_ = false;   //!< the last compute() ran on the CUDA path (getSearchedFraction)
     CpuPipeline cpu_;
     CudaPipeline gpu_;
 };

@@ -77,11 +77,14 @@ __device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
  are scaled for that), so no carry crosses into the other half. The left census and the facts are warp-uniform
  loads; the right census strings are read through L1 (a horizontal line's row stays there). The loads for the next
  pixel are issued before the current step's recurrence, to hide their latency. Instantiated for G pairs per group
- (see below), FULL: every lane's last group holds disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty. */
-template <int PPT, int G, bool FULL, bool DDC, bool EDGES>
+ (see below), FULL: every lane's last group holds disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty,
+ WIN: the disparity windows (windows: per tile lo | hi << 16). With windows the lanes keep the full range's layout:
+ a pair outside the pixel's window takes BIG16 (no path cost: the next pixel reaches it through the jump only, as
+ the CPU's sentinels), is left out of the sums and its atomics are not issued. */
+template <int PPT, int G, bool FULL, bool DDC, bool EDGES, bool WIN>
 __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
-pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PipelineParams p,
-           PtrStepSz<ushort> sum)
+pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
+           PipelineParams p, PtrStepSz<ushort> sum)
 {
     // The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u: one load per group and step. A row
     // takes 1 << FACT_ROW_SHIFT bytes, so that the facts' row bits are its offset.
@@ -154,10 +157,17 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     // Kept in registers (the compiler would reload and rescale them from the parameters at every step).
     asm("" : "+r"(p1x2), "+r"(p2x2), "+r"(p2Edgex2), "+r"(c256lo), "+r"(c256hi));
 
-    // Values of the current pixel, loaded one step ahead.
-    unsigned l, f = 0, fPrev = 0, r[2 * PPT];
+    // Values of the current pixel, loaded one step ahead; (wx, wy): the next pixel to load, for its window.
+    unsigned l, f = 0, fPrev = 0, r[2 * PPT], win = 0;
+    int wx = x, wy = y;
     auto load = [&]() {
         l = *(const unsigned*)(oL + wideMul(idx, stepL));
+        if (WIN)
+        {
+            win = (unsigned)windows((unsigned)wy / WINDOW_TILE, (unsigned)wx / WINDOW_TILE);
+            wx += dx;
+            wy += dy;
+        }
         if (DDC || EDGES)
             f = *(const ushort*)(oF + wideMul(idx, stepF));
         const int* pR = (const int*)(oR + wideMul(idx, stepR));
@@ -180,8 +190,16 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     for (int i = 0; i < PPT; i++)
         P[i] = 0;
     unsigned mp2 = 0;   // the previous pixel's minimum, in both halves
+    // The first disparity index of each pair (WIN: tested against the window).
+    int e[PPT];
+#pragma unroll
+    for (int i = 0; i < PPT; i++)
+        e[i] = 2 * (32 * G * (i / G) + G * lane + i % G);
     // One pixel of the line; loadNext: the next pixel's values are loaded (all but the last pixel).
     auto step = [&](auto loadNext) {
+        // The window [lo, lo + width) of this pixel: a pair is in it or out of it whole (both multiples of 16).
+        const int lo = (int)(win & 0xFFFFu);
+        const unsigned width = (win >> 16) - (unsigned)lo;
         // matchingCost (pipeline.hpp) in pairs: the census term, and the DDC term of the pair from the table (0
         // without a prior), added with the minimum's subtraction: add[i] = ddc - minPrev.
         unsigned T[PPT], add[PPT];
@@ -245,6 +263,8 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
             const unsigned lp = __byte_perm(P[i], j < G - 1 ? P[i + 1] : above, 0x5432);
             const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + p1x2);
             Pn[i] = T[i] + best + add[i];
+            if (WIN && (unsigned)(e[i] - lo) >= width)
+                Pn[i] = BIG16X2;
         }
 #pragma unroll
         for (int i = 0; i < PPT; i++)
@@ -272,6 +292,9 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
 #pragma unroll
                     for (int j = 0; j < G; j += G % 2 == 0 ? 2 : 1)
                     {
+                        // Pairs j and j + 1 hold four disparities: in or out of a window together.
+                        if (WIN && (unsigned)(e[G * g + j] - lo) >= width)
+                            continue;
                         unsigned* q = S + 32 * G * g + j;
                         if (G % 2 == 0)
                             atomicAdd((unsigned long long*)q, (unsigned long long)P[G * g + j] |
@@ -291,9 +314,9 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
 /* PPT = D / 64 rounded up pairs per lane, in groups of G = 2 adjacent pairs where PPT is even (four costs per 64-bit
  reduction; a load of census strings spans four cache lines), else G = 1 (measured: G = 4 at 256 disparities, one
  run of eight per lane, made each load span eight lines and kept L1 busy; doc/perf.md). */
-template <int PPT, bool DDC, bool EDGES>
-void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
-              PtrStepSz<ushort> sum, cudaStream_t stream)
+template <int PPT, bool DDC, bool EDGES, bool WIN>
+void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
+              const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
@@ -311,29 +334,41 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> 
         smem = (size_t)perSM / (MAX_BLOCKS_PER_SM + 1) + 1;
     }
     if (p.numDisparities == 64 * PPT)
-        pathKernel<PPT, G, true, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
+        pathKernel<PPT, G, true, DDC, EDGES, WIN><<<grid, block, smem, stream>>>(censusL, censusR, facts, windows, p,
+                                                                                  sum);
     else
-        pathKernel<PPT, G, false, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
+        pathKernel<PPT, G, false, DDC, EDGES, WIN><<<grid, block, smem, stream>>>(censusL, censusR, facts, windows, p,
+                                                                                   sum);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
-template <int PPT>
-void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
-              bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
+template <int PPT, bool WIN>
+void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
+              const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const bool edges = p.edgeThreshold > 0;
     if (ddc)
-        edges ? runPaths<PPT, true, true>(censusL, censusR, facts, p, sum, stream)
-              : runPaths<PPT, true, false>(censusL, censusR, facts, p, sum, stream);
+        edges ? runPaths<PPT, true, true, WIN>(censusL, censusR, facts, windows, p, sum, stream)
+              : runPaths<PPT, true, false, WIN>(censusL, censusR, facts, windows, p, sum, stream);
     else
-        edges ? runPaths<PPT, false, true>(censusL, censusR, facts, p, sum, stream)
-              : runPaths<PPT, false, false>(censusL, censusR, facts, p, sum, stream);
+        edges ? runPaths<PPT, false, true, WIN>(censusL, censusR, facts, windows, p, sum, stream)
+              : runPaths<PPT, false, false, WIN>(censusL, censusR, facts, windows, p, sum, stream);
+}
+
+template <int PPT>
+void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
+              const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
+{
+    if (windows.data)
+        runPaths<PPT, true>(censusL, censusR, facts, windows, p, ddc, sum, stream);
+    else
+        runPaths<PPT, false>(censusL, censusR, facts, windows, p, ddc, sum, stream);
 }
 
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
                const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-               PtrStepSz<ushort> sum, cudaStream_t stream)
+               PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const bool ddc = prior16.data != nullptr;
@@ -346,14 +381,14 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
     }
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPaths<1>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 2: runPaths<2>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 3: runPaths<3>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 4: runPaths<4>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 5: runPaths<5>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 6: runPaths<6>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 7: runPaths<7>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    default: runPaths<8>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 1: runPaths<1>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+    case 2: runPaths<2>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+    case 3: runPaths<3>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+    case 4: runPaths<4>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+    case 5: runPaths<5>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+    case 6: runPaths<6>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+    case 7: runPaths<7>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+    default: runPaths<8>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
     }
 }
 
@@ -361,16 +396,16 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    PtrStepSz<ushort> sum, cudaStream_t stream)
+                    PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, sum, stream);
+    aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, windows, sum, stream);
 }
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    PtrStepSz<ushort> sum, cudaStream_t stream)
+                    PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, sum, stream);
+    aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, windows, sum, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

@@ -8,6 +8,7 @@
 
 #include "precomp.hpp"
 #include "opencv2/core/cuda_stream_accessor.hpp"
+#include "cpu_stages.hpp"
 #include "cuda_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
@@ -33,6 +34,53 @@ cuda::GpuMat shortMap(const cuda::GpuMat& m, Size sz, int c0)
 
 } // namespace
 
+void ci::enqueueSearchWindows(const cuda::GpuMat& prior16, const cuda::GpuMat& L, const cuda::GpuMat& R,
+                              const PipelineParams& p, ci::WindowBuffers& w, cudaStream_t st)
+{
+    const int S = COARSE_SCALE, T = WINDOW_TILE;
+    const PipelineParams q = coarseParams(p);
+    const Size cs(std::max(L.cols / S, 1), std::max(L.rows / S, 1));
+    w.images.create(2 * cs.height, cs.width, L.type());
+    const cuda::GpuMat cl = w.images.rowRange(0, cs.height), cr = w.images.rowRange(cs.height, 2 * cs.height);
+    const int padBefore = ci::rightCensusPadBefore(q), padAfter = ci::rightCensusPadAfter(q);
+    w.censusL.create(cs, CV_32SC1);
+    w.censusRPadded.create(cs.height, padBefore + cs.width + padAfter, CV_32SC1);
+    const cuda::GpuMat censusR = w.censusRPadded.colRange(padBefore, padBefore + cs.width);
+    w.sum.create(cs.height, cs.width * q.numDisparities, CV_16UC1);
+    w.disp.create(3 * cs.height, cs.width, CV_16SC1);
+    w.key.create(cs, CV_32SC1);
+    const cuda::GpuMat d16 = w.disp.rowRange(0, cs.height), dInt = w.disp.rowRange(cs.height, 2 * cs.height),
+                       dRight = w.disp.rowRange(2 * cs.height, 3 * cs.height);
+    const Size tiles((L.cols + T - 1) / T, (L.rows + T - 1) / T);
+    w.ranges.create(2 * tiles.height, tiles.width, CV_32SC2);
+    w.windows.create(tiles, CV_16SC2);
+    if (L.depth() == CV_8U)
+    {
+        ci::coarseImages(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), cuda::PtrStepSz<uchar>(cl),
+                         cuda::PtrStepSz<uchar>(cr), st);
+        ci::censusTransform(cuda::PtrStepSz<uchar>(cl), cuda::PtrStepSz<uchar>(cr), w.censusL, censusR, padBefore,
+                            padAfter, st);
+        ci::aggregateCosts(w.censusL, censusR, cuda::PtrStepSz<short>(), cuda::PtrStepSz<uchar>(cl), q,
+                           cuda::PtrStepSz<short>(), nullptr, cuda::PtrStepSz<ushort>(), cuda::PtrStepSz<int>(), w.sum,
+                           st);
+    }
+    else
+    {
+        ci::coarseImages(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), cuda::PtrStepSz<ushort>(cl),
+                         cuda::PtrStepSz<ushort>(cr), st);
+        ci::censusTransform(cuda::PtrStepSz<ushort>(cl), cuda::PtrStepSz<ushort>(cr), w.censusL, censusR, padBefore,
+                            padAfter, st);
+        ci::aggregateCosts(w.censusL, censusR, cuda::PtrStepSz<short>(), cuda::PtrStepSz<ushort>(cl), q,
+                           cuda::PtrStepSz<short>(), nullptr, cuda::PtrStepSz<ushort>(), cuda::PtrStepSz<int>(), w.sum,
+                           st);
+    }
+    ci::winnerTakesAll(w.sum, cs.width, q, cuda::PtrStepSz<int>(), d16, dInt, w.key, dRight, cuda::PtrStepSz<short>(),
+                       st);
+    ci::searchWindows(prior16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior16), dInt, p,
+                      w.ranges.rowRange(0, tiles.height), w.ranges.rowRange(tiles.height, 2 * tiles.height),
+                      w.windows, st);
+}
+
 struct CudaPipeline::Buffers
 {
     /* The only allocations. Maps whose lifetimes do not overlap share memory (the stages run in stream order): the
@@ -47,6 +95,10 @@ struct CudaPipeline::Buffers
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
     cuda::GpuMat ring, ringStats;    //!< ring interpolation's maps (above, then below) and gap statistics
     cuda::GpuMat scanStats;          //!< the visibility filter's scan test (gap histograms and result)
+    ci::WindowBuffers windows;       //!< the disparity windows and their coarse pass
+    bool windowed = false;           //!< the last call searched windows (windows.windows holds them)
+    Size lastSize;
+    int lastD = 0;
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
 
@@ -158,6 +210,19 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     }
 
     const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
+    // The windows from the priors the call has (in plain SGM, the LiDAR's values where given), before the facts
+    // overwrite the semidense map.
+    b.windowed = searchWindowOn(p);
+    b.lastSize = sz;
+    b.lastD = p.numDisparities;
+    cuda::PtrStepSz<int> windows;
+    if (b.windowed)
+    {
+        ci::enqueueSearchWindows(p.semidense ? b.semidense16 : Sp.empty() ? cuda::GpuMat() : b.sparse16, L, R, p,
+                                 b.windows, st);
+        windows = cuda::PtrStepSz<int>(b.windows.windows.rows, b.windows.windows.cols,
+                                       (int*)b.windows.windows.data, b.windows.windows.step);
+    }
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
     const bool weigh = p.weighCopies && scanStats;
@@ -175,17 +240,19 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     }
     const cuda::PtrStepSz<ushort> facts16 = facts.empty() ? cuda::PtrStepSz<ushort>() : cuda::PtrStepSz<ushort>(facts);
     if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, facts16, b.sum,
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, facts16, windows,
+                           b.sum,
                            st);
     else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, facts16, b.sum,
+        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, facts16, windows,
+                           b.sum,
                            st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
     ci::RingCheckMaps ringCheck = {};
     if (rings && ringCheckOn(p))
         ringCheck = { ringAbove, ringBelow, b.semidense16, b.ringStats.ptr<int>() + RING_GAP_BINS };
-    ci::winnerTakesAll(b.sum, sz.width, p, disp16, dispInt, rightKey, dispRight, ringCheck.nonUnique16, st);
+    ci::winnerTakesAll(b.sum, sz.width, p, windows, disp16, dispInt, rightKey, dispRight, ringCheck.nonUnique16, st);
     cuda::GpuMat d16 = disp16, dInt = dispInt, dRight = dispRight;
     if (p.medianSize == 3)
     {
@@ -210,6 +277,17 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     else
         ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<short>(o), conf, st);
     b.markCallEnd(st, capturing);
+}
+
+double CudaPipeline::searchedFraction() const
+{
+    if (!b_->windowed)
+        return b_->lastD ? 1.0 : 0.0;
+    if (b_->done)
+        cudaCheck(cudaEventSynchronize(b_->done));   // the call that made them has finished
+    Mat windows;
+    b_->windows.windows.download(windows);
+    return (double)windowCells(windows, b_->lastSize) / ((double)b_->lastSize.area() * b_->lastD);
 }
 
 void CudaPipeline::projectPoints(const cuda::GpuMat& points, int n, int strideFloats, const double PT[12],

@@ -10,6 +10,7 @@
 #define OPENCV_LIDARSGM_CUDA_STAGES_HPP
 
 #include "opencv2/core/cuda_types.hpp"
+#include "opencv2/core/cuda.hpp"
 #include <cuda_runtime.h>
 #include <algorithm>
 #include "pipeline.hpp"
@@ -61,26 +62,53 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
                       const PipelineParams& p, PtrStepSz<short> semidense16, PtrStepSz<short> above,
                       PtrStepSz<short> below, int* stats, cudaStream_t stream);
 
+/** The coarse pass's images (coarseDisparities): left and right reduced by COARSE_SCALE, in one launch. */
+void coarseImages(PtrStepSz<uchar> left, PtrStepSz<uchar> right, PtrStepSz<uchar> coarseL, PtrStepSz<uchar> coarseR,
+                  cudaStream_t stream);
+void coarseImages(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<ushort> coarseL,
+                  PtrStepSz<ushort> coarseR, cudaStream_t stream);
+
+/** The disparity windows (searchWindows on the CPU): windows receives per WINDOW_TILE tile (lo, hi). prior16: the
+call's prior map (may be empty); coarse: the coarse pass's integer disparities (coarse pixels), used where a tile has
+no prior around it. ownRanges and coarseRanges: scratch of the windows' size. */
+void searchWindows(PtrStepSz<short> prior16, PtrStepSz<short> coarse, const PipelineParams& p,
+                   PtrStepSz<int2> ownRanges, PtrStepSz<int2> coarseRanges, PtrStepSz<short2> windows,
+                   cudaStream_t stream);
+
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
 The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). own16: the filtered
 sparse map where copied priors take p.wCopy (copiedPrior) if the scan test's result at *scan (device memory) is
 non-zero; empty: w everywhere. facts: a map of the image's size that receives each pixel's packed facts (the
 path kernel's input besides the census strings) where a prior or the edge rule exists; it may be prior16's memory,
-which it then overwrites. */
+which it then overwrites. windows (searchWindows, as int: lo | hi << 16; empty: the full range): each pixel's
+paths cover its tile's window only; the sums outside it are not written. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    PtrStepSz<ushort> sum, cudaStream_t stream);
+                    PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    PtrStepSz<ushort> sum, cudaStream_t stream);
+                    PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
 right-view disparity as on the CPU; nonUnique16 (may be empty) the winners that fail the uniqueness check, NO_DISP
-elsewhere. */
-void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
-                    PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
-                    PtrStepSz<short> nonUnique16, cudaStream_t stream);
+elsewhere. windows: as aggregateCosts' (each pixel's winner within its window). */
+void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<int> windows,
+                    PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
+                    PtrStepSz<short> dispRight, PtrStepSz<short> nonUnique16, cudaStream_t stream);
+
+/** The disparity windows' buffers: the coarse pass's images (left, then right), census strings, sums and outputs
+(disp16, dispInt, dispRight), right-view keys; the tiles' prior and coarse ranges; the windows (CV_16SC2). */
+struct WindowBuffers
+{
+    cv::cuda::GpuMat images, censusL, censusRPadded, sum, disp, key, ranges, windows;
+};
+
+/** The coarse pass (coarseDisparities on the CPU, on every call) and searchWindows into w.windows: the only host code
+among the stages (it allocates w's buffers where their size changes; src_cuda/cuda_pipeline.cpp). */
+void enqueueSearchWindows(const cv::cuda::GpuMat& prior16, const cv::cuda::GpuMat& left,
+                          const cv::cuda::GpuMat& right, const PipelineParams& p, WindowBuffers& w,
+                          cudaStream_t stream);
 
 //! Up to three maps of one size filtered in one launch: dst[i] = median3x3(src[i]).
 struct MedianMaps

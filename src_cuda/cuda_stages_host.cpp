@@ -99,8 +99,26 @@ void interpolateRings(const GpuMat& censusL, const GpuMat& censusR, const GpuMat
     gap = s.at<int>(0, RING_GAP_BINS);
 }
 
+//! A windows map (CV_16SC2) as the kernels read it: lo | hi << 16 per tile; empty: none.
+static cuda::PtrStepSz<int> windowWords(const GpuMat& windows)
+{
+    return windows.empty() ? cuda::PtrStepSz<int>()
+                           : cuda::PtrStepSz<int>(windows.rows, windows.cols, (int*)windows.data, windows.step);
+}
+
+void searchWindows(const GpuMat& prior16, const GpuMat& left, const GpuMat& right, const PipelineParams& p,
+                   GpuMat& windows, GpuMat* coarse)
+{
+    ci::WindowBuffers w;
+    ci::enqueueSearchWindows(prior16, left, right, p, w, 0);
+    finish();
+    windows = w.windows;
+    if (coarse)
+        *coarse = w.disp.rowRange(w.disp.rows / 3, 2 * w.disp.rows / 3);
+}
+
 void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& prior16, const GpuMat& left,
-                    const PipelineParams& p, const GpuMat& own16, bool scan, GpuMat& sum)
+                    const PipelineParams& p, const GpuMat& own16, bool scan, GpuMat& sum, const GpuMat& windows)
 {
     sum.create(left.rows, left.cols * p.numDisparities, CV_16UC1);
     GpuMat scanFlag(1, 1, CV_32SC1, Scalar::all(scan ? 1 : 0));
@@ -109,14 +127,16 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
     const int* flag = own16.empty() ? nullptr : scanFlag.ptr<int>();
     GpuMat facts(left.size(), CV_16UC1);
     if (left.type() == CV_8UC1)
-        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, facts, sum, 0);
+        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, facts,
+                           windowWords(windows), sum, 0);
     else
-        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, facts, sum, 0);
+        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, facts,
+                           windowWords(windows), sum, 0);
     finish();
 }
 
 void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMat& disp16, GpuMat& dispInt,
-                    GpuMat& dispRight, GpuMat& nonUnique16)
+                    GpuMat& dispRight, GpuMat& nonUnique16, const GpuMat& windows)
 {
     const Size sz(width, sum.rows);
     disp16.create(sz, CV_16SC1);
@@ -127,7 +147,7 @@ void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMa
         nonUnique16.create(sz, CV_16SC1);
     else
         nonUnique16.release();
-    ci::winnerTakesAll(sum, width, p, disp16, dispInt, rightKey, dispRight,
+    ci::winnerTakesAll(sum, width, p, windowWords(windows), disp16, dispInt, rightKey, dispRight,
                        nonUnique16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(nonUnique16), 0);
     finish();
 }

@@ -41,10 +41,13 @@ template <int PPT> __device__ __forceinline__ unsigned costOf(const unsigned (&v
  pass D: per pair). The right-view candidates of those pixels fall on right pixels [x0 - minD - (D - 1),
  x0 + 31 - minD]: they are reduced in shared memory first, then merged into the global right-view keys with one
  atomicMin per right pixel and block. Keys are cost << 16 | d: the lowest is the lowest cost, and the lowest
- disparity among equal costs (winnerTakesAll on the CPU). */
+ disparity among equal costs (winnerTakesAll on the CPU). With disparity windows (windows: per tile lo | hi << 16; a
+ block's 32 pixels lie in one tile) only the window's sums are read, compared and offered to the right view, and the
+ parabola needs both neighbours in the window (selectPixel). */
 template <int PPT>
-__global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrStepSz<short> disp16,
-                          PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> nonUnique16)
+__global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrStepSz<int> windows,
+                          PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
+                          PtrStepSz<short> nonUnique16)
 {
     const int DPT = 2 * PPT;
     __shared__ unsigned rkey[SEG + MAX_D + (SEG + MAX_D) / 32];
@@ -58,7 +61,16 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
     __syncthreads();
 
     const int d0 = lane * DPT;
-    const int pairs = d0 < D ? ::min(PPT, (D - d0) / 2) : 0;   // D is even: pairs never straddle it
+    int lo = 0, hi = D;
+    if (windows.data)
+    {
+        const unsigned w = (unsigned)windows(y / WINDOW_TILE, x0 / WINDOW_TILE);
+        lo = (int)(w & 0xFFFFu);
+        hi = (int)(w >> 16);
+    }
+    // D is even: pairs never straddle it (nor a window's ends, multiples of 16). A lane whose run misses the
+    // window loads nothing.
+    const int pairs = d0 < hi && d0 + DPT > lo ? ::min(PPT, (D - d0) / 2) : 0;
     // Load the costs of all of this warp's pixels first: four independent loads in flight instead of one.
     unsigned v[PIXELS_PER_WARP][PPT];
 #pragma unroll
@@ -82,7 +94,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         const int k0 = (x - x0) + (D - 1) - d0;   // key offset of disparity d0's right pixel; d0 + k is k before
 #pragma unroll
         for (int j = 0; j < PPT; j++)
-            if (j < pairs)
+            if (j < pairs && d0 + 2 * j >= lo && d0 + 2 * j < hi)
             {
                 const unsigned lo = (v[i][j] << 16) | (unsigned)(d0 + 2 * j);
                 const unsigned hi = (v[i][j] & 0xFFFF0000u) | (unsigned)(d0 + 2 * j + 1);
@@ -99,7 +111,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
             unsigned second = 0xFFFFFFFFu;
 #pragma unroll
             for (int j = 0; j < PPT; j++)
-                if (j < pairs)
+                if (j < pairs && d0 + 2 * j >= lo && d0 + 2 * j < hi)
                 {
                     const int d = d0 + 2 * j;
                     if ((unsigned)(d - bd + 1) > 2u)
@@ -108,12 +120,12 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
                         second = ::min(second, v[i][j] >> 16);
                 }
             second = __reduce_min_sync(0xFFFFFFFFu, second);
-            valid = uniqueWinner(minv, (int)second, p.uniqueness1024);   // D >= 16: second is a cost
+            valid = uniqueWinner(minv, (int)second, p.uniqueness1024);   // windows >= 16 wide: second is a cost
         }
         // The parabola's neighbour costs from the lanes that hold them (warp-uniform: bd and valid are); a non-unique
         // winner needs them only for nonUnique16.
         int cm = 0, cp = 0;
-        const bool parabola = (valid || nonUnique16.data) && p.subpixel && bd > 0 && bd < D - 1;
+        const bool parabola = (valid || nonUnique16.data) && p.subpixel && bd > lo && bd < hi - 1;
         if (parabola)
         {
             const int dm = bd - 1, dp = bd + 1;
@@ -156,16 +168,16 @@ __global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz
 
 } // namespace
 
-void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<short> disp16,
-                    PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> dispRight,
-                    PtrStepSz<short> nonUnique16, cudaStream_t stream)
+void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<int> windows,
+                    PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
+                    PtrStepSz<short> dispRight, PtrStepSz<short> nonUnique16, cudaStream_t stream)
 {
     CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
                                    stream));
     const dim3 grid((width + SEG - 1) / SEG, sum.rows);
-    const auto launch = [&](void (*kernel)(PtrStepSz<ushort>, int, PipelineParams, PtrStepSz<short>, PtrStepSz<short>,
-                                           PtrStepSz<int>, PtrStepSz<short>)) {
-        kernel<<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, disp16, dispInt, rightKey, nonUnique16);
+    const auto launch = [&](void (*kernel)(PtrStepSz<ushort>, int, PipelineParams, PtrStepSz<int>, PtrStepSz<short>,
+                                           PtrStepSz<short>, PtrStepSz<int>, PtrStepSz<short>)) {
+        kernel<<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, windows, disp16, dispInt, rightKey, nonUnique16);
     };
     switch ((p.numDisparities + 63) / 64)
     {

@@ -481,6 +481,12 @@ TEST(Lidarsgm_SearchWindows, rule_by_hand)
     for (int ty = 0; ty < 3; ty++)
         for (int tx = 0; tx < 5; tx++)
             EXPECT_EQ(Vec2s(0, 32), windows.at<Vec2s>(ty, tx));
+    // The coarse pass covers the range in whole coarse disparities, their count rounded up to a multiple of 16 (the
+    // GPU's unit): minDisparity 5, 128 disparities: coarse 1 .. 33, 48 of them.
+    p.minDisparity = 5;
+    const PipelineParams q = coarseParams(p);
+    EXPECT_EQ(1, q.minDisparity);
+    EXPECT_EQ(48, q.numDisparities);
 }
 
 // The CUDA twin (src_cuda/aggregation.cu): the aggregated costs of every stage configuration (4 and 8 paths, with
@@ -497,6 +503,59 @@ TEST(Lidarsgm_CUDA_Aggregation, bit_exact)
         cuda_host::aggregateCosts(gl, gr, prior, cuda::GpuMat(c.left), c.p, own, c.scan, sum);
         expectSameAsCpu(c.sum, sum, c.name);
     }
+}
+
+// The disparity windows on the GPU (src_cuda/search_window.cu and the windowed path and winner-takes-all kernels)
+// against the CPU's, stage by stage: the windows and the coarse map, the sums within the windows, the winners.
+TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
+{
+    requireCudaDevice();
+    for (const StageCase& c : stageCases())
+        for (int margin : { 1, 4, 24 })
+        {
+            const std::string what = c.name + format(", margin %d", margin);
+            PipelineParams p = c.p;
+            p.searchWindow = margin;
+            const Mat windowPrior = p.semidense ? c.semidense16 : c.sparse16;
+            Mat windows, coarse;
+            searchWindows(windowPrior, c.left, c.right, p, windows, &coarse);
+            if (coarse.empty())
+                coarseDisparities(c.left, c.right, p, coarse);   // the GPU computes it on every call
+            cuda::GpuMat gw, gcoarse;
+            cuda_host::searchWindows(windowPrior.empty() ? cuda::GpuMat() : cuda::GpuMat(windowPrior),
+                                     cuda::GpuMat(c.left), cuda::GpuMat(c.right), p, gw, &gcoarse);
+            expectSameAsCpu(coarse, gcoarse, what + " (coarse)");
+            expectSameAsCpu(windows, gw, what + " (windows)");
+
+            Mat sum, d16, dInt, dRight, nonUnique;
+            aggregateCosts(c.censusL, c.censusR, c.prior, c.left, p, d16, dInt, dRight, nonUnique, sum, nullptr,
+                           c.own16, windows);
+            cuda::GpuMat gl, gr, gsum;
+            cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), p, gl, gr);
+            cuda_host::aggregateCosts(gl, gr, c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior),
+                                      cuda::GpuMat(c.left), p, c.own16.empty() ? cuda::GpuMat() : cuda::GpuMat(c.own16),
+                                      c.scan, gsum, gw);
+            // The GPU leaves the sums outside the windows at 0, the CPU's finalSum holds its sentinel there.
+            Mat s;
+            gsum.download(s);
+            const int D = p.numDisparities;
+            for (int y = 0; y < s.rows; y++)
+                for (int x = 0; x < c.left.cols; x++)
+                {
+                    const Vec2s w = windows.at<Vec2s>(y / WINDOW_TILE, x / WINDOW_TILE);
+                    for (int k = 0; k < D; k++)
+                        if (k < w[0] || k >= w[1])
+                            s.at<ushort>(y, x * D + k) = 0xFFFF;
+                }
+            ASSERT_EQ(0, cvtest::norm(sum, s, NORM_INF)) << what << " (sums within the windows)";
+            cuda::GpuMat g16, gInt, gRight, gNonUnique;
+            cuda_host::winnerTakesAll(gsum, c.left.cols, p, g16, gInt, gRight, gNonUnique, gw);
+            expectSameAsCpu(d16, g16, what + " (disp16)");
+            expectSameAsCpu(dInt, gInt, what + " (dispInt)");
+            expectSameAsCpu(dRight, gRight, what + " (dispRight)");
+            if (!nonUnique.empty())
+                expectSameAsCpu(nonUnique, gNonUnique, what + " (nonUnique16)");
+        }
 }
 
 }} // namespace

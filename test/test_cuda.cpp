@@ -109,6 +109,47 @@ TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
     }
 }
 
+// The disparity windows: both shipped frames, every mode and check, 4 and 8 paths, with kitti_best.yml's steps; the
+// share of the cells searched is the CPU's; a margin of the whole range gives the full range's output.
+TEST(Lidarsgm_CUDA, search_windows_bit_exact)
+{
+    requireCudaDevice();
+    for (const char* id : { "000002", "000046" })
+    {
+        Mat l, r, s;
+        loadKittiTestFrame(id, l, r, s);
+        for (int mode = 0; mode < 3; mode++)
+            for (int check = 0; check < 4; check++)
+                for (int paths : { 4, 8 })
+                {
+                    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, mode, check);
+                    if (check == 3)
+                        setKittiBestSteps(*m);
+                    m->setNumPaths(paths);
+                    m->setSearchWindow(4);
+                    const std::string what = format("frame %s mode %d check %d paths %d, windows", id, mode, check, paths);
+                    compareCpuGpu(m, l, r, s, what);
+                    Mat d;
+                    m->compute(l, r, s, d);
+                    const double cpuFraction = m->getSearchedFraction();
+                    cuda::GpuMat gl(l), gr(r), gs(s), gd;
+                    m->compute(gl, gr, gs, gd);
+                    EXPECT_EQ(cpuFraction, m->getSearchedFraction()) << what;
+                    EXPECT_LT(cpuFraction, 0.6) << what;
+                }
+        Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+        cuda::GpuMat gl(l), gr(r), gs(s), full, wide;
+        m->compute(gl, gr, gs, full);
+        m->setSearchWindow(128);
+        m->compute(gl, gr, gs, wide);
+        EXPECT_EQ(1.0, m->getSearchedFraction());
+        Mat a, b;
+        full.download(a);
+        wide.download(b);
+        EXPECT_EQ(0, cvtest::norm(a, b, NORM_INF)) << id << ": margin 128 against the full range";
+    }
+}
+
 // A uniform pair (every cost 0: no unique winner anywhere) and a pair uniform in its left half.
 TEST(Lidarsgm_CUDA, flat_images_bit_exact)
 {
@@ -165,6 +206,7 @@ TEST_P(Lidarsgm_CUDA_Random, bit_exact)
                 m->setEdgeThreshold(k == 2 || mode == 2 ? (depth ? 4000 : 16) : 0);
                 m->setRingGapFactor(k == 0 || k == 1 || k == 4 ? 1.5 * (k % 3 + 1) : 0.0);
                 m->setSemidenseWeight(k == 0 || k == 4 ? 0.25 + 0.25 * mode : 1.0);
+                m->setSearchWindow((k + mode) % 3 == 1 ? 1 + 2 * k : 0);   // a third of the cases with windows
                 compareCpuGpu(m, l, r, sparses[k], format("size %dx%d depth %d sparse %d mode %d", sz.width, sz.height, depth, k, mode));
             }
     }

@@ -118,6 +118,19 @@ if [ "${PATHS4:-0}" = 1 ]; then
   $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize 1920x1080 \
     --num-disparities 256 --paths 4 | grep -E "device:|lidarsgm SDSGM|StereoSGM 4"
 fi
+if [ -n "${WINDOWS:-}" ]; then
+  # The disparity windows (--search-window WINDOWS) against the full range, each beside cv::cuda::StereoSGM in the
+  # same process: KITTI size (defaults, kitti_best.yml), 1080p with 4 and 8 paths and 512 disparities, 4K.
+  for a in "" "--params doc/params/kitti_best.yml" "--resize 1920x1080 --num-disparities 256 --paths 4" \
+           "--resize 1920x1080 --num-disparities 256" "--resize 1920x1080 --num-disparities 512" \
+           "--resize 3840x2160 --num-disparities 256"; do
+    for w in 0 $WINDOWS; do
+      echo "== ${a:-KITTI defaults} --search-window $w"
+      $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 $a --search-window $w \
+        | grep -E "lidarsgm SDSGM |StereoSGM|cells searched" || true
+    done
+  done
+fi
 if [ "${BEST:-0}" = 1 ]; then
   echo "doc/params/kitti_best.yml at KITTI size (against the defaults above):"
   $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 \

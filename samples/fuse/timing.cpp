@@ -154,6 +154,9 @@ int runCudaTiming(const Options& o, const Frame& f, int reps)
             const double msc = eventMedian([&](cuda::Stream& st) { m->compute(gl, gr, gs, gd, gc, st); }, reps);
             printf("| lidarsgm %-5s + confidence | %8.3f ms | %+.1f %% |\n", modeLabel(modes[k % 3]), msc,
                    100.0 * (msc / ms - 1));
+            if (m->getSearchWindow() > 0)
+                printf("cells searched: %.1f %% of width x height x disparities (disparity windows, margin %d)\n",
+                       100.0 * m->getSearchedFraction(), m->getSearchWindow());
         }
     }
     // Throughput: k instances, each on its own stream, frames handed round-robin; page-locked input and output, so
