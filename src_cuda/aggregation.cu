@@ -77,14 +77,11 @@ __device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
  are scaled for that), so no carry crosses into the other half. The left census and the facts are warp-uniform
  loads; the right census strings are read through L1 (a horizontal line's row stays there). The loads for the next
  pixel are issued before the current step's recurrence, to hide their latency. Instantiated for G pairs per group
- (see below), FULL: every lane's last group holds disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty,
- WIN: the disparity windows (windows: per tile lo | hi << 16). With windows the lanes keep the full range's layout:
- a pair outside the pixel's window takes BIG16 (no path cost: the next pixel reaches it through the jump only, as
- the CPU's sentinels), is left out of the sums and its atomics are not issued. */
-template <int PPT, int G, bool FULL, bool DDC, bool EDGES, bool WIN>
+ (see below), FULL: every lane's last group holds disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty. */
+template <int PPT, int G, bool FULL, bool DDC, bool EDGES>
 __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
-pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
-           PipelineParams p, PtrStepSz<ushort> sum)
+pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PipelineParams p,
+           PtrStepSz<ushort> sum)
 {
     // The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u: one load per group and step. A row
     // takes 1 << FACT_ROW_SHIFT bytes, so that the facts' row bits are its offset.
@@ -157,17 +154,10 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     // Kept in registers (the compiler would reload and rescale them from the parameters at every step).
     asm("" : "+r"(p1x2), "+r"(p2x2), "+r"(p2Edgex2), "+r"(c256lo), "+r"(c256hi));
 
-    // Values of the current pixel, loaded one step ahead; (wx, wy): the next pixel to load, for its window.
-    unsigned l, f = 0, fPrev = 0, r[2 * PPT], win = 0;
-    int wx = x, wy = y;
+    // Values of the current pixel, loaded one step ahead.
+    unsigned l, f = 0, fPrev = 0, r[2 * PPT];
     auto load = [&]() {
         l = *(const unsigned*)(oL + wideMul(idx, stepL));
-        if (WIN)
-        {
-            win = (unsigned)windows((unsigned)wy / WINDOW_TILE, (unsigned)wx / WINDOW_TILE);
-            wx += dx;
-            wy += dy;
-        }
         if (DDC || EDGES)
             f = *(const ushort*)(oF + wideMul(idx, stepF));
         const int* pR = (const int*)(oR + wideMul(idx, stepR));
@@ -190,16 +180,8 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     for (int i = 0; i < PPT; i++)
         P[i] = 0;
     unsigned mp2 = 0;   // the previous pixel's minimum, in both halves
-    // The first disparity index of each pair (WIN: tested against the window).
-    int e[PPT];
-#pragma unroll
-    for (int i = 0; i < PPT; i++)
-        e[i] = 2 * (32 * G * (i / G) + G * lane + i % G);
     // One pixel of the line; loadNext: the next pixel's values are loaded (all but the last pixel).
     auto step = [&](auto loadNext) {
-        // The window [lo, lo + width) of this pixel: a pair is in it or out of it whole (both multiples of 16).
-        const int lo = (int)(win & 0xFFFFu);
-        const unsigned width = (win >> 16) - (unsigned)lo;
         // matchingCost (pipeline.hpp) in pairs: the census term, and the DDC term of the pair from the table (0
         // without a prior), added with the minimum's subtraction: add[i] = ddc - minPrev.
         unsigned T[PPT], add[PPT];
@@ -263,8 +245,6 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
             const unsigned lp = __byte_perm(P[i], j < G - 1 ? P[i + 1] : above, 0x5432);
             const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + p1x2);
             Pn[i] = T[i] + best + add[i];
-            if (WIN && (unsigned)(e[i] - lo) >= width)
-                Pn[i] = BIG16X2;
         }
 #pragma unroll
         for (int i = 0; i < PPT; i++)
@@ -292,9 +272,6 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
 #pragma unroll
                     for (int j = 0; j < G; j += G % 2 == 0 ? 2 : 1)
                     {
-                        // Pairs j and j + 1 hold four disparities: in or out of a window together.
-                        if (WIN && (unsigned)(e[G * g + j] - lo) >= width)
-                            continue;
                         unsigned* q = S + 32 * G * g + j;
                         if (G % 2 == 0)
                             atomicAdd((unsigned long long*)q, (unsigned long long)P[G * g + j] |
@@ -311,12 +288,229 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     step(std::false_type());
 }
 
+/* The path kernel over the disparity windows (windows: per tile lo | hi << 16): the lanes cover the pixel's window
+ only. Lane t holds in group c the pair of disparities e = lo + 64 c + 2 t and e + 1, so a window of up to 64
+ disparities takes one group whatever the range. Where the window moves along the line, the previous pixel's costs are
+ shuffled to the new layout (a warp-uniform branch, at tile boundaries only); a disparity outside the previous
+ window has no path cost there (BIG16: the CPU's sentinel), reached through the jump only. The census strings of the
+ next pixel are loaded for its window, which is read two pixels ahead. Sums: 64-bit reductions by the even lanes,
+ each with its odd neighbour's pair (a window's ends are multiples of 16, so both are in it or out of it). */
+template <int NC, bool DDC, bool EDGES>
+__global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
+windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
+                 PipelineParams p, PtrStepSz<ushort> sum)
+{
+    const int ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4;
+    __shared__ __align__(8) unsigned ddcTable[DDC ? FACT_ROWS * ROW_WORDS : 1];
+    if (DDC)
+    {
+        // Groups of one pair: u in [0, 2] (ddcPairTerm).
+        for (int i = threadIdx.x; i < FACT_ROWS * 3; i += blockDim.x)
+            ddcTable[i / 3 * ROW_WORDS + i % 3] = ddcPairTerm(i / 3, i % 3, 0, p.w, p.wCopy);
+        __syncthreads();
+    }
+    const int dir = (int)blockIdx.y;
+    const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
+    const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
+    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
+    const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
+    const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
+    int x, y;
+    if (!lineStart(line, dx, dy, W, H, x, y))
+        return;
+    const int n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
+    // Addresses as pathKernel's (pixel s at idx |step| bytes from an origin); the right census origin is the right
+    // pixel of disparity 2 t, moved by the window's lo at each pixel; the sums' origin is the pixel's first sum.
+    const bool forward = dy > 0 || (dy == 0 && dx > 0);
+    const int xo = forward ? x : x + (n - 1) * dx, yo = forward ? y : y + (n - 1) * dy;
+    const unsigned stepL = (unsigned)abs(dy * (int)censusL.step + dx * (int)sizeof(int));
+    const unsigned stepR = (unsigned)abs(dy * (int)censusR.step + dx * (int)sizeof(int));
+    const unsigned stepF = (unsigned)abs(dy * (int)facts.step + dx * (int)sizeof(ushort));
+    const unsigned stepS = (unsigned)abs(dy * (int)sum.step + dx * D * (int)sizeof(ushort));
+    const char* const oL = (const char*)(censusL.ptr(yo) + xo);
+    const char* const oR = (const char*)(censusR.ptr(yo) + xo - minD - 2 * lane);
+    const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(yo) + xo) : nullptr;
+    char* const oS = (char*)(sum.ptr(yo) + (size_t)xo * D);
+    const int dIdx = forward ? 1 : -1;
+    int idx = forward ? 0 : n - 1;
+
+    const int edgeBit = dir < 2 ? 0 : dir < 4 ? 1 : (dir == 4 || dir == 7) ? 2 : 3;
+    const bool edgeOfPrev = dir < 4 ? (dir & 1) != 0 : dir >= 6;
+    const unsigned edgeMask = 1u << (FACT_EDGE_SHIFT + edgeBit + (edgeOfPrev ? 16 : 0));
+    const CostWeights w = p.w;
+    unsigned p1x2 = (unsigned)w.p1 * 0x10001u, p2x2 = (unsigned)w.p2 * 0x10001u,
+             p2Edgex2 = (unsigned)w.p2Edge * 0x10001u;
+    unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
+    asm("" : "+r"(p1x2), "+r"(p2x2), "+r"(p2Edgex2), "+r"(c256lo), "+r"(c256hi));
+
+    // The loaded pixel's values and window (win); winAhead: the window of the pixel after it, at (wx, wy) before
+    // readWindow moves on (clamped to the image).
+    unsigned l, f = 0, fPrev = 0, r[2 * NC], win = 0, winAhead = 0;
+    int wx = x, wy = y;
+    const auto readWindow = [&]() {
+        winAhead = (unsigned)windows((unsigned)wy / WINDOW_TILE, (unsigned)wx / WINDOW_TILE);
+        wx = ::min(::max(wx + dx, 0), W - 1);
+        wy = ::min(::max(wy + dy, 0), H - 1);
+    };
+    readWindow();
+    // Code specialised for the number of groups a window needs (K, warp-uniform), so that a step executes the
+    // instructions of its own groups only (predicated code for all NC groups measured about 190 instructions a
+    // step at 256 disparities against 112 for the whole range).
+    const auto byGroups = [](int groups, auto fn) {
+        if (groups <= 1 || NC == 1)
+            fn(std::integral_constant<int, 1>());
+        else if (groups == 2 || NC == 2)
+            fn(std::integral_constant<int, (NC >= 2 ? 2 : 1)>());
+        else if (groups <= 4 || NC <= 4)
+            fn(std::integral_constant<int, (NC >= 4 ? 4 : NC)>());
+        else
+            fn(std::integral_constant<int, NC>());
+    };
+    auto load = [&]() {
+        win = winAhead;
+        readWindow();
+        l = *(const unsigned*)(oL + wideMul(idx, stepL));
+        if (DDC || EDGES)
+            f = *(const ushort*)(oF + wideMul(idx, stepF));
+        const int* pR = (const int*)(oR + wideMul(idx, stepR)) - (int)(win & 0xFFFFu);
+        const int pairs = (int)((win >> 16) - (win & 0xFFFFu)) >> 1;
+        byGroups((pairs + 31) >> 5, [&](auto K) {
+#pragma unroll
+            for (int c = 0; c < decltype(K)::value; c++)
+                if (32 * c + lane < pairs)
+                {
+                    r[2 * c] = (unsigned)pR[-64 * c];
+                    r[2 * c + 1] = (unsigned)pR[-64 * c - 1];
+                }
+        });
+    };
+    load();
+
+    // Path costs as pathKernel's, in the window's layout; positions past the window hold BIG16. Zero costs and
+    // minimum before the first pixel give its matching costs.
+    unsigned P[NC];
+#pragma unroll
+    for (int c = 0; c < NC; c++)
+        P[c] = 0;
+    unsigned mp2 = 0, prevWin = win;
+    auto step = [&](auto loadNext) {
+        const unsigned here = win;
+        const int lo = (int)(here & 0xFFFFu), pairs = (int)((here >> 16) - (here & 0xFFFFu)) >> 1;
+        const int groups = (pairs + 31) >> 5;
+        // The previous pixel's pair just below the window (lo - 2, lo - 1), the lowest pair's neighbour: BIG16
+        // unless the window moved up within the previous one.
+        unsigned belowEdge = BIG16X2;
+        if (here != prevWin)
+        {
+            const int plo = (int)(prevWin & 0xFFFFu);
+            const int pPairs = (int)((prevWin >> 16) - (prevWin & 0xFFFFu)) >> 1;
+            const int delta = (lo - plo) >> 1;   // pairs, a multiple of 8
+            if (delta != 0)
+            {
+                const int sb = delta - 1;
+                unsigned b = BIG16X2;
+#pragma unroll
+                for (int k = 0; k < NC; k++)
+                    if ((sb >> 5) == k)
+                        b = P[k];
+                b = __shfl_sync(0xFFFFFFFFu, b, sb & 31);
+                if (sb >= 0 && sb < pPairs)
+                    belowEdge = b;
+                // Position i of the new layout is position i + delta of the old one.
+                unsigned R[NC];
+#pragma unroll
+                for (int k = 0; k < NC; k++)
+                    R[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + delta) & 31);
+#pragma unroll
+                for (int c = 0; c < NC; c++)
+                {
+                    const int s = 32 * c + lane + delta;
+                    unsigned v = BIG16X2;
+#pragma unroll
+                    for (int k = 0; k < NC; k++)
+                        if (s >= 32 * k && s < 32 * k + 32)
+                            v = R[k];
+                    P[c] = s < pPairs ? v : BIG16X2;   // s < 0 matched no k: BIG16
+                }
+            }
+            prevWin = here;
+        }
+        byGroups(groups, [&](auto Kc) {
+            // K groups computed (groups <= K; those past `groups` only compute BIG16), one more shuffled.
+            const int K = decltype(Kc)::value, KS = K < NC ? K + 1 : NC;
+            // matchingCost in pairs: the census term, and the DDC term from the table (u: the pair's index from the
+            // one that holds k - 1, plus one, clamped to 2), added with the minimum's subtraction.
+            unsigned T[K], add[K];
+            const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
+            const unsigned* row = (const unsigned*)((const char*)ddcTable +
+                                                    (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
+#pragma unroll
+            for (int c = 0; c < K; c++)
+            {
+                const unsigned h = __byte_perm(popcount32(l ^ r[2 * c]), popcount32(l ^ r[2 * c + 1]), 0x5410);
+                T[c] = censusTermPair(h, c256lo, c256hi);
+                add[c] = DDC ? row[::min(a - (unsigned)((lo >> 1) + 32 * c + lane), 2u)] - mp2 : 0u - mp2;
+            }
+            unsigned jump = mp2 + p2x2;
+            if (EDGES)
+                jump = mp2 + ((f | fPrev << 16) & edgeMask ? p2Edgex2 : p2x2);
+            fPrev = f;
+            unsigned* const S = (unsigned*)(oS + wideMul(idx, stepS)) + (lo >> 1);
+            if (decltype(loadNext)::value)
+            {
+                idx += dIdx;
+                load();
+            }
+            // Neighbours across lanes by rotating shuffles, as pathKernel's; the group just above the window's
+            // holds the previous pixel's costs above it (or BIG16), which the window's top pair reads.
+            unsigned up[KS], down[KS];
+#pragma unroll
+            for (int c = 0; c < KS; c++)
+            {
+                up[c] = __shfl_sync(0xFFFFFFFFu, P[c], (lane + 31) & 31);
+                down[c] = __shfl_sync(0xFFFFFFFFu, P[c], (lane + 1) & 31);
+            }
+            unsigned m = BIG16X2;
+#pragma unroll
+            for (int c = 0; c < K; c++)
+            {
+                const unsigned below = lane > 0 ? up[c] : c > 0 ? up[c - 1] : belowEdge;
+                const unsigned above = lane < 31 ? down[c] : c + 1 < KS ? down[c + 1] : BIG16X2;
+                const unsigned lm = __byte_perm(below, P[c], 0x5432);
+                const unsigned lp = __byte_perm(P[c], above, 0x5432);
+                const unsigned best = vmin2(vmin2(P[c], jump), vmin2(lm, lp) + p1x2);
+                const unsigned v = T[c] + best + add[c];
+                P[c] = 32 * c + lane < pairs ? v : BIG16X2;
+                m = vmin2(m, P[c]);
+            }
+            // Positions past the K groups: nothing (they lie past the window).
+#pragma unroll
+            for (int c = K; c < NC; c++)
+                P[c] = BIG16X2;
+            mp2 = __reduce_min_sync(0xFFFFFFFFu, vmin2(m, __byte_perm(m, 0, 0x1032)));
+#pragma unroll
+            for (int c = 0; c < K; c++)
+            {
+                const unsigned next = __shfl_down_sync(0xFFFFFFFFu, P[c], 1);
+                const int i = 32 * c + lane;
+                if ((lane & 1) == 0 && i < pairs)
+                    atomicAdd((unsigned long long*)(S + i),
+                              (unsigned long long)P[c] | (unsigned long long)next << 32);
+            }
+        });
+    };
+#pragma unroll 2
+    for (int s = 1; s < n; s++)
+        step(std::true_type());
+    step(std::false_type());
+}
+
 /* PPT = D / 64 rounded up pairs per lane, in groups of G = 2 adjacent pairs where PPT is even (four costs per 64-bit
  reduction; a load of census strings spans four cache lines), else G = 1 (measured: G = 4 at 256 disparities, one
  run of eight per lane, made each load span eight lines and kept L1 busy; doc/perf.md). */
-template <int PPT, bool DDC, bool EDGES, bool WIN>
-void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
-              const PipelineParams& p, PtrStepSz<ushort> sum, cudaStream_t stream)
+template <int PPT, bool DDC, bool EDGES>
+void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
+              PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
@@ -334,35 +528,38 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> 
         smem = (size_t)perSM / (MAX_BLOCKS_PER_SM + 1) + 1;
     }
     if (p.numDisparities == 64 * PPT)
-        pathKernel<PPT, G, true, DDC, EDGES, WIN><<<grid, block, smem, stream>>>(censusL, censusR, facts, windows, p,
-                                                                                  sum);
+        pathKernel<PPT, G, true, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
     else
-        pathKernel<PPT, G, false, DDC, EDGES, WIN><<<grid, block, smem, stream>>>(censusL, censusR, facts, windows, p,
-                                                                                   sum);
+        pathKernel<PPT, G, false, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
-template <int PPT, bool WIN>
-void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
-              const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
+template <int PPT>
+void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
+              bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const bool edges = p.edgeThreshold > 0;
     if (ddc)
-        edges ? runPaths<PPT, true, true, WIN>(censusL, censusR, facts, windows, p, sum, stream)
-              : runPaths<PPT, true, false, WIN>(censusL, censusR, facts, windows, p, sum, stream);
+        edges ? runPaths<PPT, true, true>(censusL, censusR, facts, p, sum, stream)
+              : runPaths<PPT, true, false>(censusL, censusR, facts, p, sum, stream);
     else
-        edges ? runPaths<PPT, false, true, WIN>(censusL, censusR, facts, windows, p, sum, stream)
-              : runPaths<PPT, false, false, WIN>(censusL, censusR, facts, windows, p, sum, stream);
+        edges ? runPaths<PPT, false, true>(censusL, censusR, facts, p, sum, stream)
+              : runPaths<PPT, false, false>(censusL, censusR, facts, p, sum, stream);
 }
 
-template <int PPT>
-void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
-              const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
+//! The windows' path kernel for NC groups of 64 disparities (the whole range's count).
+template <int NC>
+void runWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
+                    const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    if (windows.data)
-        runPaths<PPT, true>(censusL, censusR, facts, windows, p, ddc, sum, stream);
-    else
-        runPaths<PPT, false>(censusL, censusR, facts, windows, p, ddc, sum, stream);
+    const int W = censusL.cols, H = censusL.rows;
+    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
+    const dim3 grid(cv::cudev::divUp(maxLines, WARPS_PER_BLOCK), p.numPaths), block(32 * WARPS_PER_BLOCK);
+    const bool edges = p.edgeThreshold > 0;
+    auto kernel = ddc ? (edges ? windowPathKernel<NC, true, true> : windowPathKernel<NC, true, false>)
+                      : (edges ? windowPathKernel<NC, false, true> : windowPathKernel<NC, false, false>);
+    kernel<<<grid, block, 0, stream>>>(censusL, censusR, facts, windows, p, sum);
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 template <typename T>
@@ -379,16 +576,31 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
                                                   facts);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
+    if (windows.data)
+    {
+        switch ((p.numDisparities + 63) / 64)
+        {
+        case 1: runWindowPaths<1>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+        case 2: runWindowPaths<2>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+        case 3: runWindowPaths<3>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+        case 4: runWindowPaths<4>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+        case 5: runWindowPaths<5>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+        case 6: runWindowPaths<6>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+        case 7: runWindowPaths<7>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+        default: runWindowPaths<8>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+        }
+        return;
+    }
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPaths<1>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
-    case 2: runPaths<2>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
-    case 3: runPaths<3>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
-    case 4: runPaths<4>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
-    case 5: runPaths<5>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
-    case 6: runPaths<6>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
-    case 7: runPaths<7>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
-    default: runPaths<8>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
+    case 1: runPaths<1>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 2: runPaths<2>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 3: runPaths<3>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 4: runPaths<4>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 5: runPaths<5>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 6: runPaths<6>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 7: runPaths<7>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    default: runPaths<8>(censusL, censusR, facts, p, ddc, sum, stream); break;
     }
 }
 

@@ -202,10 +202,11 @@ if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
       $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
-# The tool's arguments for one SDSGM call at a WxH:disparities:paths spec of DRAM_SIZES / PROFILE_SIZES.
+# The tool's arguments for one SDSGM call at a WxH:disparities:paths[:margin] spec of DRAM_SIZES / PROFILE_SIZES /
+# INSTRUCTIONS (margin: --search-window, the disparity windows).
 spec_args() {
-  IFS=: read -r sz nd np <<< "$1"
-  echo "--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 --resize $sz --num-disparities $nd --paths $np"
+  IFS=: read -r sz nd np nw <<< "$1"
+  echo "--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 --resize $sz --num-disparities $nd --paths $np --search-window ${nw:-0}"
 }
 if [ -n "${DRAM_SIZES:-}" ] && command -v ncu >/dev/null; then
   # DRAM bytes read and written by each kernel of one SDSGM call at each WxH:disparities:paths of DRAM_SIZES.
@@ -246,14 +247,15 @@ if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
   # includes module loading), e.g. PROFILE_SIZES="1242x375:128:8 1920x1080:256:8". With STALLS=1 also the warp
   # states, scheduler and memory statistics of one path kernel (skipping STALL_SKIP path kernels, default 9).
   for spec in $PROFILE_SIZES; do
-    args=$(spec_args "$spec"); sz=${spec%%:*}
+    args=$(spec_args "$spec"); sz=${spec//:/_}
     echo "== $spec: kernels of one SDSGM call (the second), summed by name:"
-    ncu --clock-control none --print-units base --metrics gpu__time_duration.sum --launch-count 60 \
-      $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - \
+    ncu --clock-control none --print-units base --metrics gpu__time_duration.sum --launch-count 80 \
+      $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(.*Context|gpu__time_duration" | paste - - \
       | sed -E 's/^ +(void )?//; s/\(anonymous namespace\):: *//; s/[<(].*gpu__time_duration.sum/ /' | awk '{sub(/^.*::/, "", $1); gsub(/,/, "", $3); print $1, $3 / 1000}' \
       > "$OUT/kernels_$sz.txt"
-    # One call = the kernels up to the second census kernel.
-    awk '$1 ~ /censusKernel/ {c++} c == 2' "$OUT/kernels_$sz.txt" \
+    # The second call: from its first census kernel (with windows every call has two, the coarse pass's second).
+    nw=$(cut -d: -f4 <<< "$spec"); per=1; [ "${nw:-0}" -gt 0 ] && per=2
+    awk -v a=$((per + 1)) -v b=$((2 * per)) '$1 ~ /censusKernel/ {c++} c >= a && c <= b' "$OUT/kernels_$sz.txt" \
       | awk '{t[$1]+=$2; n[$1]++} END {for (k in t) {printf "  %-36s %3d launches %10.1f us\n", k, n[k], t[k]; s+=t[k]} printf "  %-36s %23.1f us\n", "sum", s}' | sort -k4 -n -r
     if [ "${STALLS:-0}" = 1 ]; then
       ncu --clock-control none -k regex:pathKernel --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
