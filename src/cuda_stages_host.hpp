@@ -37,7 +37,7 @@ CV_EXPORTS void interpolateRings(const GpuMat& censusL, const GpuMat& censusR, c
 integer disparities, which the CUDA path computes on every call. */
 CV_EXPORTS void searchWindows(const GpuMat& prior16, const GpuMat& left, const GpuMat& right, const PipelineParams& p,
                               GpuMat& windows, GpuMat* coarse = nullptr);
-/** The aggregated costs (the CPU's finalSum, where windows are given within them only: the rest is 0). own16 and
+/** The aggregated costs (the CPU's finalSum; where windows are given, within them only: the rest is not written). own16 and
 scan: copied priors take p.wCopy where scan is true (copiedPrior); own16 empty: w everywhere. */
 CV_EXPORTS void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& prior16,
                                const GpuMat& left, const PipelineParams& p, const GpuMat& own16, bool scan,

@@ -294,7 +294,10 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
  shuffled to the new layout (a warp-uniform branch, at tile boundaries only); a disparity outside the previous
  window has no path cost there (BIG16: the CPU's sentinel), reached through the jump only. The census strings of the
  next pixel are loaded for its window, which is read two pixels ahead. Sums: 64-bit reductions by the even lanes,
- each with its odd neighbour's pair (a window's ends are multiples of 16, so both are in it or out of it). */
+ each with its odd neighbour's pair (a window's ends are multiples of 16, so both are in it or out of it).
+ NC: the range's groups (D / 64 rounded up). A line is walked in runs of pixels with one window (a tile or less);
+ each run has code for the groups its window needs (K: 1, 2, 4 or NC), chosen once per run, so that its steps have
+ no branch and compute no group past the window. (Chosen per step instead: 137 instructions a step at 1080p / 256.) */
 template <int NC, bool DDC, bool EDGES>
 __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
 windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
@@ -353,19 +356,6 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
         wy = ::min(::max(wy + dy, 0), H - 1);
     };
     readWindow();
-    // Code specialised for the number of groups a window needs (K, warp-uniform), so that a step executes the
-    // instructions of its own groups only (predicated code for all NC groups measured about 190 instructions a
-    // step at 256 disparities against 112 for the whole range).
-    const auto byGroups = [](int groups, auto fn) {
-        if (groups <= 1 || NC == 1)
-            fn(std::integral_constant<int, 1>());
-        else if (groups == 2 || NC == 2)
-            fn(std::integral_constant<int, (NC >= 2 ? 2 : 1)>());
-        else if (groups <= 4 || NC <= 4)
-            fn(std::integral_constant<int, (NC >= 4 ? 4 : NC)>());
-        else
-            fn(std::integral_constant<int, NC>());
-    };
     auto load = [&]() {
         win = winAhead;
         readWindow();
@@ -374,15 +364,13 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             f = *(const ushort*)(oF + wideMul(idx, stepF));
         const int* pR = (const int*)(oR + wideMul(idx, stepR)) - (int)(win & 0xFFFFu);
         const int pairs = (int)((win >> 16) - (win & 0xFFFFu)) >> 1;
-        byGroups((pairs + 31) >> 5, [&](auto K) {
 #pragma unroll
-            for (int c = 0; c < decltype(K)::value; c++)
-                if (32 * c + lane < pairs)
-                {
-                    r[2 * c] = (unsigned)pR[-64 * c];
-                    r[2 * c + 1] = (unsigned)pR[-64 * c - 1];
-                }
-        });
+        for (int c = 0; c < NC; c++)
+            if (32 * c + lane < pairs)
+            {
+                r[2 * c] = (unsigned)pR[-64 * c];
+                r[2 * c + 1] = (unsigned)pR[-64 * c - 1];
+            }
     };
     load();
 
@@ -393,14 +381,14 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
     for (int c = 0; c < NC; c++)
         P[c] = 0;
     unsigned mp2 = 0, prevWin = win;
-    auto step = [&](auto loadNext) {
+    // The edge pairs that the registers do not hold (set where the window moves, for the first step in it).
+    unsigned belowEdge = BIG16X2, aboveEdge = BIG16X2;
+    // Where the window changes: the previous costs to the new layout. A loop level of its own (below), so that the
+    // steps in between have no branch around their shuffles.
+    const auto moveWindow = [&]() {
         const unsigned here = win;
         const int lo = (int)(here & 0xFFFFu), pairs = (int)((here >> 16) - (here & 0xFFFFu)) >> 1;
-        const int groups = (pairs + 31) >> 5;
-        // The previous pixel's pair just below the window (lo - 2, lo - 1), the lowest pair's neighbour: BIG16
-        // unless the window moved up within the previous one.
-        unsigned belowEdge = BIG16X2;
-        if (here != prevWin)
+        belowEdge = aboveEdge = BIG16X2;
         {
             const int plo = (int)(prevWin & 0xFFFFu);
             const int pPairs = (int)((prevWin >> 16) - (prevWin & 0xFFFFu)) >> 1;
@@ -416,6 +404,15 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
                 b = __shfl_sync(0xFFFFFFFFu, b, sb & 31);
                 if (sb >= 0 && sb < pPairs)
                     belowEdge = b;
+                const int sa = pairs + delta;
+                unsigned t = BIG16X2;
+#pragma unroll
+                for (int k = 0; k < NC; k++)
+                    if ((sa >> 5) == k)
+                        t = P[k];
+                t = __shfl_sync(0xFFFFFFFFu, t, sa & 31);
+                if (sa >= 0 && sa < pPairs)
+                    aboveEdge = t;
                 // Position i of the new layout is position i + delta of the old one.
                 unsigned R[NC];
 #pragma unroll
@@ -435,8 +432,12 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             }
             prevWin = here;
         }
-        byGroups(groups, [&](auto Kc) {
-            // K groups computed (groups <= K; those past `groups` only compute BIG16), one more shuffled.
+    };
+    auto step = [&](bool loadNext, auto Kc) {
+        const unsigned here = win;
+        const int lo = (int)(here & 0xFFFFu), pairs = (int)((here >> 16) - (here & 0xFFFFu)) >> 1;
+        {
+            // K groups computed, one more shuffled (its lowest pair is the neighbour above the window's top).
             const int K = decltype(Kc)::value, KS = K < NC ? K + 1 : NC;
             // matchingCost in pairs: the census term, and the DDC term from the table (u: the pair's index from the
             // one that holds k - 1, plus one, clamped to 2), added with the minimum's subtraction.
@@ -456,13 +457,13 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
                 jump = mp2 + ((f | fPrev << 16) & edgeMask ? p2Edgex2 : p2x2);
             fPrev = f;
             unsigned* const S = (unsigned*)(oS + wideMul(idx, stepS)) + (lo >> 1);
-            if (decltype(loadNext)::value)
+            if (loadNext)
             {
                 idx += dIdx;
                 load();
             }
-            // Neighbours across lanes by rotating shuffles, as pathKernel's; the group just above the window's
-            // holds the previous pixel's costs above it (or BIG16), which the window's top pair reads.
+            // Neighbours across lanes by rotating shuffles, as pathKernel's; the positions just above the window
+            // hold the previous pixel's costs there (or BIG16), which the window's top pair reads.
             unsigned up[KS], down[KS];
 #pragma unroll
             for (int c = 0; c < KS; c++)
@@ -475,7 +476,7 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             for (int c = 0; c < K; c++)
             {
                 const unsigned below = lane > 0 ? up[c] : c > 0 ? up[c - 1] : belowEdge;
-                const unsigned above = lane < 31 ? down[c] : c + 1 < KS ? down[c + 1] : BIG16X2;
+                const unsigned above = lane < 31 ? down[c] : c + 1 < KS ? down[c + 1] : aboveEdge;
                 const unsigned lm = __byte_perm(below, P[c], 0x5432);
                 const unsigned lp = __byte_perm(P[c], above, 0x5432);
                 const unsigned best = vmin2(vmin2(P[c], jump), vmin2(lm, lp) + p1x2);
@@ -483,7 +484,7 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
                 P[c] = 32 * c + lane < pairs ? v : BIG16X2;
                 m = vmin2(m, P[c]);
             }
-            // Positions past the K groups: nothing (they lie past the window).
+            // The groups past K lie past the window: no cost there for the next pixel.
 #pragma unroll
             for (int c = K; c < NC; c++)
                 P[c] = BIG16X2;
@@ -497,12 +498,31 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
                     atomicAdd((unsigned long long*)(S + i),
                               (unsigned long long)P[c] | (unsigned long long)next << 32);
             }
-        });
+        }
+        belowEdge = aboveEdge = BIG16X2;
     };
-#pragma unroll 2
-    for (int s = 1; s < n; s++)
-        step(std::true_type());
-    step(std::false_type());
+    // Runs of pixels with one window (at most a tile long): the layout moves between runs.
+    const auto run = [&](int& s, auto Kc) {
+        do
+        {
+            s++;
+            step(s < n, Kc);
+        } while (s < n && win == prevWin);
+    };
+    for (int s = 0; s < n;)
+    {
+        if (win != prevWin)
+            moveWindow();
+        const int groups = (int)((win >> 16) - (win & 0xFFFFu) + 63) >> 6;
+        if (groups <= 1)
+            run(s, std::integral_constant<int, 1>());
+        else if (groups <= 2 || NC <= 2)
+            run(s, std::integral_constant<int, (NC < 2 ? NC : 2)>());
+        else if (groups <= 4 || NC <= 4)
+            run(s, std::integral_constant<int, (NC < 4 ? NC : 4)>());
+        else
+            run(s, std::integral_constant<int, NC>());
+    }
 }
 
 /* PPT = D / 64 rounded up pairs per lane, in groups of G = 2 adjacent pairs where PPT is even (four costs per 64-bit
@@ -547,6 +567,21 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> 
               : runPaths<PPT, false, false>(censusL, censusR, facts, p, sum, stream);
 }
 
+/* Zeroes the sums within the windows only (the rest of the volume is never read): a block per row and tile, 16 bytes
+ a store (a window's ends and a pixel's first sum lie on 32-byte boundaries: multiples of 16 sums). */
+__global__ void zeroWindowsKernel(PtrStepSz<int> windows, int W, int D, PtrStepSz<ushort> sum)
+{
+    const int y = blockIdx.y, tx = blockIdx.x;
+    const unsigned w = (unsigned)windows(y / WINDOW_TILE, tx);
+    const int lo = (int)(w & 0xFFFFu), chunks = (int)((w >> 16) - (w & 0xFFFFu)) / 8;
+    const int x0 = tx * WINDOW_TILE, pixels = ::min(WINDOW_TILE, W - x0);
+    for (int i = threadIdx.x; i < pixels * chunks; i += blockDim.x)
+    {
+        const int x = x0 + i / chunks, c = i % chunks;
+        *(uint4*)(sum.ptr(y) + (size_t)x * D + lo + 8 * c) = make_uint4(0, 0, 0, 0);
+    }
+}
+
 //! The windows' path kernel for NC groups of 64 disparities (the whole range's count).
 template <int NC>
 void runWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
@@ -567,7 +602,14 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
                const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
                PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
+    if (windows.data)
+    {
+        zeroWindowsKernel<<<dim3(windows.cols, sum.rows), 128, 0, stream>>>(windows, censusL.cols, p.numDisparities,
+                                                                            sum);
+        CV_CUDEV_SAFE_CALL(cudaGetLastError());
+    }
+    else
+        CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const bool ddc = prior16.data != nullptr;
     if (ddc || p.edgeThreshold > 0)
     {

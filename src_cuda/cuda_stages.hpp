@@ -82,7 +82,7 @@ sparse map where copied priors take p.wCopy (copiedPrior) if the scan test's res
 non-zero; empty: w everywhere. facts: a map of the image's size that receives each pixel's packed facts (the
 path kernel's input besides the census strings) where a prior or the edge rule exists; it may be prior16's memory,
 which it then overwrites. windows (searchWindows, as int: lo | hi << 16; empty: the full range): each pixel's
-paths cover its tile's window only; the sums outside it are not written. */
+paths cover its tile's window only; the sums outside it are neither zeroed nor written. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
                     PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream);

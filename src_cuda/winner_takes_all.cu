@@ -36,41 +36,18 @@ template <int PPT> __device__ __forceinline__ unsigned costOf(const unsigned (&v
     return (t >> (16 * h)) & 0xFFFFu;
 }
 
-/* One warp per pixel, a block per 32 consecutive pixels of a row. Lane t holds disparities [t * DPT, t * DPT + DPT),
- DPT = 2 * PPT, two 16-bit costs per register (one vector load per pixel; with PPT 3 the last active lane's run may
- pass D: per pair). The right-view candidates of those pixels fall on right pixels [x0 - minD - (D - 1),
- x0 + 31 - minD]: they are reduced in shared memory first, then merged into the global right-view keys with one
- atomicMin per right pixel and block. Keys are cost << 16 | d: the lowest is the lowest cost, and the lowest
- disparity among equal costs (winnerTakesAll on the CPU). With disparity windows (windows: per tile lo | hi << 16; a
- block's 32 pixels lie in one tile) only the window's sums are read, compared and offered to the right view, and the
- parabola needs both neighbours in the window (selectPixel). */
+/* The winners of a block's pixels over their window [lo, hi) (the whole range without windows), PPT pairs a lane:
+ lane t holds disparities [lo + t DPT, lo + t DPT + DPT), DPT = 2 PPT. Their right-view candidates go to rkey. */
 template <int PPT>
-__global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrStepSz<int> windows,
-                          PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
-                          PtrStepSz<short> nonUnique16)
+__device__ __forceinline__ void selectPixels(const PtrStepSz<ushort>& sum, int W, const PipelineParams& p, int lo, int hi,
+                                             int x0, int y, int lane, int warp, unsigned* rkey,
+                                             PtrStepSz<short>& disp16, PtrStepSz<short>& dispInt,
+                                             PtrStepSz<short>& nonUnique16)
 {
-    const int DPT = 2 * PPT;
-    __shared__ unsigned rkey[SEG + MAX_D + (SEG + MAX_D) / 32];
-    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
-    const int y = blockIdx.y, x0 = blockIdx.x * SEG;
     const int D = p.numDisparities, minD = p.minDisparity;
-    const int base = x0 - minD - (D - 1);   // right pixel of key offset 0
-    const int keys = SEG + D - 1;
-    for (int i = threadIdx.x; i < keys; i += blockDim.x)
-        rkey[keySlot(i)] = 0xFFFFFFFFu;
-    __syncthreads();
-
-    const int d0 = lane * DPT;
-    int lo = 0, hi = D;
-    if (windows.data)
-    {
-        const unsigned w = (unsigned)windows(y / WINDOW_TILE, x0 / WINDOW_TILE);
-        lo = (int)(w & 0xFFFFu);
-        hi = (int)(w >> 16);
-    }
-    // D is even: pairs never straddle it (nor a window's ends, multiples of 16). A lane whose run misses the
-    // window loads nothing.
-    const int pairs = d0 < hi && d0 + DPT > lo ? ::min(PPT, (D - d0) / 2) : 0;
+    const int DPT = 2 * PPT, d0 = lo + lane * DPT;
+    // The window's ends are even: pairs never straddle them.
+    const int pairs = d0 < hi ? ::min(PPT, (hi - d0) / 2) : 0;
     // Load the costs of all of this warp's pixels first: four independent loads in flight instead of one.
     unsigned v[PIXELS_PER_WARP][PPT];
 #pragma unroll
@@ -94,7 +71,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         const int k0 = (x - x0) + (D - 1) - d0;   // key offset of disparity d0's right pixel; d0 + k is k before
 #pragma unroll
         for (int j = 0; j < PPT; j++)
-            if (j < pairs && d0 + 2 * j >= lo && d0 + 2 * j < hi)
+            if (j < pairs)
             {
                 const unsigned lo = (v[i][j] << 16) | (unsigned)(d0 + 2 * j);
                 const unsigned hi = (v[i][j] & 0xFFFF0000u) | (unsigned)(d0 + 2 * j + 1);
@@ -111,7 +88,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
             unsigned second = 0xFFFFFFFFu;
 #pragma unroll
             for (int j = 0; j < PPT; j++)
-                if (j < pairs && d0 + 2 * j >= lo && d0 + 2 * j < hi)
+                if (j < pairs)
                 {
                     const int d = d0 + 2 * j;
                     if ((unsigned)(d - bd + 1) > 2u)
@@ -128,7 +105,7 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         const bool parabola = (valid || nonUnique16.data) && p.subpixel && bd > lo && bd < hi - 1;
         if (parabola)
         {
-            const int dm = bd - 1, dp = bd + 1;
+            const int dm = bd - 1 - lo, dp = bd + 1 - lo;   // from the window's start
             cm = (int)__shfl_sync(0xFFFFFFFFu, costOf<PPT>(v[i], (dm % DPT) >> 1, dm & 1), dm / DPT);
             cp = (int)__shfl_sync(0xFFFFFFFFu, costOf<PPT>(v[i], (dp % DPT) >> 1, dp & 1), dp / DPT);
         }
@@ -145,6 +122,49 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         dispInt(y, mine.x) = mine.valid ? (short)(mine.bd + minD) : NO_DISP;
         if (nonUnique16.data)
             nonUnique16(y, mine.x) = mine.valid ? NO_DISP : (short)d16;
+    }
+}
+
+/* One warp per pixel, a block per 32 consecutive pixels of a row. Lane t holds disparities [t * DPT, t * DPT + DPT),
+ DPT = 2 * PPT, two 16-bit costs per register (one vector load per pixel; with PPT 3 the last active lane's run may
+ pass D: per pair). The right-view candidates of those pixels fall on right pixels [x0 - minD - (D - 1),
+ x0 + 31 - minD]: they are reduced in shared memory first, then merged into the global right-view keys with one
+ atomicMin per right pixel and block. Keys are cost << 16 | d: the lowest is the lowest cost, and the lowest
+ disparity among equal costs (winnerTakesAll on the CPU). With disparity windows (windows: per tile lo | hi << 16; a
+ block's 32 pixels lie in one tile) only the window's sums are read, compared and offered to the right view, and the
+ parabola needs both neighbours in the window (selectPixel). */
+template <int PPT>
+__global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrStepSz<int> windows,
+                          PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
+                          PtrStepSz<short> nonUnique16)
+{
+    __shared__ unsigned rkey[SEG + MAX_D + (SEG + MAX_D) / 32];
+    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
+    const int y = blockIdx.y, x0 = blockIdx.x * SEG;
+    const int D = p.numDisparities, minD = p.minDisparity;
+    const int base = x0 - minD - (D - 1);   // right pixel of key offset 0
+    const int keys = SEG + D - 1;
+    for (int i = threadIdx.x; i < keys; i += blockDim.x)
+        rkey[keySlot(i)] = 0xFFFFFFFFu;
+    __syncthreads();
+
+    if (!windows.data)
+    {
+        selectPixels<PPT>(sum, W, p, 0, D, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+    }
+    else
+    {
+        // The block's window (its 32 pixels lie in one tile), with as few pairs a lane as it needs.
+        const unsigned w = (unsigned)windows(y / WINDOW_TILE, x0 / WINDOW_TILE);
+        const int lo = (int)(w & 0xFFFFu), hi = (int)(w >> 16), need = (hi - lo + 63) / 64;
+        if (need <= 1)
+            selectPixels<1>(sum, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+        else if (need <= 2 || PPT <= 2)
+            selectPixels<(PPT < 2 ? PPT : 2)>(sum, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+        else if (need <= 4 || PPT <= 4)
+            selectPixels<(PPT < 4 ? PPT : 4)>(sum, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+        else
+            selectPixels<PPT>(sum, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
     }
     __syncthreads();
     unsigned* rk = (unsigned*)rightKey.ptr(y);

@@ -535,7 +535,7 @@ TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
             cuda_host::aggregateCosts(gl, gr, c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior),
                                       cuda::GpuMat(c.left), p, c.own16.empty() ? cuda::GpuMat() : cuda::GpuMat(c.own16),
                                       c.scan, gsum, gw);
-            // The GPU leaves the sums outside the windows at 0, the CPU's finalSum holds its sentinel there.
+            // The GPU leaves the sums outside the windows unwritten, the CPU's finalSum holds its sentinel there.
             Mat s;
             gsum.download(s);
             const int D = p.numDisparities;
