@@ -233,7 +233,7 @@ TEST(Lidarsgm_API, filestorage_round_trip)
 /* Disparity windows on a shipped KITTI frame in every mode, with kitti_best.yml's steps: a margin of the whole range
 gives the full-range output bit for bit; a margin of 8 searches well under half of the cells and leaves the
 disparity within 1 px of the full range's where both have one nearly everywhere; without a sparse map plain SGM
-takes its windows from the coarse pass alone. The CUDA path refuses windows with a message. */
+takes its windows from the coarse pass alone. (The CUDA path's windows: test_cuda.cpp, search_windows_bit_exact.) */
 TEST(Lidarsgm_API, search_windows)
 {
     Mat l, r, s;

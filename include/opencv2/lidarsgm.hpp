@@ -319,12 +319,12 @@ public:
     multiples of 16; tiles without any prior around them take their range from a coarse pass (plain SGM on the pair
     at quarter size). Along a path, a disparity outside the previous pixel's window is reached through the P2 jump
     only. Fewer cells, less time and memory; a surface outside its tile's window cannot be found (see
-    doc/design.md). 0 (default): every pixel searches the whole range, as the paper. CPU path only in this version:
-    the CUDA path refuses a call with searchWindow > 0. In [0, 512]. */
+    doc/design.md). 0 (default): every pixel searches the whole range, as the paper. The CPU and CUDA paths give the
+    same output bit for bit with windows too. In [0, 512]. */
     CV_WRAP virtual int getSearchWindow() const = 0;
     CV_WRAP virtual void setSearchWindow(int margin) = 0;
-    /** The share of the width x height x numDisparities cells that the last compute() on the CPU searched (1 without
-    windows, 0 before any call). */
+    /** The share of the width x height x numDisparities cells that the last compute() searched (1 without windows, 0
+    before any call). After a call on the CUDA path it waits for that call to finish. */
     CV_WRAP virtual double getSearchedFraction() const = 0;
     //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
     CV_WRAP virtual int getOutputType() const = 0;

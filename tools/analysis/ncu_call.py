@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Metrics per kernel of one pipeline call, from an `ncu --csv --print-units base` run (tools/device_check.sh,
 DRAM_SIZES and INSTRUCTIONS). The call is the second one in the trace (the first includes module loading): the kernels
-from the second censusKernel up to the next. Prints, for whichever of them the run measured, each kernel's DRAM bytes
+from the second censusKernel up to the next (with disparity windows, every call has two: the coarse pass's second). Prints, for whichever of them the run measured, each kernel's DRAM bytes
 read and written, time and warp instructions executed, and their sums; with instructions, last, the line
-`LABEL aggregation warp instructions per call: N`, N summed over the aggregation's kernels (src_cuda/aggregation.cu).
+`LABEL aggregation warp instructions per call: N`, N summed over the aggregation's kernels (src_cuda/aggregation.cu;
+with windows, the coarse pass's path kernel included).
 Usage: ncu_call.py FILE.csv LABEL"""
 import csv
 import sys
@@ -14,7 +15,7 @@ COLUMNS = [  # metric, heading, scale
     ("gpu__time_duration.sum", "time us", 1e-3),
     ("smsp__inst_executed.sum", "warp instr M", 1e-6),
 ]
-AGGREGATION = ("pathKernel", "factsKernel")
+AGGREGATION = ("pathKernel", "factsKernel", "windowPathKernel", "zeroWindowsKernel")
 
 
 def main(path, label):
@@ -35,11 +36,12 @@ def main(path, label):
         except ValueError:
             pass
     census = [i for i, kid in enumerate(order) if kernels[kid][0].startswith("censusKernel")]
-    if len(census) < 2:
+    per = 2 if any(kernels[kid][0] == "windowPathKernel" for kid in order) else 1
+    if len(census) < 2 * per:
         print(f"{label}: fewer than two calls in the trace")
         return 1
-    end = census[2] if len(census) > 2 else len(order)
-    call = [kernels[kid] for kid in order[census[1]:end]]
+    end = census[2 * per] if len(census) > 2 * per else len(order)
+    call = [kernels[kid] for kid in order[census[per]:end]]
     cols = [c for c in COLUMNS if any(c[0] in m for _, m in call)]
     print(f"== {label}: one call (the second), per kernel")
     print(f"  {'kernel':<24}" + "".join(f" {h:>12}" for _, h, _ in cols))
