@@ -96,19 +96,11 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
         }
         __syncthreads();
     }
-    // Directions 0..7: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a table (a table
-    // indexed by blockIdx would live in local memory).
-    const int dir = (int)blockIdx.y;
-    const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
-    const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
-    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
-    const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
+    const int lane = threadIdx.x & 31;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
-    int x, y;
-    if (!lineStart(line, dx, dy, W, H, x, y))
+    int dir, dx, dy, x, y, n;
+    if (!warpLine(WARPS_PER_BLOCK, W, H, dir, dx, dy, x, y, n))
         return;
-    // The line's length: steps until it leaves the image.
-    const int n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
     // Lane t holds PPT pairs in NG = PPT / G groups of G adjacent pairs: pair i = gG + j covers disparities
     // e_i = 2 (32 G g + G t + j) and e_i + 1. Across the warp the census strings of one pair index then lie 8 G bytes
     // apart: a load spans 2 G cache lines (with one run of 2 PPT disparities per lane it spanned 2 PPT).
@@ -142,11 +134,7 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     const int dIdx = forward ? 1 : -1;
     int idx = forward ? 0 : n - 1;   // of the pixel whose values are loaded
 
-    // The edge bit of this direction's jump (facts bits 12-15): of the current pixel for a forward direction, of the
-    // previous one (the pair's other pixel) for its opposite. The test reads the current facts low, the previous high.
-    const int edgeBit = dir < 2 ? 0 : dir < 4 ? 1 : (dir == 4 || dir == 7) ? 2 : 3;
-    const bool edgeOfPrev = dir < 4 ? (dir & 1) != 0 : dir >= 6;
-    const unsigned edgeMask = 1u << (FACT_EDGE_SHIFT + edgeBit + (edgeOfPrev ? 16 : 0));
+    const unsigned edgeMask = edgeMaskOf(dir);
     const CostWeights w = p.w;
     unsigned p1x2 = (unsigned)w.p1 * 0x10001u, p2x2 = (unsigned)w.p2 * 0x10001u,
              p2Edgex2 = (unsigned)w.p2Edge * 0x10001u;
@@ -312,16 +300,11 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             ddcTable[i / 3 * ROW_WORDS + i % 3] = ddcPairTerm(i / 3, i % 3, 0, p.w, p.wCopy);
         __syncthreads();
     }
-    const int dir = (int)blockIdx.y;
-    const int dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
-    const int dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
-    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
-    const int line = blockIdx.x * WARPS_PER_BLOCK + warp;
+    const int lane = threadIdx.x & 31;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
-    int x, y;
-    if (!lineStart(line, dx, dy, W, H, x, y))
+    int dir, dx, dy, x, y, n;
+    if (!warpLine(WARPS_PER_BLOCK, W, H, dir, dx, dy, x, y, n))
         return;
-    const int n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
     // Addresses as pathKernel's (pixel s at idx |step| bytes from an origin); the right census origin is the right
     // pixel of disparity 2 t, moved by the window's lo at each pixel; the sums' origin is the pixel's first sum.
     const bool forward = dy > 0 || (dy == 0 && dx > 0);
@@ -337,9 +320,7 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
     const int dIdx = forward ? 1 : -1;
     int idx = forward ? 0 : n - 1;
 
-    const int edgeBit = dir < 2 ? 0 : dir < 4 ? 1 : (dir == 4 || dir == 7) ? 2 : 3;
-    const bool edgeOfPrev = dir < 4 ? (dir & 1) != 0 : dir >= 6;
-    const unsigned edgeMask = 1u << (FACT_EDGE_SHIFT + edgeBit + (edgeOfPrev ? 16 : 0));
+    const unsigned edgeMask = edgeMaskOf(dir);
     const CostWeights w = p.w;
     unsigned p1x2 = (unsigned)w.p1 * 0x10001u, p2x2 = (unsigned)w.p2 * 0x10001u,
              p2Edgex2 = (unsigned)w.p2Edge * 0x10001u;

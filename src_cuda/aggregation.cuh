@@ -89,6 +89,38 @@ __device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H
     return true;
 }
 
+/* Direction dir (0..7) of the path kernels: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a
+ table (a table indexed by blockIdx would live in local memory). */
+__device__ __forceinline__ void pathDirection(int dir, int& dx, int& dy)
+{
+    dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
+    dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
+}
+
+/* The line a warp of the path kernels walks: direction blockIdx.y (pathDirection), line blockIdx.x * warpsPerBlock +
+ warp (lineStart); its first pixel (x, y) and its length n, the steps until it leaves the W x H image. False past the
+ last line of the direction. */
+__device__ __forceinline__ bool warpLine(int warpsPerBlock, int W, int H, int& dir, int& dx, int& dy, int& x, int& y,
+                                         int& n)
+{
+    dir = (int)blockIdx.y;
+    pathDirection(dir, dx, dy);
+    if (!lineStart(blockIdx.x * warpsPerBlock + (threadIdx.x >> 5), dx, dy, W, H, x, y))
+        return false;
+    n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
+    return true;
+}
+
+/* The bit of the facts (packFacts) that holds direction dir's jump edge, in a word of the current pixel's facts low and
+ the previous pixel's high: bit b of the current pixel for a forward direction, of the previous one (the pair's other
+ pixel) for its opposite. */
+__device__ __forceinline__ unsigned edgeMaskOf(int dir)
+{
+    const int edgeBit = dir < 2 ? 0 : dir < 4 ? 1 : (dir == 4 || dir == 7) ? 2 : 3;
+    const bool edgeOfPrev = dir < 4 ? (dir & 1) != 0 : dir >= 6;
+    return 1u << (FACT_EDGE_SHIFT + edgeBit + (edgeOfPrev ? 16 : 0));
+}
+
 /* The first n of PPT consecutive pairs. PPT 2 and 4: one vector access, n = PPT (d0 = lane * 2 * PPT and the row
  offset x * D are multiples of 2 * PPT 16-bit values since D is a multiple of 16, so the address is aligned to the
  access size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last active
