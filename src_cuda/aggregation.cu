@@ -376,24 +376,18 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             const int delta = (lo - plo) >> 1;   // pairs, a multiple of 8
             if (delta != 0)
             {
-                const int sb = delta - 1;
-                unsigned b = BIG16X2;
+                // The old layout's pair at position i (warp-uniform), BIG16 outside the previous window.
+                const auto oldPair = [&](int i) {
+                    unsigned v = BIG16X2;
 #pragma unroll
-                for (int k = 0; k < NC; k++)
-                    if ((sb >> 5) == k)
-                        b = P[k];
-                b = __shfl_sync(0xFFFFFFFFu, b, sb & 31);
-                if (sb >= 0 && sb < pPairs)
-                    belowEdge = b;
-                const int sa = pairs + delta;
-                unsigned t = BIG16X2;
-#pragma unroll
-                for (int k = 0; k < NC; k++)
-                    if ((sa >> 5) == k)
-                        t = P[k];
-                t = __shfl_sync(0xFFFFFFFFu, t, sa & 31);
-                if (sa >= 0 && sa < pPairs)
-                    aboveEdge = t;
+                    for (int k = 0; k < NC; k++)
+                        if ((i >> 5) == k)
+                            v = P[k];
+                    v = __shfl_sync(0xFFFFFFFFu, v, i & 31);
+                    return i >= 0 && i < pPairs ? v : BIG16X2;
+                };
+                belowEdge = oldPair(delta - 1);
+                aboveEdge = oldPair(pairs + delta);
                 // Position i of the new layout is position i + delta of the old one.
                 unsigned R[NC];
 #pragma unroll
