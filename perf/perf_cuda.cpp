@@ -63,6 +63,32 @@ PERF_TEST_P(Lidarsgm_KITTI_CUDA, compute,
     SANITY_CHECK_NOTHING();
 }
 
+typedef perf::TestBaseWithParam<tuple<Size, int, int> > Lidarsgm_KITTI_CUDA_Windows;
+
+// SDSGM with the disparity windows (searchWindow margin; 0: the full range), 4/8 paths, KITTI size with 128 disparities
+// and 1080p with 256.
+PERF_TEST_P(Lidarsgm_KITTI_CUDA_Windows, compute,
+            testing::Combine(testing::Values(Size(1242, 375), Size(1920, 1080)), testing::Values(4, 8),
+                             testing::Values(0, 4)))
+{
+    requireDevice();
+    cuda::GpuMat l, r, s, d;
+    const Size size = get<0>(GetParam());
+    kittiOnGpu(l, r, s, size);
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, size.width > 1242 ? 256 : 128);
+    m->setNumPaths(get<1>(GetParam()));
+    m->setSearchWindow(get<2>(GetParam()));
+    cuda::Stream stream;
+    m->compute(l, r, s, d, stream);
+    stream.waitForCompletion();
+    TEST_CYCLE()
+    {
+        m->compute(l, r, s, d, stream);
+        stream.waitForCompletion();
+    }
+    SANITY_CHECK_NOTHING();
+}
+
 #ifdef HAVE_OPENCV_CUDASTEREO
 typedef perf::TestBaseWithParam<int> Lidarsgm_KITTI_CUDA_Anchor;
 PERF_TEST_P(Lidarsgm_KITTI_CUDA_Anchor, opencv_cuda_StereoSGM_128, testing::Values(4, 8))

@@ -23,6 +23,21 @@ static const KittiInput& kittiFrame()
     return in;
 }
 
+//! The frame scaled to `size` (its LiDAR disparities scaled with the width).
+static KittiInput kittiFrameAt(Size size)
+{
+    KittiInput in = kittiFrame();
+    if (size != in.left.size())
+    {
+        const double sx = (double)size.width / in.left.cols;
+        resize(in.left, in.left, size, 0, 0, INTER_LINEAR);
+        resize(in.right, in.right, size, 0, 0, INTER_LINEAR);
+        resize(in.sparse, in.sparse, size, 0, 0, INTER_NEAREST);
+        in.sparse *= sx;
+    }
+    return in;
+}
+
 CV_ENUM(FusionMode, StereoLidarSGM::MODE_SGM, StereoLidarSGM::MODE_DSGM, StereoLidarSGM::MODE_SDSGM)
 
 typedef tuple<Size, FusionMode, int, int> SizeModePathsDisp;
@@ -33,20 +48,29 @@ PERF_TEST_P(Lidarsgm_KITTI, compute,
             testing::Combine(testing::Values(Size(1242, 375), Size(1920, 1080)), FusionMode::all(),
                              testing::Values(4, 8), testing::Values(128, 256)))
 {
-    KittiInput in = kittiFrame();
     const Size size = get<0>(GetParam());
-    if (size != in.left.size())
-    {
-        const double sx = (double)size.width / in.left.cols;
-        resize(in.left, in.left, size, 0, 0, INTER_LINEAR);
-        resize(in.right, in.right, size, 0, 0, INTER_LINEAR);
-        resize(in.sparse, in.sparse, size, 0, 0, INTER_NEAREST);
-        in.sparse *= sx;
-    }
+    const KittiInput in = kittiFrameAt(size);
     Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, get<3>(GetParam()), 10, 120, 5, 160, 0.7, get<1>(GetParam()));
     m->setNumPaths(get<2>(GetParam()));
     Mat disp;
     m->compute(in.left, in.right, in.sparse, disp);  // allocate buffers outside the timed loop
+    TEST_CYCLE() m->compute(in.left, in.right, in.sparse, disp);
+    SANITY_CHECK_NOTHING();
+}
+
+typedef perf::TestBaseWithParam<tuple<Size, int> > Lidarsgm_KITTI_Windows;
+
+// SDSGM with the disparity windows (searchWindow margin; 0: the full range), KITTI size with 128 disparities and 1080p
+// with 256, 8 paths, CPU path.
+PERF_TEST_P(Lidarsgm_KITTI_Windows, compute, testing::Combine(testing::Values(Size(1242, 375), Size(1920, 1080)),
+                                                               testing::Values(0, 4)))
+{
+    const Size size = get<0>(GetParam());
+    const KittiInput in = kittiFrameAt(size);
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, size.width > 1242 ? 256 : 128);
+    m->setSearchWindow(get<1>(GetParam()));
+    Mat disp;
+    m->compute(in.left, in.right, in.sparse, disp);
     TEST_CYCLE() m->compute(in.left, in.right, in.sparse, disp);
     SANITY_CHECK_NOTHING();
 }
