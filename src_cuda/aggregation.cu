@@ -346,13 +346,19 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             f = *(const ushort*)(oF + wideMul(idx, stepF));
         const int* pR = (const int*)(oR + wideMul(idx, stepR)) - (int)(win & 0xFFFFu);
         const int pairs = (int)((win >> 16) - (win & 0xFFFFu)) >> 1;
+        // Group by group while the window reaches it (a warp-uniform branch, no shuffle inside): a one-group window
+        // skips the others' predicated loads at once.
 #pragma unroll
         for (int c = 0; c < NC; c++)
+        {
+            if (32 * c >= pairs)
+                break;
             if (32 * c + lane < pairs)
             {
                 r[2 * c] = (unsigned)pR[-64 * c];
                 r[2 * c + 1] = (unsigned)pR[-64 * c - 1];
             }
+        }
     };
     load();
 
