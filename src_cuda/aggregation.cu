@@ -111,44 +111,32 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     const bool lastIn = FULL || lane < lastActive;
     const bool active = lastIn || NG > 1;   // the lane holds at least one pair
 
-    // Addresses of pixel s of the line: all steps in memory have the sign of dy (or of dx on rows), so pixel s lies
-    // idx |step| bytes after an origin, idx = s walking forward, n - 1 - s from the line's last pixel otherwise: one
-    // unsigned multiply-add per address. The right census origin oR is the right pixel of disparity 2 G t (x - minD -
+    // Addresses of pixel s of the line (lineAddressing): idx |step| bytes after an origin. The right census origin
+    // oR is the right pixel of disparity 2 G t (x - minD -
     // 2 G t, t the lane); the strings of pair i lie e_i - 2 G t and one more columns before it. Lanes past D in the
     // last group read group 0's strings, and lanes without any pair lane 0's (within the padding). The sums of pair
     // i: S[32 G (i / G) + i % G], S at this lane's first pair.
-    const bool forward = dy > 0 || (dy == 0 && dx > 0);
-    const int xo = forward ? x : x + (n - 1) * dx, yo = forward ? y : y + (n - 1) * dy;
-    const unsigned stepL = (unsigned)abs(dy * (int)censusL.step + dx * (int)sizeof(int));
-    const unsigned stepR = (unsigned)abs(dy * (int)censusR.step + dx * (int)sizeof(int));
-    const unsigned stepF = (unsigned)abs(dy * (int)facts.step + dx * (int)sizeof(ushort));
-    const unsigned stepS = (unsigned)abs(dy * (int)sum.step + dx * D * (int)sizeof(ushort));
+    const LineAddressing ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, sum.step, D);
     int roff[PPT];   // the strings of pair i: pR[-roff[i]] and pR[-roff[i] - 1]
 #pragma unroll
     for (int i = 0; i < PPT; i++)
         roff[i] = (i / G < NG - 1 || lastIn ? 64 * G * (i / G) : 0) + 2 * (i % G);
-    const char* const oL = (const char*)(censusL.ptr(yo) + xo);
-    const char* const oR = (const char*)(censusR.ptr(yo) + xo - minD - 2 * G * (active ? lane : 0));
-    const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(yo) + xo) : nullptr;
-    char* const oS = (char*)((unsigned*)(sum.ptr(yo) + (size_t)xo * D) + G * lane);
-    const int dIdx = forward ? 1 : -1;
-    int idx = forward ? 0 : n - 1;   // of the pixel whose values are loaded
+    const char* const oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
+    const char* const oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - minD - 2 * G * (active ? lane : 0));
+    const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
+    char* const oS = (char*)((unsigned*)(sum.ptr(ad.yo) + (size_t)ad.xo * D) + G * lane);
+    int idx = ad.idx;   // of the pixel whose values are loaded
 
     const unsigned edgeMask = edgeMaskOf(dir);
-    const CostWeights w = p.w;
-    unsigned p1x2 = (unsigned)w.p1 * 0x10001u, p2x2 = (unsigned)w.p2 * 0x10001u,
-             p2Edgex2 = (unsigned)w.p2Edge * 0x10001u;
-    unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
-    // Kept in registers (the compiler would reload and rescale them from the parameters at every step).
-    asm("" : "+r"(p1x2), "+r"(p2x2), "+r"(p2Edgex2), "+r"(c256lo), "+r"(c256hi));
+    const PairWeights wk = pairWeights(p.w);
 
     // Values of the current pixel, loaded one step ahead.
     unsigned l, f = 0, fPrev = 0, r[2 * PPT];
     auto load = [&]() {
-        l = *(const unsigned*)(oL + wideMul(idx, stepL));
+        l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
         if (DDC || EDGES)
-            f = *(const ushort*)(oF + wideMul(idx, stepF));
-        const int* pR = (const int*)(oR + wideMul(idx, stepR));
+            f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
+        const int* pR = (const int*)(oR + wideMul(idx, ad.stepR));
 #pragma unroll
         for (int i = 0; i < PPT; i++)
         {
@@ -177,7 +165,7 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
         for (int i = 0; i < PPT; i++)
         {
             const unsigned h = __byte_perm(popcount32(l ^ r[2 * i]), popcount32(l ^ r[2 * i + 1]), 0x5410);
-            T[i] = censusTermPair(h, c256lo, c256hi);
+            T[i] = censusTermPair(h, wk.c256lo, wk.c256hi);
             add[i] = 0u - mp2;
         }
         if (DDC)
@@ -199,15 +187,15 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
                     add[g] = row[u] - mp2;
             }
         }
-        unsigned jump = mp2 + p2x2;
+        unsigned jump = mp2 + wk.p2x2;
         if (EDGES)
-            jump = mp2 + ((f | fPrev << 16) & edgeMask ? p2Edgex2 : p2x2);
+            jump = mp2 + ((f | fPrev << 16) & edgeMask ? wk.p2Edgex2 : wk.p2x2);
         fPrev = f;
         // The sums of this pixel's pairs.
-        unsigned* const S = (unsigned*)(oS + wideMul(idx, stepS));
+        unsigned* const S = (unsigned*)(oS + wideMul(idx, ad.stepS));
         if (decltype(loadNext)::value)
         {
-            idx += dIdx;
+            idx += ad.dIdx;
             load();
         }
 
@@ -231,7 +219,7 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
                                               : (lane + 1 < lastActive ? down[g] : BIG16X2);
             const unsigned lm = __byte_perm(j > 0 ? P[i - 1] : below, P[i], 0x5432);
             const unsigned lp = __byte_perm(P[i], j < G - 1 ? P[i + 1] : above, 0x5432);
-            const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + p1x2);
+            const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + wk.p1x2);
             Pn[i] = T[i] + best + add[i];
         }
 #pragma unroll
@@ -308,25 +296,15 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
         return;
     // Addresses as pathKernel's (pixel s at idx |step| bytes from an origin); the right census origin is the right
     // pixel of disparity 2 t, moved by the window's lo at each pixel; the sums' origin is the pixel's first sum.
-    const bool forward = dy > 0 || (dy == 0 && dx > 0);
-    const int xo = forward ? x : x + (n - 1) * dx, yo = forward ? y : y + (n - 1) * dy;
-    const unsigned stepL = (unsigned)abs(dy * (int)censusL.step + dx * (int)sizeof(int));
-    const unsigned stepR = (unsigned)abs(dy * (int)censusR.step + dx * (int)sizeof(int));
-    const unsigned stepF = (unsigned)abs(dy * (int)facts.step + dx * (int)sizeof(ushort));
-    const unsigned stepS = (unsigned)abs(dy * (int)sum.step + dx * D * (int)sizeof(ushort));
-    const char* const oL = (const char*)(censusL.ptr(yo) + xo);
-    const char* const oR = (const char*)(censusR.ptr(yo) + xo - minD - 2 * lane);
-    const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(yo) + xo) : nullptr;
-    char* const oS = (char*)(sum.ptr(yo) + (size_t)xo * D);
-    const int dIdx = forward ? 1 : -1;
-    int idx = forward ? 0 : n - 1;
+    const LineAddressing ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, sum.step, D);
+    const char* const oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
+    const char* const oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - minD - 2 * lane);
+    const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
+    char* const oS = (char*)(sum.ptr(ad.yo) + (size_t)ad.xo * D);
+    int idx = ad.idx;
 
     const unsigned edgeMask = edgeMaskOf(dir);
-    const CostWeights w = p.w;
-    unsigned p1x2 = (unsigned)w.p1 * 0x10001u, p2x2 = (unsigned)w.p2 * 0x10001u,
-             p2Edgex2 = (unsigned)w.p2Edge * 0x10001u;
-    unsigned c256lo = (unsigned)w.census256 & 255u, c256hi = (unsigned)w.census256 >> 8;
-    asm("" : "+r"(p1x2), "+r"(p2x2), "+r"(p2Edgex2), "+r"(c256lo), "+r"(c256hi));
+    const PairWeights wk = pairWeights(p.w);
 
     // The loaded pixel's values and window (win); winAhead: the window of the pixel after it, at (wx, wy) before
     // readWindow moves on (clamped to the image).
@@ -341,10 +319,10 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
     auto load = [&]() {
         win = winAhead;
         readWindow();
-        l = *(const unsigned*)(oL + wideMul(idx, stepL));
+        l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
         if (DDC || EDGES)
-            f = *(const ushort*)(oF + wideMul(idx, stepF));
-        const int* pR = (const int*)(oR + wideMul(idx, stepR)) - (int)(win & 0xFFFFu);
+            f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
+        const int* pR = (const int*)(oR + wideMul(idx, ad.stepR)) - (int)(win & 0xFFFFu);
         const int pairs = (int)((win >> 16) - (win & 0xFFFFu)) >> 1;
         // Group by group while the window reaches it (a warp-uniform branch, no shuffle inside): a one-group window
         // skips the others' predicated loads at once.
@@ -431,17 +409,17 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             for (int c = 0; c < K; c++)
             {
                 const unsigned h = __byte_perm(popcount32(l ^ r[2 * c]), popcount32(l ^ r[2 * c + 1]), 0x5410);
-                T[c] = censusTermPair(h, c256lo, c256hi);
+                T[c] = censusTermPair(h, wk.c256lo, wk.c256hi);
                 add[c] = DDC ? row[::min(a - (unsigned)((lo >> 1) + 32 * c + lane), 2u)] - mp2 : 0u - mp2;
             }
-            unsigned jump = mp2 + p2x2;
+            unsigned jump = mp2 + wk.p2x2;
             if (EDGES)
-                jump = mp2 + ((f | fPrev << 16) & edgeMask ? p2Edgex2 : p2x2);
+                jump = mp2 + ((f | fPrev << 16) & edgeMask ? wk.p2Edgex2 : wk.p2x2);
             fPrev = f;
-            unsigned* const S = (unsigned*)(oS + wideMul(idx, stepS)) + (lo >> 1);
+            unsigned* const S = (unsigned*)(oS + wideMul(idx, ad.stepS)) + (lo >> 1);
             if (loadNext)
             {
-                idx += dIdx;
+                idx += ad.dIdx;
                 load();
             }
             // Neighbours across lanes by rotating shuffles, as pathKernel's; the positions just above the window
@@ -461,7 +439,7 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
                 const unsigned above = lane < 31 ? down[c] : c + 1 < KS ? down[c + 1] : aboveEdge;
                 const unsigned lm = __byte_perm(below, P[c], 0x5432);
                 const unsigned lp = __byte_perm(P[c], above, 0x5432);
-                const unsigned best = vmin2(vmin2(P[c], jump), vmin2(lm, lp) + p1x2);
+                const unsigned best = vmin2(vmin2(P[c], jump), vmin2(lm, lp) + wk.p1x2);
                 const unsigned v = T[c] + best + add[c];
                 P[c] = 32 * c + lane < pairs ? v : BIG16X2;
                 m = vmin2(m, P[c]);

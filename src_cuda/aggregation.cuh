@@ -121,6 +121,48 @@ __device__ __forceinline__ unsigned edgeMaskOf(int dir)
     return 1u << (FACT_EDGE_SHIFT + edgeBit + (edgeOfPrev ? 16 : 0));
 }
 
+/* Where a path kernel finds pixel s of its line: every step in memory has the sign of dy (or of dx on rows), so pixel
+ s lies idx |step| bytes after the origin (xo, yo), idx = s walking forward, n - 1 - s from the line's last pixel
+ otherwise: one unsigned multiply-add per address. idx starts at the line's first pixel and moves by dIdx. The steps,
+ in bytes, of the left and right census strings, the facts and the sums (D per pixel). */
+struct LineAddressing
+{
+    int xo, yo, dIdx, idx;
+    unsigned stepL, stepR, stepF, stepS;
+};
+
+__device__ __forceinline__ LineAddressing lineAddressing(int x, int y, int dx, int dy, int n, size_t censusLStep,
+                                                         size_t censusRStep, size_t factsStep, size_t sumStep, int D)
+{
+    const bool forward = dy > 0 || (dy == 0 && dx > 0);
+    LineAddressing a;
+    a.xo = forward ? x : x + (n - 1) * dx;
+    a.yo = forward ? y : y + (n - 1) * dy;
+    a.stepL = (unsigned)abs(dy * (int)censusLStep + dx * (int)sizeof(int));
+    a.stepR = (unsigned)abs(dy * (int)censusRStep + dx * (int)sizeof(int));
+    a.stepF = (unsigned)abs(dy * (int)factsStep + dx * (int)sizeof(ushort));
+    a.stepS = (unsigned)abs(dy * (int)sumStep + dx * D * (int)sizeof(ushort));
+    a.dIdx = forward ? 1 : -1;
+    a.idx = forward ? 0 : n - 1;
+    return a;
+}
+
+/* The path weights as a step uses them, both 16-bit halves at once (P1, P2, P2 across an edge) and the census weight
+ split for censusTermPair; pinned in registers (the compiler would otherwise reload and rescale them from the
+ parameters at every step). */
+struct PairWeights
+{
+    unsigned p1x2, p2x2, p2Edgex2, c256lo, c256hi;
+};
+
+__device__ __forceinline__ PairWeights pairWeights(const CostWeights& w)
+{
+    PairWeights k = { (unsigned)w.p1 * 0x10001u, (unsigned)w.p2 * 0x10001u, (unsigned)w.p2Edge * 0x10001u,
+                      (unsigned)w.census256 & 255u, (unsigned)w.census256 >> 8 };
+    asm("" : "+r"(k.p1x2), "+r"(k.p2x2), "+r"(k.p2Edgex2), "+r"(k.c256lo), "+r"(k.c256hi));
+    return k;
+}
+
 /* The first n of PPT consecutive pairs. PPT 2 and 4: one vector access, n = PPT (d0 = lane * 2 * PPT and the row
  offset x * D are multiples of 2 * PPT 16-bit values since D is a multiple of 16, so the address is aligned to the
  access size and the lane's run ends at or before D). PPT 1 and 3: one pair at a time (with PPT 3 the last active

@@ -32,6 +32,19 @@ cuda::GpuMat shortMap(const cuda::GpuMat& m, Size sz, int c0)
         .colRange(c0, c0 + sz.width);
 }
 
+/* The coarse pass up to its sums, for the images' element type T: left and right reduced into cl and cr, their census
+strings into w.censusL and censusR (padded as rightCensusPadBefore / After of q say), the paths into w.sum. */
+template <typename T>
+void coarsePaths(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda::GpuMat& cl, const cuda::GpuMat& cr,
+                 const PipelineParams& q, ci::WindowBuffers& w, const cuda::GpuMat& censusR, int padBefore,
+                 int padAfter, cudaStream_t st)
+{
+    ci::coarseImages(cuda::PtrStepSz<T>(L), cuda::PtrStepSz<T>(R), cuda::PtrStepSz<T>(cl), cuda::PtrStepSz<T>(cr), st);
+    ci::censusTransform(cuda::PtrStepSz<T>(cl), cuda::PtrStepSz<T>(cr), w.censusL, censusR, padBefore, padAfter, st);
+    ci::aggregateCosts(w.censusL, censusR, cuda::PtrStepSz<short>(), cuda::PtrStepSz<T>(cl), q,
+                       cuda::PtrStepSz<short>(), nullptr, cuda::PtrStepSz<ushort>(), cuda::PtrStepSz<int>(), w.sum, st);
+}
+
 } // namespace
 
 void ci::enqueueSearchWindows(const cuda::GpuMat& prior16, const cuda::GpuMat& L, const cuda::GpuMat& R,
@@ -55,25 +68,9 @@ void ci::enqueueSearchWindows(const cuda::GpuMat& prior16, const cuda::GpuMat& L
     w.ranges.create(2 * tiles.height, tiles.width, CV_32SC2);
     w.windows.create(tiles, CV_16SC2);
     if (L.depth() == CV_8U)
-    {
-        ci::coarseImages(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), cuda::PtrStepSz<uchar>(cl),
-                         cuda::PtrStepSz<uchar>(cr), st);
-        ci::censusTransform(cuda::PtrStepSz<uchar>(cl), cuda::PtrStepSz<uchar>(cr), w.censusL, censusR, padBefore,
-                            padAfter, st);
-        ci::aggregateCosts(w.censusL, censusR, cuda::PtrStepSz<short>(), cuda::PtrStepSz<uchar>(cl), q,
-                           cuda::PtrStepSz<short>(), nullptr, cuda::PtrStepSz<ushort>(), cuda::PtrStepSz<int>(), w.sum,
-                           st);
-    }
+        coarsePaths<uchar>(L, R, cl, cr, q, w, censusR, padBefore, padAfter, st);
     else
-    {
-        ci::coarseImages(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), cuda::PtrStepSz<ushort>(cl),
-                         cuda::PtrStepSz<ushort>(cr), st);
-        ci::censusTransform(cuda::PtrStepSz<ushort>(cl), cuda::PtrStepSz<ushort>(cr), w.censusL, censusR, padBefore,
-                            padAfter, st);
-        ci::aggregateCosts(w.censusL, censusR, cuda::PtrStepSz<short>(), cuda::PtrStepSz<ushort>(cl), q,
-                           cuda::PtrStepSz<short>(), nullptr, cuda::PtrStepSz<ushort>(), cuda::PtrStepSz<int>(), w.sum,
-                           st);
-    }
+        coarsePaths<ushort>(L, R, cl, cr, q, w, censusR, padBefore, padAfter, st);
     ci::winnerTakesAll(w.sum, cs.width, q, cuda::PtrStepSz<int>(), d16, dInt, w.key, dRight, cuda::PtrStepSz<short>(),
                        st);
     ci::searchWindows(prior16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior16), dInt, p,
@@ -220,8 +217,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     {
         ci::enqueueSearchWindows(p.semidense ? b.semidense16 : Sp.empty() ? cuda::GpuMat() : b.sparse16, L, R, p,
                                  b.windows, st);
-        windows = cuda::PtrStepSz<int>(b.windows.windows.rows, b.windows.windows.cols,
-                                       (int*)b.windows.windows.data, b.windows.windows.step);
+        windows = ci::windowWords(b.windows.windows);
     }
     b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
@@ -241,12 +237,10 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const cuda::PtrStepSz<ushort> facts16 = facts.empty() ? cuda::PtrStepSz<ushort>() : cuda::PtrStepSz<ushort>(facts);
     if (L.depth() == CV_8U)
         ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, facts16, windows,
-                           b.sum,
-                           st);
+                           b.sum, st);
     else
         ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, facts16, windows,
-                           b.sum,
-                           st);
+                           b.sum, st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
                        dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
     ci::RingCheckMaps ringCheck = {};

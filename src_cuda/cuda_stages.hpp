@@ -104,6 +104,13 @@ struct WindowBuffers
     cv::cuda::GpuMat images, censusL, censusRPadded, sum, disp, key, ranges, windows;
 };
 
+//! A windows map (CV_16SC2 per tile) as the kernels read it: one int per tile, lo | hi << 16; empty: none.
+inline PtrStepSz<int> windowWords(const cv::cuda::GpuMat& windows)
+{
+    return windows.empty() ? PtrStepSz<int>() : PtrStepSz<int>(windows.rows, windows.cols, (int*)windows.data,
+                                                               windows.step);
+}
+
 /** The coarse pass (coarseDisparities on the CPU, on every call) and searchWindows into w.windows: the only host code
 among the stages (it allocates w's buffers where their size changes; src_cuda/cuda_pipeline.cpp). */
 void enqueueSearchWindows(const cv::cuda::GpuMat& prior16, const cv::cuda::GpuMat& left,

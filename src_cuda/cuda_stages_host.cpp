@@ -99,13 +99,6 @@ void interpolateRings(const GpuMat& censusL, const GpuMat& censusR, const GpuMat
     gap = s.at<int>(0, RING_GAP_BINS);
 }
 
-//! A windows map (CV_16SC2) as the kernels read it: lo | hi << 16 per tile; empty: none.
-static cuda::PtrStepSz<int> windowWords(const GpuMat& windows)
-{
-    return windows.empty() ? cuda::PtrStepSz<int>()
-                           : cuda::PtrStepSz<int>(windows.rows, windows.cols, (int*)windows.data, windows.step);
-}
-
 void searchWindows(const GpuMat& prior16, const GpuMat& left, const GpuMat& right, const PipelineParams& p,
                    GpuMat& windows, GpuMat* coarse)
 {
@@ -128,10 +121,10 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
     GpuMat facts(left.size(), CV_16UC1);
     if (left.type() == CV_8UC1)
         ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, facts,
-                           windowWords(windows), sum, 0);
+                           ci::windowWords(windows), sum, 0);
     else
         ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, facts,
-                           windowWords(windows), sum, 0);
+                           ci::windowWords(windows), sum, 0);
     finish();
 }
 
@@ -147,7 +140,7 @@ void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMa
         nonUnique16.create(sz, CV_16SC1);
     else
         nonUnique16.release();
-    ci::winnerTakesAll(sum, width, p, windowWords(windows), disp16, dispInt, rightKey, dispRight,
+    ci::winnerTakesAll(sum, width, p, ci::windowWords(windows), disp16, dispInt, rightKey, dispRight,
                        nonUnique16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(nonUnique16), 0);
     finish();
 }
