@@ -269,16 +269,17 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
  disparities takes one group whatever the range. Where the window moves along the line, the previous pixel's costs are
  shuffled to the new layout (a warp-uniform branch, at tile boundaries only); a disparity outside the previous
  window has no path cost there (BIG16: the CPU's sentinel), reached through the jump only. The census strings of the
- next pixel are loaded for its window, which is read two pixels ahead. Sums: 64-bit reductions by the even lanes,
- each with its odd neighbour's pair (a window's ends are multiples of 16, so both are in it or out of it).
- NC: the range's groups (D / 64 rounded up). A line is walked in runs of pixels with one window (a tile or less);
- each run has code for the groups its window needs (K: 1, 2, 4 or NC), chosen once per run, so that its steps have
- no branch and compute no group past the window. (Chosen per step instead: 137 warp instructions a step at 1080p / 256
- / 4 paths against 125, ncu.) */
+ next pixel are loaded for its window. Sums: 64-bit reductions by the even lanes into the compact volume
+ (windowPairOffset), each with its odd neighbour's pair (a window's ends are multiples of 16, so both are in it or
+ out of it). NC: the range's groups (D / 64 rounded up). A line is walked in segments, one per tile it crosses: the
+ window, the next segment's window and the sums' step are known when a segment starts, so its steps read no window
+ and compute no address but one add. Each segment has code for the groups its window needs (K: 1, 2, 4 or NC),
+ chosen once per segment, so that its steps have no branch and compute no group past the window. (Chosen per step
+ instead: 137 warp instructions a step at 1080p / 256 / 4 paths against 125, ncu.) */
 template <int NC, bool DDC, bool EDGES>
 __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
-windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
-                 PipelineParams p, PtrStepSz<ushort> sum)
+windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
+                 PipelineParams p, unsigned* volume)
 {
     const int ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4;
     __shared__ __align__(8) unsigned ddcTable[DDC ? FACT_ROWS * ROW_WORDS : 1];
@@ -295,35 +296,44 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
     if (!warpLine(WARPS_PER_BLOCK, W, H, dir, dx, dy, x, y, n))
         return;
     // Addresses as pathKernel's (pixel s at idx |step| bytes from an origin); the right census origin is the right
-    // pixel of disparity 2 t, moved by the window's lo at each pixel; the sums' origin is the pixel's first sum.
-    const LineAddressing ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, sum.step, D);
+    // pixel of disparity 2 t, moved by the window's lo at each pixel. The sums' addresses follow the compact
+    // volume's layout (windowPairOffset).
+    const LineAddressing ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, 0, D);
     const char* const oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
     const char* const oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - minD - 2 * lane);
     const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
-    char* const oS = (char*)(sum.ptr(ad.yo) + (size_t)ad.xo * D);
     int idx = ad.idx;
 
     const unsigned edgeMask = edgeMaskOf(dir);
     const PairWeights wk = pairWeights(p.w);
 
-    // The loaded pixel's values and window (win); winAhead: the window of the pixel after it, at (wx, wy) before
-    // readWindow moves on (clamped to the image).
-    unsigned l, f = 0, fPrev = 0, r[2 * NC], win = 0, winAhead = 0;
-    int wx = x, wy = y;
-    const auto readWindow = [&]() {
-        winAhead = (unsigned)windows((unsigned)wy / WINDOW_TILE, (unsigned)wx / WINDOW_TILE);
-        wx = ::min(::max(wx + dx, 0), W - 1);
-        wy = ::min(::max(wy + dy, 0), H - 1);
+    // A line crosses the tiles in segments: pixel s lies at (x + s dx, y + s dy), its window is its tile's, and the
+    // segment that starts at s ends where the line leaves the tile (segmentEnd). Within a segment the window and the
+    // sums' step in the compact volume stay the same.
+    const auto tileOf = [&](int s) {
+        return (int)((unsigned)(y + s * dy) / WINDOW_TILE * windows.tiles.cols + (unsigned)(x + s * dx) / WINDOW_TILE);
     };
-    readWindow();
-    auto load = [&]() {
-        win = winAhead;
-        readWindow();
+    const auto windowAt = [&](int s) {
+        return (unsigned)windows.tiles((unsigned)(y + s * dy) / WINDOW_TILE, (unsigned)(x + s * dx) / WINDOW_TILE);
+    };
+    const auto segmentEnd = [&](int s) {
+        const unsigned cx = x + s * dx, cy = y + s * dy;
+        int len = n - s;
+        if (dx != 0)
+            len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
+        if (dy != 0)
+            len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
+        return s + len;
+    };
+
+    // The loaded pixel's census strings and facts, for window w (the next pixel's, which the step after loads for).
+    unsigned l, f = 0, fPrev = 0, r[2 * NC];
+    auto load = [&](unsigned w) {
         l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
         if (DDC || EDGES)
             f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
-        const int* pR = (const int*)(oR + wideMul(idx, ad.stepR)) - (int)(win & 0xFFFFu);
-        const int pairs = (int)((win >> 16) - (win & 0xFFFFu)) >> 1;
+        const int* pR = (const int*)(oR + wideMul(idx, ad.stepR)) - (int)(w & 0xFFFFu);
+        const int pairs = (int)((w >> 16) - (w & 0xFFFFu)) >> 1;
         // Group by group while the window reaches it (a warp-uniform branch, no shuffle inside): a one-group window
         // skips the others' predicated loads at once.
 #pragma unroll
@@ -338,7 +348,10 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             }
         }
     };
-    load();
+    // The current segment [.., end) and its window; winNext: the next segment's (the last segment's own).
+    int end = segmentEnd(0);
+    unsigned win = windowAt(0), winNext = end < n ? windowAt(end) : win;
+    load(win);
 
     // Path costs as pathKernel's, in the window's layout; positions past the window hold BIG16. Zero costs and
     // minimum before the first pixel give its matching costs.
@@ -347,6 +360,10 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
     for (int c = 0; c < NC; c++)
         P[c] = 0;
     unsigned mp2 = 0, prevWin = win;
+    // The pixel's first sum in the compact volume (windowPairOffset): set where a segment starts, then moved by the
+    // segment's step.
+    unsigned* sums = volume;
+    int sumStep = 0;
     // The edge pairs that the registers do not hold (set where the window moves, for the first step in it).
     unsigned belowEdge = BIG16X2, aboveEdge = BIG16X2;
     // Where the window changes: the previous costs to the new layout. A loop level of its own (below), so that the
@@ -393,7 +410,7 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             prevWin = here;
         }
     };
-    auto step = [&](bool loadNext, auto Kc) {
+    auto step = [&](bool loadNext, unsigned nextWin, auto Kc) {
         const unsigned here = win;
         const int lo = (int)(here & 0xFFFFu), pairs = (int)((here >> 16) - (here & 0xFFFFu)) >> 1;
         {
@@ -416,11 +433,12 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             if (EDGES)
                 jump = mp2 + ((f | fPrev << 16) & edgeMask ? wk.p2Edgex2 : wk.p2x2);
             fPrev = f;
-            unsigned* const S = (unsigned*)(oS + wideMul(idx, ad.stepS)) + (lo >> 1);
+            unsigned* const S = sums;
+            sums += sumStep;
             if (loadNext)
             {
                 idx += ad.dIdx;
-                load();
+                load(nextWin);
             }
             // Neighbours across lanes by rotating shuffles, as pathKernel's; the positions just above the window
             // hold the previous pixel's costs there (or BIG16), which the window's top pair reads.
@@ -461,18 +479,23 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
         }
         belowEdge = aboveEdge = BIG16X2;
     };
-    // Runs of pixels with one window (at most a tile long): the layout moves between runs.
+    // A segment's steps: the layout moves between segments, each step loads the next pixel for its window.
     const auto run = [&](int& s, auto Kc) {
         do
         {
             s++;
-            step(s < n, Kc);
-        } while (s < n && win == prevWin);
+            step(s < n, s < end ? win : winNext, Kc);
+        } while (s < end);
     };
     for (int s = 0; s < n;)
     {
         if (win != prevWin)
             moveWindow();
+        {
+            const int lo = (int)(win & 0xFFFFu), hi = (int)(win >> 16);
+            sums = volume + windowPairOffset(windows.bases[tileOf(s)], x + s * dx, y + s * dy, lo, hi);
+            sumStep = (dy * WINDOW_TILE + dx) * ((hi - lo) >> 1);
+        }
         const int groups = (int)((win >> 16) - (win & 0xFFFFu) + 63) >> 6;
         if (groups <= 1)
             run(s, std::integral_constant<int, 1>());
@@ -482,6 +505,12 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             run(s, std::integral_constant<int, (NC < 4 ? NC : 4)>());
         else
             run(s, std::integral_constant<int, NC>());
+        if (s < n)
+        {
+            win = winNext;
+            end = segmentEnd(s);
+            winNext = end < n ? windowAt(end) : win;
+        }
     }
 }
 
@@ -527,24 +556,23 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> 
               : runPaths<PPT, false, false>(censusL, censusR, facts, p, sum, stream);
 }
 
-/* Zeroes the sums within the windows only (the rest of the volume is never read): a block per row and tile, 16 bytes
- a store (a window's ends and a pixel's first sum lie on 32-byte boundaries: multiples of 16 sums). */
-__global__ void zeroWindowsKernel(PtrStepSz<int> windows, int W, int D, PtrStepSz<ushort> sum)
+/* Zeroes the windows' sums of the image's pixels in the compact volume (the padding of the edge tiles is never read):
+a block per row and tile, whose pixels' sums are contiguous, 16 bytes a store (multiples of 16 sums). */
+__global__ void zeroWindowsKernel(WindowMap windows, int W, unsigned* volume)
 {
-    const int y = blockIdx.y, tx = blockIdx.x;
-    const unsigned w = (unsigned)windows(y / WINDOW_TILE, tx);
-    const int lo = (int)(w & 0xFFFFu), chunks = (int)((w >> 16) - (w & 0xFFFFu)) / 8;
-    const int x0 = tx * WINDOW_TILE, pixels = ::min(WINDOW_TILE, W - x0);
-    for (int i = threadIdx.x; i < pixels * chunks; i += blockDim.x)
-    {
-        const int x = x0 + i / chunks, c = i % chunks;
-        *(uint4*)(sum.ptr(y) + (size_t)x * D + lo + 8 * c) = make_uint4(0, 0, 0, 0);
-    }
+    const int y = blockIdx.y, tx = blockIdx.x, x0 = tx * WINDOW_TILE;
+    const unsigned w = (unsigned)windows.tiles(y / WINDOW_TILE, tx);
+    const int lo = (int)(w & 0xFFFFu), hi = (int)(w >> 16);
+    uint4* const row = (uint4*)(volume + windowPairOffset(windows.bases[y / WINDOW_TILE * windows.tiles.cols + tx], x0,
+                                                          y, lo, hi));
+    const int chunks = ::min(WINDOW_TILE, W - x0) * (hi - lo) / 8;
+    for (int i = threadIdx.x; i < chunks; i += blockDim.x)
+        row[i] = make_uint4(0, 0, 0, 0);
 }
 
 //! The windows' path kernel for NC groups of 64 disparities (the whole range's count).
 template <int NC>
-void runWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PtrStepSz<int> windows,
+void runWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
                     const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
@@ -553,19 +581,19 @@ void runWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<us
     const bool edges = p.edgeThreshold > 0;
     auto kernel = ddc ? (edges ? windowPathKernel<NC, true, true> : windowPathKernel<NC, true, false>)
                       : (edges ? windowPathKernel<NC, false, true> : windowPathKernel<NC, false, false>);
-    kernel<<<grid, block, 0, stream>>>(censusL, censusR, facts, windows, p, sum);
+    kernel<<<grid, block, 0, stream>>>(censusL, censusR, facts, windows, p, (unsigned*)sum.data);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 template <typename T>
 void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
                const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-               PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream)
+               WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
-    if (windows.data)
+    if (windows.tiles.data)
     {
-        zeroWindowsKernel<<<dim3(windows.cols, sum.rows), 128, 0, stream>>>(windows, censusL.cols, p.numDisparities,
-                                                                            sum);
+        zeroWindowsKernel<<<dim3(windows.tiles.cols, censusL.rows), 128, 0, stream>>>(windows, censusL.cols,
+                                                                                    (unsigned*)sum.data);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
     else
@@ -578,7 +606,7 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
                                                   facts);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
-    if (windows.data)
+    if (windows.tiles.data)
     {
         switch ((p.numDisparities + 63) / 64)
         {
@@ -610,14 +638,14 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream)
+                    WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, windows, sum, stream);
 }
 
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream)
+                    WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, windows, sum, stream);
 }

@@ -42,7 +42,7 @@ void coarsePaths(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda::GpuMa
     ci::coarseImages(cuda::PtrStepSz<T>(L), cuda::PtrStepSz<T>(R), cuda::PtrStepSz<T>(cl), cuda::PtrStepSz<T>(cr), st);
     ci::censusTransform(cuda::PtrStepSz<T>(cl), cuda::PtrStepSz<T>(cr), w.censusL, censusR, padBefore, padAfter, st);
     ci::aggregateCosts(w.censusL, censusR, cuda::PtrStepSz<short>(), cuda::PtrStepSz<T>(cl), q,
-                       cuda::PtrStepSz<short>(), nullptr, cuda::PtrStepSz<ushort>(), cuda::PtrStepSz<int>(), w.sum, st);
+                       cuda::PtrStepSz<short>(), nullptr, cuda::PtrStepSz<ushort>(), ci::WindowMap(), w.sum, st);
 }
 
 } // namespace
@@ -71,11 +71,13 @@ void ci::enqueueSearchWindows(const cuda::GpuMat& prior16, const cuda::GpuMat& L
         coarsePaths<uchar>(L, R, cl, cr, q, w, censusR, padBefore, padAfter, st);
     else
         coarsePaths<ushort>(L, R, cl, cr, q, w, censusR, padBefore, padAfter, st);
-    ci::winnerTakesAll(w.sum, cs.width, q, cuda::PtrStepSz<int>(), d16, dInt, w.key, dRight, cuda::PtrStepSz<short>(),
-                       st);
+    ci::winnerTakesAll(w.sum, cs.width, cs.height, q, ci::WindowMap(), d16, dInt, w.key, dRight,
+                       cuda::PtrStepSz<short>(), st);
     ci::searchWindows(prior16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior16), dInt, p,
                       w.ranges.rowRange(0, tiles.height), w.ranges.rowRange(tiles.height, 2 * tiles.height),
                       w.windows, st);
+    w.bases.create(1, tiles.area() + 1, CV_32SC1);
+    ci::windowLayout(ci::windowWords(w.windows), w.bases.ptr<int>(), st);
 }
 
 struct CudaPipeline::Buffers
@@ -93,6 +95,7 @@ struct CudaPipeline::Buffers
     cuda::GpuMat ring, ringStats;    //!< ring interpolation's maps (above, then below) and gap statistics
     cuda::GpuMat scanStats;          //!< the visibility filter's scan test (gap histograms and result)
     ci::WindowBuffers windows;       //!< the disparity windows and their coarse pass
+    int* windowUnits = nullptr;      //!< pinned host memory: the compact volume's size (windowLayout's total)
     bool windowed = false;           //!< the last call searched windows (windows.windows holds them)
     Size lastSize;
     int lastD = 0;
@@ -136,6 +139,8 @@ CudaPipeline::~CudaPipeline()
 {
     if (b_->done)
         cudaEventDestroy(b_->done);
+    if (b_->windowUnits)
+        cudaFreeHost(b_->windowUnits);
     delete b_;
 }
 
@@ -212,14 +217,53 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     b.windowed = searchWindowOn(p);
     b.lastSize = sz;
     b.lastD = p.numDisparities;
-    cuda::PtrStepSz<int> windows;
+    ci::WindowMap windows = ci::WindowMap();
+    // The sum volume; after the winner-takes-all it holds the right-view and median maps (4 W shorts a row).
+    cuda::GpuMat volume;
+    void* graphVolume = nullptr;
     if (b.windowed)
     {
         ci::enqueueSearchWindows(p.semidense ? b.semidense16 : Sp.empty() ? cuda::GpuMat() : b.sparse16, L, R, p,
                                  b.windows, st);
-        windows = ci::windowWords(b.windows.windows);
+        windows = ci::windowMap(b.windows);
+        // The compact volume (WindowMap) takes the windows' total, which only the device knows: the call waits for
+        // it and allocates what it needs (a continuous buffer, kept while large enough). A captured call cannot
+        // wait: its graph allocates (and frees) a volume of the full range's size, which any windows fit.
+        const Size tiles(b.windows.windows.cols, b.windows.windows.rows);
+        size_t units = (size_t)tiles.area() * (p.numDisparities / WINDOW_ALIGN);
+        if (!capturing)
+        {
+            if (!b.windowUnits)
+                cudaCheck(cudaHostAlloc((void**)&b.windowUnits, sizeof(int), cudaHostAllocDefault));
+            cudaCheck(cudaMemcpyAsync(b.windowUnits, b.windows.bases.ptr<int>() + tiles.area(), sizeof(int),
+                                      cudaMemcpyDeviceToHost, st));
+            cudaCheck(cudaStreamSynchronize(st));
+            units = (size_t)*b.windowUnits;
+        }
+        const size_t cols = std::max((units * ci::WINDOW_VOLUME_UNIT + sz.height - 1) / sz.height, (size_t)4 * sz.width);
+        CV_Assert(cols <= (size_t)INT_MAX);
+        const bool fits = !b.sum.empty() && b.sum.isContinuous() && b.sum.type() == CV_16UC1 &&
+                          b.sum.rows == sz.height && (size_t)b.sum.cols >= cols;
+        if (fits)
+            volume = b.sum;
+        else if (capturing)
+        {
+            cudaCheck(cudaMallocAsync(&graphVolume, cols * sz.height * sizeof(ushort), st));
+            volume = cuda::GpuMat(sz.height, (int)cols, CV_16UC1, graphVolume);
+        }
+        else
+        {
+            // An eighth more than this call needs, so that the next frames' windows seldom grow it.
+            b.sum.release();
+            cuda::createContinuous(sz.height, (int)std::min(cols + cols / 8, (size_t)INT_MAX), CV_16UC1, b.sum);
+            volume = b.sum;
+        }
     }
-    b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
+    else
+    {
+        b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
+        volume = b.sum;
+    }
     const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
     const bool weigh = p.weighCopies && scanStats;
     const cuda::PtrStepSz<short> own16 = weigh ? cuda::PtrStepSz<short>(b.sparse16) : cuda::PtrStepSz<short>();
@@ -237,21 +281,22 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     const cuda::PtrStepSz<ushort> facts16 = facts.empty() ? cuda::PtrStepSz<ushort>() : cuda::PtrStepSz<ushort>(facts);
     if (L.depth() == CV_8U)
         ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, facts16, windows,
-                           b.sum, st);
+                           volume, st);
     else
         ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, facts16, windows,
-                           b.sum, st);
+                           volume, st);
     const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
-                       dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(b.sum, sz, 0);
+                       dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(volume, sz, 0);
     ci::RingCheckMaps ringCheck = {};
     if (rings && ringCheckOn(p))
         ringCheck = { ringAbove, ringBelow, b.semidense16, b.ringStats.ptr<int>() + RING_GAP_BINS };
-    ci::winnerTakesAll(b.sum, sz.width, p, windows, disp16, dispInt, rightKey, dispRight, ringCheck.nonUnique16, st);
+    ci::winnerTakesAll(volume, sz.width, sz.height, p, windows, disp16, dispInt, rightKey, dispRight,
+                       ringCheck.nonUnique16, st);
     cuda::GpuMat d16 = disp16, dInt = dispInt, dRight = dispRight;
     if (p.medianSize == 3)
     {
-        const cuda::GpuMat med16 = shortMap(b.sum, sz, sz.width), medInt = shortMap(b.sum, sz, 2 * sz.width),
-                           medRight = shortMap(b.sum, sz, 3 * sz.width);
+        const cuda::GpuMat med16 = shortMap(volume, sz, sz.width), medInt = shortMap(volume, sz, 2 * sz.width),
+                           medRight = shortMap(volume, sz, 3 * sz.width);
         const ci::MedianMaps maps = { { disp16, dispInt, dispRight }, { med16, medInt, medRight } };
         ci::medianFilter(maps, 3, st);
         d16 = med16;
@@ -270,6 +315,8 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<float>(o), conf, st);
     else
         ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<short>(o), conf, st);
+    if (graphVolume)
+        cudaCheck(cudaFreeAsync(graphVolume, st));
     b.markCallEnd(st, capturing);
 }
 

@@ -75,33 +75,59 @@ void searchWindows(PtrStepSz<short> prior16, PtrStepSz<short> coarse, const Pipe
                    PtrStepSz<int2> ownRanges, PtrStepSz<int2> coarseRanges, PtrStepSz<short2> windows,
                    cudaStream_t stream);
 
+/** The windows' compact sum volume: tile t (row-major over the tiles; those at the image's right and bottom edges
+padded to a whole tile) holds its WINDOW_TILE^2 pixels' windows from bases[t] * WINDOW_VOLUME_UNIT sums on, pixel
+(x, y) at ((y % T) * T + x % T) * (hi - lo) sums after that, disparity d at d - lo after the pixel's first: the
+volume shrinks with the windows. A tile takes (hi - lo) / WINDOW_ALIGN units; bases[tiles] is the total. */
+enum { WINDOW_VOLUME_UNIT = WINDOW_TILE * WINDOW_TILE * WINDOW_ALIGN };
+
+//! Pixel (x, y)'s first sum in the compact volume, counted in pairs of sums (hi - lo is even), of its tile's base.
+LIDARSGM_HD size_t windowPairOffset(int base, int x, int y, int lo, int hi)
+{
+    return (size_t)(unsigned)base * (WINDOW_VOLUME_UNIT / 2) +
+           ((unsigned)y % WINDOW_TILE * WINDOW_TILE + (unsigned)x % WINDOW_TILE) * (unsigned)((hi - lo) >> 1);
+}
+
+/** The windows as the aggregation and the winner-takes-all read them: per tile lo | hi << 16 (windowWords) and the
+compact volume's bases (windowPairOffset; tiles + 1 ints). tiles.data null: the full range, in the full layout (rows
+of width * numDisparities sums). */
+struct WindowMap
+{
+    PtrStepSz<int> tiles;
+    const int* bases;
+};
+
+/** The compact volume's bases of the windows (lo | hi << 16 per tile): bases, tiles + 1 ints of device memory. */
+void windowLayout(PtrStepSz<int> windows, int* bases, cudaStream_t stream);
+
 /** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
 and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
 The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). own16: the filtered
 sparse map where copied priors take p.wCopy (copiedPrior) if the scan test's result at *scan (device memory) is
 non-zero; empty: w everywhere. facts: a map of the image's size that receives each pixel's packed facts (the
 path kernel's input besides the census strings) where a prior or the edge rule exists; it may be prior16's memory,
-which it then overwrites. windows (searchWindows, as int: lo | hi << 16; empty: the full range): each pixel's
-paths cover its tile's window only; the sums outside it are neither zeroed nor written. */
+which it then overwrites. windows (empty: the full range): each pixel's paths cover its tile's window only, and sum's
+memory is the compact volume (WindowMap), of which only the windows' sums are zeroed and written. */
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream);
+                    WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream);
 void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
                     const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    PtrStepSz<int> windows, PtrStepSz<ushort> sum, cudaStream_t stream);
+                    WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream);
 
 /** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
 right-view disparity as on the CPU; nonUnique16 (may be empty) the winners that fail the uniqueness check, NO_DISP
-elsewhere. windows: as aggregateCosts' (each pixel's winner within its window). */
-void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<int> windows,
+elsewhere. windows: as aggregateCosts' (each pixel's winner within its window). height: the image's. */
+void winnerTakesAll(PtrStepSz<ushort> sum, int width, int height, const PipelineParams& p, WindowMap windows,
                     PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
                     PtrStepSz<short> dispRight, PtrStepSz<short> nonUnique16, cudaStream_t stream);
 
 /** The disparity windows' buffers: the coarse pass's images (left, then right), census strings, sums and outputs
-(disp16, dispInt, dispRight), right-view keys; the tiles' prior and coarse ranges; the windows (CV_16SC2). */
+(disp16, dispInt, dispRight), right-view keys; the tiles' prior and coarse ranges; the windows (CV_16SC2) and their
+compact volume's bases (windowLayout). */
 struct WindowBuffers
 {
-    cv::cuda::GpuMat images, censusL, censusRPadded, sum, disp, key, ranges, windows;
+    cv::cuda::GpuMat images, censusL, censusRPadded, sum, disp, key, ranges, windows, bases;
 };
 
 //! A windows map (CV_16SC2 per tile) as the kernels read it: one int per tile, lo | hi << 16; empty: none.
@@ -111,7 +137,14 @@ inline PtrStepSz<int> windowWords(const cv::cuda::GpuMat& windows)
                                                                windows.step);
 }
 
-/** The coarse pass (coarseDisparities on the CPU, on every call) and searchWindows into w.windows: the only host code
+//! The windows of w as the kernels read them.
+inline WindowMap windowMap(const WindowBuffers& w)
+{
+    return { windowWords(w.windows), w.bases.ptr<int>() };
+}
+
+/** The coarse pass (coarseDisparities on the CPU, on every call), searchWindows into w.windows and windowLayout into
+w.bases: the only host code
 among the stages (it allocates w's buffers where their size changes; src_cuda/cuda_pipeline.cpp). */
 void enqueueSearchWindows(const cv::cuda::GpuMat& prior16, const cv::cuda::GpuMat& left,
                           const cv::cuda::GpuMat& right, const PipelineParams& p, WindowBuffers& w,

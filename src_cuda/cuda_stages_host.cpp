@@ -22,6 +22,40 @@ void finish()
     CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
 }
 
+/* The windows' compact volume (WindowMap) against the full layout (rows of width * D sums) that the tests compare:
+bases receives the layout (device memory); forEachWindowSum(f) calls f(full index, compact index) for every sum of every
+pixel's window. */
+struct CompactVolume
+{
+    GpuMat bases;
+    Mat hostBases, windows;
+    Size size;
+    int D;
+
+    CompactVolume(const GpuMat& gpuWindows, Size sz, int numDisparities) : size(sz), D(numDisparities)
+    {
+        bases.create(1, gpuWindows.size().area() + 1, CV_32SC1);
+        ci::windowLayout(ci::windowWords(gpuWindows), bases.ptr<int>(), 0);
+        finish();
+        bases.download(hostBases);
+        gpuWindows.download(windows);
+    }
+    size_t sums() const { return (size_t)hostBases.at<int>((int)windows.total()) * ci::WINDOW_VOLUME_UNIT; }
+    ci::WindowMap map(const GpuMat& gpuWindows) const { return { ci::windowWords(gpuWindows), bases.ptr<int>() }; }
+    template <typename F> void forEachWindowSum(const F& f) const
+    {
+        for (int y = 0; y < size.height; y++)
+            for (int x = 0; x < size.width; x++)
+            {
+                const int t = y / WINDOW_TILE * windows.cols + x / WINDOW_TILE;
+                const Vec2s w = windows.at<Vec2s>(t);
+                const size_t c = 2 * ci::windowPairOffset(hostBases.at<int>(t), x, y, w[0], w[1]);
+                for (int d = w[0]; d < w[1]; d++)
+                    f(((size_t)y * size.width + x) * D + d, c + (d - w[0]));
+            }
+    }
+};
+
 //! The scan test's result on the device: stats as the pipeline holds them, the result at stats[2 SCAN_GAP_BINS].
 GpuMat scanStats(const GpuMat& sparse16)
 {
@@ -119,13 +153,24 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
     const cuda::PtrStepSz<short> own = own16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(own16);
     const int* flag = own16.empty() ? nullptr : scanFlag.ptr<int>();
     GpuMat facts(left.size(), CV_16UC1);
+    // With windows the stage fills the compact volume, copied here into sum's full layout (0 outside the windows).
+    std::unique_ptr<CompactVolume> compact(windows.empty() ? nullptr
+                                                           : new CompactVolume(windows, left.size(), p.numDisparities));
+    GpuMat volume = sum;
+    if (compact)
+        cuda::createContinuous(1, (int)compact->sums(), CV_16UC1, volume);
+    const ci::WindowMap map = compact ? compact->map(windows) : ci::WindowMap();
     if (left.type() == CV_8UC1)
-        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, facts,
-                           ci::windowWords(windows), sum, 0);
+        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, facts, map, volume, 0);
     else
-        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, facts,
-                           ci::windowWords(windows), sum, 0);
+        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, facts, map, volume, 0);
     finish();
+    if (!compact)
+        return;
+    Mat c, full(sum.size(), CV_16UC1, Scalar::all(0));
+    volume.download(c);
+    compact->forEachWindowSum([&](size_t f, size_t i) { full.ptr<ushort>()[f] = c.ptr<ushort>()[i]; });
+    sum.upload(full);
 }
 
 void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMat& disp16, GpuMat& dispInt,
@@ -140,7 +185,21 @@ void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMa
         nonUnique16.create(sz, CV_16SC1);
     else
         nonUnique16.release();
-    ci::winnerTakesAll(sum, width, p, ci::windowWords(windows), disp16, dispInt, rightKey, dispRight,
+    // With windows: sum (full layout) into the compact volume the stage reads.
+    GpuMat volume = sum;
+    ci::WindowMap map = ci::WindowMap();
+    std::unique_ptr<CompactVolume> compact;
+    if (!windows.empty())
+    {
+        compact.reset(new CompactVolume(windows, sz, p.numDisparities));
+        Mat full, c(1, (int)compact->sums(), CV_16UC1, Scalar::all(0));
+        sum.download(full);
+        CV_Assert(full.isContinuous());
+        compact->forEachWindowSum([&](size_t f, size_t i) { c.ptr<ushort>()[i] = full.ptr<ushort>()[f]; });
+        volume.upload(c);
+        map = compact->map(windows);
+    }
+    ci::winnerTakesAll(volume, width, sz.height, p, map, disp16, dispInt, rightKey, dispRight,
                        nonUnique16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(nonUnique16), 0);
     finish();
 }

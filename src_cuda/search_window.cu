@@ -103,7 +103,58 @@ __global__ void windowsKernel(PtrStepSz<int2> own, PtrStepSz<int2> coarse, int m
     windows(ty, tx) = make_short2((short)lo, (short)hi);
 }
 
+/* The compact volume's bases (windowPairOffset): an exclusive prefix sum of the tiles' units in one block, each thread
+over a run of consecutive tiles; the last thread's end is the total, at bases[tiles]. */
+__global__ void windowLayoutKernel(PtrStepSz<int> windows, int* bases)
+{
+    __shared__ int warpSums[32];
+    const int n = windows.rows * windows.cols, per = (n + (int)blockDim.x - 1) / (int)blockDim.x;
+    const int t0 = ::min((int)threadIdx.x * per, n), t1 = ::min(t0 + per, n);
+    const auto units = [&](int t) {
+        const unsigned w = (unsigned)windows(t / windows.cols, t % windows.cols);
+        return (int)((w >> 16) - (w & 0xFFFFu)) / WINDOW_ALIGN;
+    };
+    int own = 0;
+    for (int t = t0; t < t1; t++)
+        own += units(t);
+    const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5, warps = (int)blockDim.x >> 5;
+    int v = own;   // inclusive scan within the warp, then over the warps' totals
+    for (int o = 1; o < 32; o <<= 1)
+    {
+        const int u = __shfl_up_sync(0xFFFFFFFFu, v, o);
+        v += lane >= o ? u : 0;
+    }
+    if (lane == 31)
+        warpSums[warp] = v;
+    __syncthreads();
+    if (warp == 0)
+    {
+        int s = lane < warps ? warpSums[lane] : 0;
+        for (int o = 1; o < 32; o <<= 1)
+        {
+            const int u = __shfl_up_sync(0xFFFFFFFFu, s, o);
+            s += lane >= o ? u : 0;
+        }
+        warpSums[lane] = s;
+    }
+    __syncthreads();
+    int at = v - own + (warp > 0 ? warpSums[warp - 1] : 0);
+    for (int t = t0; t < t1; t++)
+    {
+        bases[t] = at;
+        at += units(t);
+    }
+    if (threadIdx.x == blockDim.x - 1)
+        bases[n] = at;
+}
+
 } // namespace
+
+void windowLayout(PtrStepSz<int> windows, int* bases, cudaStream_t stream)
+{
+    windowLayoutKernel<<<1, 1024, 0, stream>>>(windows, bases);
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
+}
 
 void coarseImages(PtrStepSz<uchar> left, PtrStepSz<uchar> right, PtrStepSz<uchar> coarseL, PtrStepSz<uchar> coarseR,
                   cudaStream_t stream)

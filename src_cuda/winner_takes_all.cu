@@ -37,9 +37,11 @@ template <int PPT> __device__ __forceinline__ unsigned costOf(const unsigned (&v
 }
 
 /* The winners of a block's pixels over their window [lo, hi) (the whole range without windows), PPT pairs a lane:
- lane t holds disparities [lo + t DPT, lo + t DPT + DPT), DPT = 2 PPT. Their right-view candidates go to rkey. */
+ lane t holds disparities [lo + t DPT, lo + t DPT + DPT), DPT = 2 PPT. Pixel x's sums start at first + (x - x0) stride
+ (at disparity lo). Their right-view candidates go to rkey. */
 template <int PPT>
-__device__ __forceinline__ void selectPixels(const PtrStepSz<ushort>& sum, int W, const PipelineParams& p, int lo, int hi,
+__device__ __forceinline__ void selectPixels(const ushort* first, int stride, int W, const PipelineParams& p, int lo,
+                                             int hi,
                                              int x0, int y, int lane, int warp, unsigned* rkey,
                                              PtrStepSz<short>& disp16, PtrStepSz<short>& dispInt,
                                              PtrStepSz<short>& nonUnique16)
@@ -58,7 +60,7 @@ __device__ __forceinline__ void selectPixels(const PtrStepSz<ushort>& sum, int W
         for (int j = 0; j < PPT; j++)
             v[i][j] = 0xFFFFFFFFu;
         if (pairs > 0)
-            loadPairs<PPT>((const unsigned*)(sum.ptr(y) + (size_t)x * D + d0), pairs, v[i]);
+            loadPairs<PPT>((const unsigned*)(first + (size_t)(x - x0) * stride + (d0 - lo)), pairs, v[i]);
     }
     struct { int x; bool valid, parabola; int bd, c0, cm, cp; } mine = { -1, false, false, 0, 0, 0, 0 };
 #pragma unroll
@@ -134,7 +136,7 @@ __device__ __forceinline__ void selectPixels(const PtrStepSz<ushort>& sum, int W
  block's 32 pixels lie in one tile) only the window's sums are read, compared and offered to the right view, and the
  parabola needs both neighbours in the window (selectPixel). */
 template <int PPT>
-__global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrStepSz<int> windows,
+__global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, WindowMap windows,
                           PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
                           PtrStepSz<short> nonUnique16)
 {
@@ -148,23 +150,31 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, PtrSte
         rkey[keySlot(i)] = 0xFFFFFFFFu;
     __syncthreads();
 
-    if (!windows.data)
+    if (!windows.tiles.data)
     {
-        selectPixels<PPT>(sum, W, p, 0, D, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+        selectPixels<PPT>(sum.ptr(y) + (size_t)x0 * D, D, W, p, 0, D, x0, y, lane, warp, rkey, disp16, dispInt,
+                          nonUnique16);
     }
     else
     {
-        // The block's window (its 32 pixels lie in one tile), with as few pairs a lane as it needs.
-        const unsigned w = (unsigned)windows(y / WINDOW_TILE, x0 / WINDOW_TILE);
+        // The block's window (its 32 pixels lie in one tile, in one row: their sums follow each other in the compact
+        // volume), with as few pairs a lane as it needs.
+        const int ty = y / WINDOW_TILE, tx = x0 / WINDOW_TILE;
+        const unsigned w = (unsigned)windows.tiles(ty, tx);
         const int lo = (int)(w & 0xFFFFu), hi = (int)(w >> 16), need = (hi - lo + 63) / 64;
+        const ushort* const first = (const ushort*)((const unsigned*)sum.data +
+                                                    windowPairOffset(windows.bases[ty * windows.tiles.cols + tx], x0,
+                                                                     y, lo, hi));
         if (need <= 1)
-            selectPixels<1>(sum, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+            selectPixels<1>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
         else if (need <= 2 || PPT <= 2)
-            selectPixels<(PPT < 2 ? PPT : 2)>(sum, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+            selectPixels<(PPT < 2 ? PPT : 2)>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt,
+                                              nonUnique16);
         else if (need <= 4 || PPT <= 4)
-            selectPixels<(PPT < 4 ? PPT : 4)>(sum, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+            selectPixels<(PPT < 4 ? PPT : 4)>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt,
+                                              nonUnique16);
         else
-            selectPixels<PPT>(sum, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
+            selectPixels<PPT>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
     }
     __syncthreads();
     unsigned* rk = (unsigned*)rightKey.ptr(y);
@@ -188,14 +198,14 @@ __global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz
 
 } // namespace
 
-void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, PtrStepSz<int> windows,
+void winnerTakesAll(PtrStepSz<ushort> sum, int width, int height, const PipelineParams& p, WindowMap windows,
                     PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
                     PtrStepSz<short> dispRight, PtrStepSz<short> nonUnique16, cudaStream_t stream)
 {
     CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
                                    stream));
-    const dim3 grid((width + SEG - 1) / SEG, sum.rows);
-    const auto launch = [&](void (*kernel)(PtrStepSz<ushort>, int, PipelineParams, PtrStepSz<int>, PtrStepSz<short>,
+    const dim3 grid((width + SEG - 1) / SEG, height);
+    const auto launch = [&](void (*kernel)(PtrStepSz<ushort>, int, PipelineParams, WindowMap, PtrStepSz<short>,
                                            PtrStepSz<short>, PtrStepSz<int>, PtrStepSz<short>)) {
         kernel<<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, windows, disp16, dispInt, rightKey, nonUnique16);
     };
@@ -212,7 +222,7 @@ void winnerTakesAll(PtrStepSz<ushort> sum, int width, const PipelineParams& p, P
     }
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
     const dim3 block(32, 8);
-    const dim3 grid2(cv::cudev::divUp(width, block.x), cv::cudev::divUp(sum.rows, block.y));
+    const dim3 grid2(cv::cudev::divUp(width, block.x), cv::cudev::divUp(height, block.y));
     rightKeyToDisparity<<<grid2, block, 0, stream>>>(rightKey, p.minDisparity, dispRight);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }

@@ -150,6 +150,38 @@ TEST(Lidarsgm_CUDA, search_windows_bit_exact)
     }
 }
 
+// The windows' sums are stored compactly: a windowed instance holds less device memory than a full-range one, by at
+// least the cells it does not search less the layout's slack (tiles padded at the image's edges, an eighth of headroom).
+TEST(Lidarsgm_CUDA, search_windows_shrink_device_memory)
+{
+    requireCudaDevice();
+#ifdef HAVE_CUDA
+    Mat l, r, s;
+    loadKittiTestFrame("000002", l, r, s);
+    cuda::GpuMat gl(l), gr(r), gs(s), gd;
+    const auto held = [&](int margin, double& fraction) {
+        size_t before = 0, after = 0, total = 0;
+        EXPECT_EQ(cudaSuccess, cudaDeviceSynchronize());
+        EXPECT_EQ(cudaSuccess, cudaMemGetInfo(&before, &total));
+        Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+        m->setSearchWindow(margin);
+        m->compute(gl, gr, gs, gd);
+        EXPECT_EQ(cudaSuccess, cudaDeviceSynchronize());
+        EXPECT_EQ(cudaSuccess, cudaMemGetInfo(&after, &total));
+        fraction = m->getSearchedFraction();
+        return (double)before - (double)after;   // m still holds its buffers here
+    };
+    double fullFraction = 0, fraction = 0;
+    const double full = held(0, fullFraction), windowed = held(4, fraction);
+    const double volume = (double)l.total() * 128 * sizeof(ushort);
+    ASSERT_EQ(1.0, fullFraction);
+    ASSERT_LT(fraction, 0.5);
+    EXPECT_LE(windowed, full - (1 - 1.3 * fraction) * volume)
+        << "full range " << full / 1048576 << " MB, windows (" << fraction << " of the cells) " << windowed / 1048576
+        << " MB";
+#endif
+}
+
 // A uniform pair (every cost 0: no unique winner anywhere) and a pair uniform in its left half.
 TEST(Lidarsgm_CUDA, flat_images_bit_exact)
 {
@@ -463,6 +495,7 @@ TEST(Lidarsgm_CUDA, memory_does_not_grow)
             m = StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, (call / 100) % 3);
         const int i = call % 6;
         m->setNumDisparities(numDs[i]);
+        m->setSearchWindow((call / 6) % 2 ? 4 : 0);   // the compact volume of the windows, and the full one
         if ((call / 6) % 5 == 2)
             m->semidensify(gl[i], gr[i], gs[i], out, stream);
         else
@@ -479,38 +512,49 @@ TEST(Lidarsgm_CUDA, memory_does_not_grow)
 }
 
 // compute(..., stream) must be truly asynchronous once buffers exist: capture it into a CUDA graph (capture fails on
-// a synchronisation or an allocation) and replay it.
+// a synchronisation or an allocation) and replay it. With disparity windows the captured call cannot wait for the
+// windows' total: its graph allocates a full-size volume; replayed on other LiDAR input, the windows change with it.
 TEST(Lidarsgm_CUDA, stream_call_is_graph_capturable)
 {
     requireCudaDevice();
 #ifdef HAVE_CUDA
     const std::string dir = cvtest::findDataDirectory("kitti");
     Mat l = imread(dir + "/image_2/000002_10.png", IMREAD_GRAYSCALE), r = imread(dir + "/image_3/000002_10.png", IMREAD_GRAYSCALE);
-    Mat s(l.size(), CV_32F, Scalar::all(0));
+    Mat s(l.size(), CV_32F, Scalar::all(0)), s2;
     RNG rng(3);
     for (int i = 0; i < 20000; i++)
         s.at<float>(rng.uniform(0, l.rows), rng.uniform(0, l.cols)) = (float)rng.uniform(1.0, 100.0);
-    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
-    cuda::GpuMat gl(l), gr(r), gs(s), gd;
-    cuda::Stream stream;
-    m->compute(gl, gr, gs, gd, stream);  // allocates the buffers
-    stream.waitForCompletion();
-    gd.setTo(Scalar::all(12345));
-    cudaStream_t st = cuda::StreamAccessor::getStream(stream);
-    ASSERT_EQ(cudaSuccess, cudaStreamBeginCapture(st, cudaStreamCaptureModeThreadLocal));
-    m->compute(gl, gr, gs, gd, stream);
-    cudaGraph_t graph = nullptr;
-    ASSERT_EQ(cudaSuccess, cudaStreamEndCapture(st, &graph));
-    cudaGraphExec_t exec = nullptr;
-    ASSERT_EQ(cudaSuccess, cudaGraphInstantiate(&exec, graph, 0));
-    ASSERT_EQ(cudaSuccess, cudaGraphLaunch(exec, st));
-    stream.waitForCompletion();
-    Mat cpu, gpuOut;
-    m->compute(l, r, s, cpu);
-    gd.download(gpuOut);
-    EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF));
-    cudaGraphExecDestroy(exec);
-    cudaGraphDestroy(graph);
+    s.copyTo(s2);
+    s2.rowRange(0, l.rows / 2).setTo(Scalar::all(0));   // the top half's windows from the coarse pass
+    for (int margin : { 0, 4 })
+    {
+        Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+        m->setSearchWindow(margin);
+        cuda::GpuMat gl(l), gr(r), gs(s), gd;
+        cuda::Stream stream;
+        m->compute(gl, gr, gs, gd, stream);  // allocates the buffers
+        stream.waitForCompletion();
+        gd.setTo(Scalar::all(12345));
+        cudaStream_t st = cuda::StreamAccessor::getStream(stream);
+        ASSERT_EQ(cudaSuccess, cudaStreamBeginCapture(st, cudaStreamCaptureModeThreadLocal));
+        m->compute(gl, gr, gs, gd, stream);
+        cudaGraph_t graph = nullptr;
+        ASSERT_EQ(cudaSuccess, cudaStreamEndCapture(st, &graph)) << "margin " << margin;
+        cudaGraphExec_t exec = nullptr;
+        ASSERT_EQ(cudaSuccess, cudaGraphInstantiate(&exec, graph, 0));
+        for (const Mat& sparse : { s, s2 })
+        {
+            gs.upload(sparse, stream);   // same size: the captured memory
+            ASSERT_EQ(cudaSuccess, cudaGraphLaunch(exec, st));
+            stream.waitForCompletion();
+            Mat cpu, gpuOut;
+            m->compute(l, r, sparse, cpu);
+            gd.download(gpuOut);
+            EXPECT_EQ(0, cvtest::norm(cpu, gpuOut, NORM_INF)) << "margin " << margin;
+        }
+        cudaGraphExecDestroy(exec);
+        cudaGraphDestroy(graph);
+    }
 #endif
 }
 
