@@ -250,7 +250,8 @@ fi
 if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
   # Per-kernel durations of the second SDSGM call at each WxH:disparities:paths of PROFILE_SIZES (the first call
   # includes module loading), e.g. PROFILE_SIZES="1242x375:128:8 1920x1080:256:8". With STALLS=1 also the warp
-  # states, scheduler and memory statistics of one path kernel (skipping STALL_SKIP path kernels, default 9).
+  # states, scheduler and memory statistics of one path kernel (skipping STALL_SKIP path kernels, default 9;
+  # STALL_KERNEL: the kernel name's pattern, default pathKernel).
   for spec in $PROFILE_SIZES; do
     args=$(spec_args "$spec"); sz=${spec//:/_}
     echo "== $spec: kernels of one SDSGM call (the second), summed by name:"
@@ -263,12 +264,12 @@ if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
     awk -v a=$((per + 1)) -v b=$((2 * per)) '$1 ~ /censusKernel/ {c++} c >= a && c <= b' "$OUT/kernels_$sz.txt" \
       | awk '{t[$1]+=$2; n[$1]++} END {for (k in t) {printf "  %-36s %3d launches %10.1f us\n", k, n[k], t[k]; s+=t[k]} printf "  %-36s %23.1f us\n", "sum", s}' | sort -k4 -n -r
     if [ "${STALLS:-0}" = 1 ]; then
-      ncu --clock-control none -k regex:pathKernel --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
+      ncu --clock-control none -k regex:${STALL_KERNEL:-pathKernel} --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
         --section SpeedOfLight --section Occupancy --section SchedulerStats --section WarpStateStats \
         --section MemoryWorkloadAnalysis $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -vE "^==PROF==|^ +-+$|^$" \
         | grep -E "pathKernel|Duration|Throughput|Occupancy|Warp Cycles|Stall|Issue|Eligible|Active Warps|Registers|L2 Hit|L1/TEX Hit|Mem Busy|Max Bandwidth|No Eligible|Issued Warp" | head -45
       echo "  stall reasons (warps stalled per issued instruction), largest first:"
-      ncu --clock-control none -k regex:pathKernel --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
+      ncu --clock-control none -k regex:${STALL_KERNEL:-pathKernel} --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
         --metrics "regex:smsp__average_warps_issue_stalled_.*_per_issue_active\.ratio" $B/lidarsgm_lidarsgm_fuse $args 2>&1 \
         | grep "stalled" | awk '{gsub(/,/, "", $NF); sub(/smsp__average_warps_issue_stalled_/, "", $1); print $NF, $1}' \
         | sort -g -r | head -8 | sed 's/^/    /'

@@ -115,7 +115,10 @@ instance per thread for parallel work. On the CUDA path, calls of one instance o
 are ordered on the GPU: a call on another stream than the previous call first waits (cudaStreamWaitEvent, no host
 synchronisation) until the previous call has finished with the buffers, so results are as if the calls ran alone.
 A call captured into a CUDA graph must follow a call of the same instance, at the same size, on the capturing
-stream, and the graph must not be replayed while the instance runs other calls.
+stream, and the graph must not be replayed while the instance runs other calls. With disparity windows
+(setSearchWindow) a CUDA call stores only the windows' sums, whose total only the device knows: the call waits on the
+host once, after the windows, for the work queued on its stream up to there; a call captured into a graph does not
+wait, and its graph allocates (and frees) a volume of the full range's size instead.
  */
 class CV_EXPORTS_W StereoLidarSGM : public Algorithm
 {
