@@ -395,13 +395,17 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
         ushort* c = (down ? costRow + (size_t)x * D : cBuf.data()) + lo;
         costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1,
                    own && copiedPrior(true, prior[x], own[x]) ? a.p.wCopy : a.p.w, lo, n, c);
+        // out: each direction's path costs at this pixel; outLo: from lo, set beside out (copied later, the compiler
+        // loaded the pointers just stored with vector loads, a failed store forwarding that took 6 % of this
+        // function's samples with windows on, perf).
         const ushort* lp[4] = {};
-        ushort* out[4] = {};
+        ushort *out[4] = {}, *outLo[4] = {};
         ushort minPrev[4] = {}, p2[4] = {}, mins[4];
         for (int k = 0; k < a.ndirs; k++)
         {
             const int xp = x - a.dx[k];
             out[k] = curL[k] + (size_t)x * st;
+            outLo[k] = out[k] + lo;
             if (first || xp < 0 || xp >= W)
                 lp[k] = noPath;
             else
@@ -418,11 +422,11 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
             minPrev[k] = lrMin;
             p2[k] = x > 0 ? jump(a, I, x, x - 1) : 0;
             out[k] = x == x1 - 1 ? lrEdge + (size_t)strip * st : lrU;
+            outLo[k] = out[k] + lo;
         }
         // Windows: each predecessor's costs as this window reads them, all pointers from lo. Apart from the full
         // range's loop above (kept as it was: a window test inside it stopped the compiler from unrolling it, 180
         // instructions a pixel measured by callgrind).
-        ushort* outLo[4] = { out[0], out[1], out[2], out[3] };
         if (narrowed)
         {
             for (int k = 0; k < nd; k++)
@@ -436,7 +440,6 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
                 else if (lp[k] != noPath)
                     a.window(x - a.dx[k], yq, plo, phi);
                 lp[k] = pathInput(lp[k], plo, phi, lo, hi, tempBuf.data() + k * st + 1) + lo;
-                outLo[k] = out[k] + lo;
             }
         }
         // Down: the sum of the top-down and left-right paths to the ring row; up: the pixel's complete sum.
