@@ -11,6 +11,7 @@
 #include "precomp.hpp"
 #include "cpu_stages.hpp"
 #include "sparse_window.hpp"
+#include "opencv2/imgproc.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 
@@ -44,6 +45,29 @@ void filterHiddenPoints(const Mat& sparse16, const PipelineParams& params, Mat& 
     const int W = sparse16.cols, H = sparse16.rows, g = visibilityGrowth(p);
     const int rx = p.visibilityRadiusX + g, ry = p.visibilityRadiusY + g;   // the largest window
     const SparseColumns cols(sparse16);
+    // A point can be hidden only by a value more than Tc above it in the base window, or at k pixels beyond it (k up
+    // to g) by one at least k 4096 / visibilityParallax256 above it (hiddenBy). So the highest value of each pixel's
+    // window grown by k = 0, 1, 2, 4, ... g (dilations; NO_DISP is the lowest short) rules out most points at once,
+    // even on surfaces whose disparity changes across the window (the ground), before the exact search.
+    std::vector<int> growths(1, 0);
+    for (int k = 1; k <= g; k *= 2)
+        growths.push_back(std::min(k, g));
+    if (growths.back() < g)
+        growths.push_back(g);
+    std::vector<Mat> windowMax(growths.size());
+    for (size_t i = 0; i < growths.size(); i++)
+        dilate(sparse16, windowMax[i], getStructuringElement(MORPH_RECT, Size(2 * (p.visibilityRadiusX + growths[i]) + 1,
+                                                                               2 * (p.visibilityRadiusY + growths[i]) + 1)));
+    const auto mayBeHidden = [&](int x, int y, int d16) {
+        for (size_t i = 0; i < growths.size(); i++)
+        {
+            const int above = windowMax[i].at<short>(y, x) - d16;
+            if (above > p.checkThreshold16 &&
+                (i == 0 || (int64)p.visibilityParallax256 * above >= (int64)4096 * (growths[i - 1] + 1)))
+                return true;
+        }
+        return false;
+    };
     visible16.create(sparse16.size(), CV_16SC1);
     parallel_for_(Range(0, H), [&](const Range& r) {
         WindowCursor win(cols, ry, r.start);
@@ -55,7 +79,7 @@ void filterHiddenPoints(const Mat& sparse16, const PipelineParams& params, Mat& 
             for (int x = 0; x < W; x++)
             {
                 out[x] = s[x];
-                if (s[x] == NO_DISP)
+                if (s[x] == NO_DISP || !mayBeHidden(x, y, s[x]))
                     continue;
                 bool hidden = false;
                 for (int u = std::max(x - rx, 0); u <= std::min(x + rx, W - 1) && !hidden; u++)

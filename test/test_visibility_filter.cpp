@@ -107,6 +107,54 @@ TEST(Lidarsgm_VisibilityFilter, growth_applies_to_scans_only)
     }
 }
 
+/* The filter against its definition, point by point: hidden where some value of the window grown to the largest
+growth hides it (hiddenBy). On both KITTI scans, a random map and a slanted plane with near points on it, with and
+without growth (the filter's dilation pre-test must not change the result). */
+TEST(Lidarsgm_VisibilityFilter, equals_the_definition)
+{
+    std::vector<std::pair<std::string, Mat> > maps;
+    for (const char* id : { "000002", "000046" })
+    {
+        Mat l, r, sparse, s16;
+        loadKittiTestFrame(id, l, r, sparse);
+        convertSparse(sparse, 0, 128, s16);
+        maps.push_back(std::make_pair(std::string(id), s16));
+    }
+    RNG rng(11);
+    Mat random(120, 160, CV_16SC1, Scalar::all(NO_DISP)), plane(120, 160, CV_16SC1, Scalar::all(NO_DISP));
+    for (int i = 0; i < 3000; i++)
+        random.at<short>(rng.uniform(0, 120), rng.uniform(0, 160)) = (short)rng.uniform(16, 127 * 16);
+    for (int y = 0; y < 120; y += 3)
+        for (int x = 0; x < 160; x += 2)
+            plane.at<short>(y, x) = (short)(y * 12 + (rng.uniform(0, 8) == 0 ? rng.uniform(40, 800) : 0));
+    maps.push_back(std::make_pair(std::string("random"), random));
+    maps.push_back(std::make_pair(std::string("plane"), plane));
+    for (const auto& m : maps)
+        for (int parallax256 : { 0, 46, 64 })
+            for (int rx : { 0, 2 })
+            {
+                PipelineParams p = visibilityParams(rx, 4, 32);
+                p.numDisparities = 128;
+                p.visibilityParallax256 = parallax256;
+                const Mat& s = m.second;
+                Mat out;
+                filterHiddenPoints(s, p, out, true);
+                const int g = visibilityGrowth(p), wx = rx + g, wy = 4 + g;
+                int wrong = 0;
+                for (int y = 0; y < s.rows; y++)
+                    for (int x = 0; x < s.cols; x++)
+                    {
+                        const short d = s.at<short>(y, x);
+                        bool hidden = false;
+                        for (int v = std::max(y - wy, 0); d != NO_DISP && v <= std::min(y + wy, s.rows - 1); v++)
+                            for (int u = std::max(x - wx, 0); u <= std::min(x + wx, s.cols - 1); u++)
+                                hidden = hidden || hiddenBy(s.at<short>(v, u), d, u - x, v - y, p);
+                        wrong += out.at<short>(y, x) != (hidden ? NO_DISP : d);
+                    }
+                EXPECT_EQ(0, wrong) << m.first << ", parallax256 " << parallax256 << ", rx " << rx;
+            }
+}
+
 TEST(Lidarsgm_VisibilityFilter, matcher_drops_hidden_points_before_every_stage)
 {
     // With the filter on, the matcher behaves as if the hidden points were not in the input.
