@@ -416,8 +416,8 @@ void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool d
         ushort* c = (down ? costRow + (size_t)x * D : cBuf.data()) + lo;
         costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1,
                    own && copiedPrior(true, prior[x], own[x]) ? a.p.wCopy : a.p.w, lo, n, c);
-        // out: each direction's path costs at this pixel; outLo: from lo, set beside out (copied later, the compiler
-        // loaded the pointers just stored with vector loads, a failed store forwarding that took 6 % of this
+        // out: each direction's path costs at this pixel; outLo: from lo, set beside out (copied from out afterwards,
+        // the pointers just stored were reloaded with vector loads: a failed store forwarding that took 6 % of this
         // function's samples with windows on, perf).
         const ushort* lp[4] = {};
         ushort *out[4] = {}, *outLo[4] = {};

@@ -310,12 +310,9 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
     // A line crosses the tiles in segments: pixel s lies at (x + s dx, y + s dy), its window is its tile's, and the
     // segment that starts at s ends where the line leaves the tile (segmentEnd). Within a segment the window and the
     // sums' step in the compact volume stay the same.
-    const auto tileOf = [&](int s) {
-        return (int)((unsigned)(y + s * dy) / WINDOW_TILE * windows.tiles.cols + (unsigned)(x + s * dx) / WINDOW_TILE);
-    };
-    const auto windowAt = [&](int s) {
-        return (unsigned)windows.tiles((unsigned)(y + s * dy) / WINDOW_TILE, (unsigned)(x + s * dx) / WINDOW_TILE);
-    };
+    const auto tileX = [&](int s) { return (int)((unsigned)(x + s * dx) / WINDOW_TILE); };
+    const auto tileY = [&](int s) { return (int)((unsigned)(y + s * dy) / WINDOW_TILE); };
+    const auto windowAt = [&](int s) { return (unsigned)windows.tiles(tileY(s), tileX(s)); };
     const auto segmentEnd = [&](int s) {
         const unsigned cx = x + s * dx, cy = y + s * dy;
         int len = n - s;
@@ -493,7 +490,7 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             moveWindow();
         {
             const int lo = (int)(win & 0xFFFFu), hi = (int)(win >> 16);
-            sums = volume + windowPairOffset(windows.bases[tileOf(s)], x + s * dx, y + s * dy, lo, hi);
+            sums = volume + windowPairOffset(windows.base(tileX(s), tileY(s)), x + s * dx, y + s * dy, lo, hi);
             sumStep = (dy * WINDOW_TILE + dx) * ((hi - lo) >> 1);
         }
         const int groups = (int)((win >> 16) - (win & 0xFFFFu) + 63) >> 6;
@@ -563,8 +560,7 @@ __global__ void zeroWindowsKernel(WindowMap windows, int W, unsigned* volume)
     const int y = blockIdx.y, tx = blockIdx.x, x0 = tx * WINDOW_TILE;
     const unsigned w = (unsigned)windows.tiles(y / WINDOW_TILE, tx);
     const int lo = (int)(w & 0xFFFFu), hi = (int)(w >> 16);
-    uint4* const row = (uint4*)(volume + windowPairOffset(windows.bases[y / WINDOW_TILE * windows.tiles.cols + tx], x0,
-                                                          y, lo, hi));
+    uint4* const row = (uint4*)(volume + windowPairOffset(windows.base(tx, y / WINDOW_TILE), x0, y, lo, hi));
     const int chunks = ::min(WINDOW_TILE, W - x0) * (hi - lo) / 8;
     for (int i = threadIdx.x; i < chunks; i += blockDim.x)
         row[i] = make_uint4(0, 0, 0, 0);

@@ -95,6 +95,8 @@ struct WindowMap
 {
     PtrStepSz<int> tiles;
     const int* bases;
+    //! Tile (tx, ty)'s base.
+    LIDARSGM_HD int base(int tx, int ty) const { return bases[ty * tiles.cols + tx]; }
 };
 
 /** The compact volume's bases of the windows (lo | hi << 16 per tile): bases, tiles + 1 ints of device memory. */

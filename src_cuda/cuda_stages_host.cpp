@@ -156,9 +156,12 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
     // With windows the stage fills the compact volume, copied here into sum's full layout (0 outside the windows).
     std::unique_ptr<CompactVolume> compact(windows.empty() ? nullptr
                                                            : new CompactVolume(windows, left.size(), p.numDisparities));
-    GpuMat volume = sum;
+    // Its own memory: never an alias of sum, which receives the full layout below.
+    GpuMat volume;
     if (compact)
         cuda::createContinuous(1, (int)compact->sums(), CV_16UC1, volume);
+    else
+        volume = sum;
     const ci::WindowMap map = compact ? compact->map(windows) : ci::WindowMap();
     if (left.type() == CV_8UC1)
         ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, facts, map, volume, 0);
@@ -185,8 +188,8 @@ void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMa
         nonUnique16.create(sz, CV_16SC1);
     else
         nonUnique16.release();
-    // With windows: sum (full layout) into the compact volume the stage reads.
-    GpuMat volume = sum;
+    // With windows: sum (full layout) into the compact volume the stage reads (its own memory, not sum's).
+    GpuMat volume = windows.empty() ? sum : GpuMat();
     ci::WindowMap map = ci::WindowMap();
     std::unique_ptr<CompactVolume> compact;
     if (!windows.empty())

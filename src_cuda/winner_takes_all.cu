@@ -41,8 +41,7 @@ template <int PPT> __device__ __forceinline__ unsigned costOf(const unsigned (&v
  (at disparity lo). Their right-view candidates go to rkey. */
 template <int PPT>
 __device__ __forceinline__ void selectPixels(const ushort* first, int stride, int W, const PipelineParams& p, int lo,
-                                             int hi,
-                                             int x0, int y, int lane, int warp, unsigned* rkey,
+                                             int hi, int x0, int y, int lane, int warp, unsigned* rkey,
                                              PtrStepSz<short>& disp16, PtrStepSz<short>& dispInt,
                                              PtrStepSz<short>& nonUnique16)
 {
@@ -162,9 +161,8 @@ __global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, Window
         const int ty = y / WINDOW_TILE, tx = x0 / WINDOW_TILE;
         const unsigned w = (unsigned)windows.tiles(ty, tx);
         const int lo = (int)(w & 0xFFFFu), hi = (int)(w >> 16), need = (hi - lo + 63) / 64;
-        const ushort* const first = (const ushort*)((const unsigned*)sum.data +
-                                                    windowPairOffset(windows.bases[ty * windows.tiles.cols + tx], x0,
-                                                                     y, lo, hi));
+        const ushort* const first =
+            (const ushort*)((const unsigned*)sum.data + windowPairOffset(windows.base(tx, ty), x0, y, lo, hi));
         if (need <= 1)
             selectPixels<1>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt, nonUnique16);
         else if (need <= 2 || PPT <= 2)
