@@ -97,15 +97,40 @@ __device__ __forceinline__ void pathDirection(int dir, int& dx, int& dy)
     dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
 }
 
-/* The line a warp of the path kernels walks: direction blockIdx.y (pathDirection), line blockIdx.x * warpsPerBlock +
- warp (lineStart); its first pixel (x, y) and its length n, the steps until it leaves the W x H image. False past the
- last line of the direction. */
-__device__ __forceinline__ bool warpLine(int warpsPerBlock, int W, int H, int& dir, int& dx, int& dy, int& x, int& y,
-                                         int& n)
+/* The line a warp of the path kernels walks. Without `waves`, direction blockIdx.y, line block blockIdx.x. With
+ `waves` (8 paths; a 1-D grid of 8 x lineBlocks blocks) the blocks take the horizontal directions first (the longest
+ lines), then the three that go down, (0, 1), (1, 1), (-1, 1), in turn, line block by line block, then the three that
+ go up the same way: the lines that start together run together, so the down-going lines that start on the top row
+ reach each row at about the same time, and their sums' reductions meet in L2 instead of each reading and writing the
+ row's sums in DRAM (pathKernel on the H100 at KITTI size: 0.91 GB of DRAM traffic against 1.26, 9 % less time).
+ Direction dir (pathDirection), line (lineStart) and its first pixel (x, y) and length n, the steps until it leaves
+ the W x H image. False past the last line of the direction. */
+__device__ __forceinline__ bool warpLine(int warpsPerBlock, bool waves, int W, int H, int& dir, int& dx, int& dy,
+                                         int& x, int& y, int& n)
 {
-    dir = (int)blockIdx.y;
+    int lineBlock;
+    if (waves)
+    {
+        const int lineBlocks = (int)gridDim.x / 8, b = (int)blockIdx.x;
+        if (b < 2 * lineBlocks)
+        {
+            dir = b / lineBlocks;
+            lineBlock = b % lineBlocks;
+        }
+        else
+        {
+            const int r = b - 2 * lineBlocks, wave = r / (3 * lineBlocks), k = r % (3 * lineBlocks) % 3;
+            lineBlock = r % (3 * lineBlocks) / 3;
+            dir = k == 0 ? 2 + wave : 3 + 2 * wave + k;   // 2, 4, 5 (down), then 3, 6, 7 (up)
+        }
+    }
+    else
+    {
+        dir = (int)blockIdx.y;
+        lineBlock = (int)blockIdx.x;
+    }
     pathDirection(dir, dx, dy);
-    if (!lineStart(blockIdx.x * warpsPerBlock + (threadIdx.x >> 5), dx, dy, W, H, x, y))
+    if (!lineStart(lineBlock * warpsPerBlock + (int)(threadIdx.x >> 5), dx, dy, W, H, x, y))
         return false;
     n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
     return true;

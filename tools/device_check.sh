@@ -84,15 +84,17 @@ if [ "${BASE:-0}" = 1 ] && [ -f .device/prebuilt_base.tar.xz ]; then
   # an earlier commit), for a before/after on the same card.
   mkdir -p /tmp/base && tar -xJf .device/prebuilt_base.tar.xz -C /tmp/base
   echo "== base build $(head -c 12 /tmp/base/prebuilt/COMMIT)"
-  # With WINDOWS set, both with --search-window WINDOWS (the windows' before/after).
-  for a in "" "--resize 1920x1080 --num-disparities 256" "--resize 1920x1080 --num-disparities 256 --paths 4" \
-           "--resize 3840x2160 --num-disparities 256"; do
-    LD_LIBRARY_PATH=/tmp/base/prebuilt/lib /tmp/base/prebuilt/bin/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
-      --id 000002 --cuda 1 --timing 20 $a ${WINDOWS:+--search-window $WINDOWS} | grep -E "^device:|lidarsgm SDSGM"
-    if [ -n "${WINDOWS:-}" ]; then
+  # Each size timed by the base build, then by this build, BASE_ROUNDS times (default 1); with WINDOWS set, both with
+  # --search-window WINDOWS (the windows' before/after).
+  for ((r = 0; r < ${BASE_ROUNDS:-1}; r++)); do
+    for a in "" "--resize 1920x1080 --num-disparities 256" "--resize 1920x1080 --num-disparities 256 --paths 4" \
+             "--resize 3840x2160 --num-disparities 256"; do
+      LD_LIBRARY_PATH=/tmp/base/prebuilt/lib /tmp/base/prebuilt/bin/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
+        --id 000002 --cuda 1 --timing 20 $a ${WINDOWS:+--search-window $WINDOWS} | grep -E "^device:|lidarsgm SDSGM " \
+        | sed "s/^/base ${a:-KITTI}: /"
       $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 $a \
-        --search-window $WINDOWS | grep -E "lidarsgm SDSGM" | sed 's/^/this build: /'
-    fi
+        ${WINDOWS:+--search-window $WINDOWS} | grep -E "lidarsgm SDSGM " | sed "s/^/this build ${a:-KITTI}: /"
+    done
   done
 fi
 if [ "${SANITIZE:-0}" = 1 ] && command -v compute-sanitizer >/dev/null; then
