@@ -55,15 +55,26 @@ __global__ void ringNeighboursKernel(PtrStepSz<short> sparse16, PtrStepSz<short>
     }
 }
 
+// A block counts in shared memory first: most points fall in a few bins, and their global atomics would queue on them.
 __global__ void ringGapHistogramKernel(PtrStepSz<short> sparse16, PtrStepSz<short> above, PtrStepSz<short> below,
                                        int* hist)
 {
+    __shared__ int local[RING_GAP_BINS];
+    const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
+    for (int i = tid; i < RING_GAP_BINS; i += nthreads)
+        local[i] = 0;
+    __syncthreads();
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    if (x >= sparse16.cols || y >= sparse16.rows || sparse16(y, x) == NO_DISP)
-        return;
-    const int g = ringPointGap(above.ptr(y), below.ptr(y), x, sparse16.cols, y);
-    if (g >= 0)
-        atomicAdd(hist + g, 1);
+    if (x < sparse16.cols && y < sparse16.rows && sparse16(y, x) != NO_DISP)
+    {
+        const int g = ringPointGap(above.ptr(y), below.ptr(y), x, sparse16.cols, y);
+        if (g >= 0)
+            atomicAdd(local + g, 1);
+    }
+    __syncthreads();
+    for (int i = tid; i < RING_GAP_BINS; i += nthreads)
+        if (local[i] > 0)
+            atomicAdd(hist + i, local[i]);
 }
 
 __global__ void ringGapLimitKernel(int* stats, int factor16)

@@ -209,11 +209,12 @@ if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
       $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
-# The tool's arguments for one SDSGM call at a WxH:disparities:paths[:margin] spec of DRAM_SIZES / PROFILE_SIZES /
-# INSTRUCTIONS (margin: --search-window, the disparity windows).
+# The tool's arguments for one SDSGM call at a WxH:disparities:paths[:margin[:params file]] spec of DRAM_SIZES /
+# PROFILE_SIZES / INSTRUCTIONS (margin: --search-window, the disparity windows; the file: --params, e.g.
+# doc/params/kitti_best.yml, whose own size, disparities and paths the spec's override).
 spec_args() {
-  IFS=: read -r sz nd np nw <<< "$1"
-  echo "--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 --resize $sz --num-disparities $nd --paths $np --search-window ${nw:-0}"
+  IFS=: read -r sz nd np nw pf <<< "$1"
+  echo "--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 ${pf:+--params $pf} --resize $sz --num-disparities $nd --paths $np --search-window ${nw:-0}"
 }
 if [ -n "${DRAM_SIZES:-}" ] && command -v ncu >/dev/null; then
   # DRAM bytes read and written by each kernel of one SDSGM call at each WxH:disparities:paths of DRAM_SIZES.
