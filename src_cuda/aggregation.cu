@@ -72,8 +72,8 @@ __device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
     return (size_t)r;
 }
 
-/* One warp walks one line (warpLine), adding its path costs into the zeroed sum volume with
- 64-bit (or 32-bit) reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights
+/* One warp walks one line (warpLine), adding its path costs into the zeroed sum volume with 64-bit (or 32-bit)
+ reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights
  are scaled for that), so no carry crosses into the other half. The left census and the facts are warp-uniform
  loads; the right census strings are read through L1 (a horizontal line's row stays there). The loads for the next
  pixel are issued before the current step's recurrence, to hide their latency. Instantiated for G pairs per group
@@ -523,7 +523,8 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> 
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
     const int lineBlocks = cv::cudev::divUp(maxLines, WARPS_PER_BLOCK);
     // 8 paths in waves (warpLine): a 1-D grid.
-    const dim3 grid = p.numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, p.numPaths), block(32 * WARPS_PER_BLOCK);
+    const dim3 grid = p.numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, p.numPaths);
+    const dim3 block(32 * WARPS_PER_BLOCK);
     const int G = PPT % 2 == 0 ? 2 : 1;
     // From 129 disparities on, at most MAX_BLOCKS_PER_SM blocks run on a multiprocessor (unused dynamic shared memory
     // keeps the others out): fewer lines in flight thrash L2 less with their sums (H100, 256 disparities, 6 blocks

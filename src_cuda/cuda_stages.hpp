@@ -25,7 +25,7 @@ void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities
                    cudaStream_t stream);
 
 /** The device memory of the scan test's statistics (the two histograms, the result) and of ring interpolation's (the
-histogram, the gap limit and the count of blocks done: the last block to finish takes the limit, histogram_stats.cuh). */
+histogram, the gap limit, the count of blocks done: the last block to finish takes the limit, histogram_stats.cuh). */
 enum { SCAN_STATS_INTS = 2 * SCAN_GAP_BINS + 1, RING_STATS_INTS = RING_GAP_BINS + 2 };
 
 /** The scan test (visibilityGrowthApplies) on the sparse map: stats, SCAN_STATS_INTS ints of device memory, receives
