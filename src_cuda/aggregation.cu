@@ -73,11 +73,11 @@ __device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
 }
 
 /* One warp walks one line (warpLine), adding its path costs into the zeroed sum volume with 64-bit (or 32-bit)
- reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights
- are scaled for that), so no carry crosses into the other half. The left census and the facts are warp-uniform
- loads; the right census strings are read through L1 (a horizontal line's row stays there). The loads for the next
- pixel are issued before the current step's recurrence, to hide their latency. Instantiated for G pairs per group
- (see below), FULL: every lane's last group holds disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty. */
+ reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for that),
+ so no carry crosses into the other half. The left census and the facts are warp-uniform loads; the right census
+ strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are issued before the
+ current step's recurrence, to hide their latency. Instantiated for G pairs per group (see below), FULL: every lane's
+ last group holds disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty. */
 template <int PPT, int G, bool FULL, bool DDC, bool EDGES>
 __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
 pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PipelineParams p,

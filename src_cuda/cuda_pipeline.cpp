@@ -169,7 +169,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         // The scan test, once for the stages that need it (on the map as given), read by them on the device.
         if (p.visibilityParallax256 > 0 || p.weighCopies)
         {
-            b.scanStats.create(1, ci::SCAN_STATS_INTS, CV_32SC1);
+            b.scanStats.create(1, 2 * SCAN_GAP_BINS + 1, CV_32SC1);
             scanStats = b.scanStats.ptr<int>();
             ci::testScan(converted, scanStats, st);
         }
@@ -191,7 +191,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         if (rings)
         {
             b.ring.create(2 * sz.height, sz.width, CV_16SC1);
-            b.ringStats.create(1, ci::RING_STATS_INTS, CV_32SC1);
+            b.ringStats.create(1, RING_GAP_BINS + 1, CV_32SC1);
             ringAbove = b.ring.rowRange(0, sz.height);
             ringBelow = b.ring.rowRange(sz.height, 2 * sz.height);
             ci::interpolateRings(b.censusL, b.censusR, b.sparse16, p, b.semidense16, ringAbove, ringBelow,

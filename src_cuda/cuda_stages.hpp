@@ -24,12 +24,8 @@ void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparitie
 void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
                    cudaStream_t stream);
 
-/** The device memory of the scan test's statistics (the two histograms, the result) and of ring interpolation's (the
-histogram, the gap limit, the count of blocks done: the last block to finish takes the limit, histogram_stats.cuh). */
-enum { SCAN_STATS_INTS = 2 * SCAN_GAP_BINS + 1, RING_STATS_INTS = RING_GAP_BINS + 2 };
-
-/** The scan test (visibilityGrowthApplies) on the sparse map: stats, SCAN_STATS_INTS ints of device memory, receives
-the gap histograms and, at stats[2 SCAN_GAP_BINS], the result (1: a LiDAR scan). */
+/** The scan test (visibilityGrowthApplies) on the sparse map: stats, 2 SCAN_GAP_BINS + 1 ints of device memory,
+receives the gap histograms and, at stats[2 SCAN_GAP_BINS], the result (1: a LiDAR scan). */
 void testScan(PtrStepSz<short> sparse16, int* stats, cudaStream_t stream);
 
 /** The visibility filter (hiddenBy). stats: testScan's output where p.visibilityParallax256 > 0 (the growth applies
@@ -60,7 +56,7 @@ void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
 /** Ring interpolation (pipeline.hpp) into semidense16's empty pixels; above and below are maps of the image's size,
-stats RING_STATS_INTS ints of device memory (the gap histogram, then the gap limit): the ring check reads the maps
+stats RING_GAP_BINS + 1 ints of device memory (the gap histogram, then the gap limit): the ring check reads the maps
 and stats[RING_GAP_BINS]. */
 void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                       const PipelineParams& p, PtrStepSz<short> semidense16, PtrStepSz<short> above,
@@ -150,8 +146,8 @@ inline WindowMap windowMap(const WindowBuffers& w)
 }
 
 /** The coarse pass (coarseDisparities on the CPU, on every call), searchWindows into w.windows and windowLayout into
-w.bases: the only host code
-among the stages (it allocates w's buffers where their size changes; src_cuda/cuda_pipeline.cpp). */
+w.bases: the only host code among the stages (it allocates w's buffers where their size changes;
+src_cuda/cuda_pipeline.cpp). */
 void enqueueSearchWindows(const cv::cuda::GpuMat& prior16, const cv::cuda::GpuMat& left,
                           const cv::cuda::GpuMat& right, const PipelineParams& p, WindowBuffers& w,
                           cudaStream_t stream);

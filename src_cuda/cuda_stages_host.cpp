@@ -59,7 +59,7 @@ struct CompactVolume
 //! The scan test's result on the device: stats as the pipeline holds them, the result at stats[2 SCAN_GAP_BINS].
 GpuMat scanStats(const GpuMat& sparse16)
 {
-    GpuMat stats(1, ci::SCAN_STATS_INTS, CV_32SC1);
+    GpuMat stats(1, 2 * SCAN_GAP_BINS + 1, CV_32SC1);
     ci::testScan(sparse16, stats.ptr<int>(), 0);
     return stats;
 }
@@ -125,7 +125,7 @@ void interpolateRings(const GpuMat& censusL, const GpuMat& censusR, const GpuMat
 {
     above16.create(sparse16.size(), CV_16SC1);
     below16.create(sparse16.size(), CV_16SC1);
-    GpuMat stats(1, ci::RING_STATS_INTS, CV_32SC1);
+    GpuMat stats(1, RING_GAP_BINS + 1, CV_32SC1);
     ci::interpolateRings(censusL, censusR, sparse16, p, semidense16, above16, below16, stats.ptr<int>(), 0);
     finish();
     Mat s;

@@ -6,7 +6,6 @@
 // host.
 
 #include "cuda_stages.hpp"
-#include "histogram_stats.cuh"
 #include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -56,10 +55,9 @@ __global__ void ringNeighboursKernel(PtrStepSz<short> sparse16, PtrStepSz<short>
     }
 }
 
-/* A block counts in shared memory first: most points fall in a few bins, and their global atomics would queue on them.
- The last block to finish takes the gap limit from the histogram (stats[RING_GAP_BINS]). */
+// A block counts in shared memory first: most points fall in a few bins, and their global atomics would queue on them.
 __global__ void ringGapHistogramKernel(PtrStepSz<short> sparse16, PtrStepSz<short> above, PtrStepSz<short> below,
-                                       int* stats, int factor16)
+                                       int* hist)
 {
     __shared__ int local[RING_GAP_BINS];
     const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
@@ -76,13 +74,12 @@ __global__ void ringGapHistogramKernel(PtrStepSz<short> sparse16, PtrStepSz<shor
     __syncthreads();
     for (int i = tid; i < RING_GAP_BINS; i += nthreads)
         if (local[i] > 0)
-            atomicAdd(stats + i, local[i]);
-    if (lastBlockDone(stats + RING_GAP_BINS + 1) && tid < 32)
-    {
-        const int limit = ringGapLimit(factor16, warpLowerMedian(stats, RING_GAP_BINS));
-        if (tid == 0)
-            stats[RING_GAP_BINS] = limit;
-    }
+            atomicAdd(hist + i, local[i]);
+}
+
+__global__ void ringGapLimitKernel(int* stats, int factor16)
+{
+    stats[RING_GAP_BINS] = ringGapLimit(factor16, histogramLowerMedian(stats, RING_GAP_BINS));
 }
 
 __global__ void ringFillKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
@@ -112,9 +109,11 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
     const int W = semidense16.cols, H = semidense16.rows;
     ringNeighboursKernel<<<divUp(W, 32), dim3(32, 32), 0, stream>>>(sparse16, above, below);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
-    CV_CUDEV_SAFE_CALL(cudaMemsetAsync(stats, 0, RING_STATS_INTS * sizeof(int), stream));
+    CV_CUDEV_SAFE_CALL(cudaMemsetAsync(stats, 0, (RING_GAP_BINS + 1) * sizeof(int), stream));
     const dim3 block(32, 8), grid(divUp(W, block.x), divUp(H, block.y));
-    ringGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, above, below, stats, p.ringGapFactor16);
+    ringGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, above, below, stats);
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
+    ringGapLimitKernel<<<1, 1, 0, stream>>>(stats, p.ringGapFactor16);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
     ringFillKernel<<<grid, block, 0, stream>>>(censusL, censusR, sparse16, above, below, stats,
                                                p.semidenseThreshold, p.minDisparity,
