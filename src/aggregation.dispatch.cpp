@@ -2,8 +2,9 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // The CPU aggregation's sweeps in order (aggregation.simd.hpp), each running the kernels compiled for the best
-// instruction set this CPU has (OpenCV's CPU dispatch: baseline, SSE4.1, AVX2). Also the volume forms of the
-// matching cost and the winner-takes-all, for the per-stage tests: the same kernels.
+// instruction set this CPU has (OpenCV's CPU dispatch: baseline, SSE4.1, AVX2), and the tables they read: the right
+// census rows as the matching cost reads them and each pixel's DDC terms. Also the volume forms of the matching cost
+// and the winner-takes-all, for the per-stage tests: the same kernels.
 
 #include "precomp.hpp"
 #if defined(__linux__)
@@ -18,6 +19,52 @@
 namespace cv { namespace lidarsgm { namespace detail {
 
 namespace {
+
+/* The DDC terms (ddcTerm, pipeline.hpp) as table rows: a pixel with prior index k reads ddcTerm(d, k) at
+ddcTable[addend(y, x) + d], a row of zeros where it has no prior. Row r (1: w, 2: wCopy, copiedPrior) holds the term
+of d - k = j - D at j, so that addend = r * rowLength + D - k. */
+void ddcTables(AggregationState& a)
+{
+    const PipelineParams& p = a.p;
+    const int D = a.D, rowLength = 2 * D + 64, H = a.censusL.rows, W = a.censusL.cols, minD = p.minDisparity;
+    a.ddcTable.assign((size_t)3 * rowLength, 0);
+    for (int r = 1; r <= 2; r++)
+        for (int j = 0; j < rowLength; j++)
+            a.ddcTable[(size_t)r * rowLength + j] = (ushort)ddcTerm(j, D, r == 1 ? p.w : p.wCopy);
+    a.addend.create(H, W, CV_16UC1);
+    if (a.prior16.empty())
+    {
+        a.addend.setTo(Scalar::all(0));
+        return;
+    }
+    parallel_for_(Range(0, H), [&](const Range& rows) {
+        for (int y = rows.start; y < rows.end; y++)
+        {
+            const short* prior = a.prior16.ptr<short>(y);
+            const short* own = a.own16.empty() ? nullptr : a.own16.ptr<short>(y);
+            ushort* out = a.addend.ptr<ushort>(y);
+            for (int x = 0; x < W; x++)
+            {
+                if (prior[x] == NO_DISP)
+                {
+                    out[x] = 0;
+                    continue;
+                }
+                // In range by construction (sparseInRange); clamped so that a table read never leaves its row.
+                const int k = std::min(std::max(roundDisp16(prior[x]) - minD, 0), D - 1);
+                const int r = own && copiedPrior(true, prior[x], own[x]) ? 2 : 1;
+                out[x] = (ushort)(r * rowLength + D - k);
+            }
+        }
+    }, rowStripes(H));
+}
+
+void fillIota(AggregationState& a)
+{
+    a.iota.resize(MAX_DISPARITIES + 64);
+    for (size_t i = 0; i < a.iota.size(); i++)
+        a.iota[i] = (ushort)i;
+}
 
 void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
                const PipelineParams& p, const Mat& own16 = Mat())
@@ -42,16 +89,18 @@ void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, cons
     }
     else
         a.intensity.release();
+    ddcTables(a);
+    fillIota(a);
 }
 
 // CV_CPU_DISPATCH returns from the function it stands in: one small function per kernel.
-void runRightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip)
+void runRightRows(AggregationState& a, int y0, int y1)
 {
-    CV_CPU_DISPATCH(rightLeftStrip, (a, y, x0, x1, strip), CV_CPU_DISPATCH_MODES_ALL);
+    CV_CPU_DISPATCH(rightRows, (a, y0, y1), CV_CPU_DISPATCH_MODES_ALL);
 }
-void runVerticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down)
+void runSweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool down)
 {
-    CV_CPU_DISPATCH(verticalStrip, (a, y, x0, x1, strip, down), CV_CPU_DISPATCH_MODES_ALL);
+    CV_CPU_DISPATCH(sweepRow, (a, i, x0, x1, strip, down), CV_CPU_DISPATCH_MODES_ALL);
 }
 void runCostRows(const AggregationState& a, int y0, int y1, Mat& cost)
 {
@@ -154,40 +203,44 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         a.finalSum = finalSum.getMat();
     }
 
-    // With 4 paths a column depends only on itself; the diagonals of 8 paths need the neighbouring strips' last row
-    // (Wavefront).
+    // The vertical directions of each sweep (with 4 paths only the straight one): predecessor at x - dx in the row
+    // before. Each keeps a record per slot (sweepRow).
     a.ndirs = p.numPaths == 8 ? 3 : 1;
     a.dx[0] = 0; a.dx[1] = 1; a.dx[2] = -1;
+    a.stride = D + RECORD_PAD;
+    const size_t st = a.stride;
     for (int k = 0; k < a.ndirs; k++)
-        for (int i = 0; i < 2; i++)
-        {
-            a.L[k][i].assign((size_t)W * a.stride, PATH_SENTINEL);
-            a.minL[k][i].assign(W, 0);
-        }
+    {
+        const int slots = W + 2 * H;
+        a.records[k].assign((size_t)(slots + 1) * st + 2 * RECORD_PAD, PATH_SENTINEL);
+        a.recordMin[k].assign(slots, 0);
+    }
     // Strips of at least 32 pixels, up to four per thread and the same number for every thread where the width
     // allows (each thread keeps to its own strips: Wavefront).
     const int threads = std::max(1, getNumThreads());
     const int strips = threads == 1 ? 1 : W / 32 < threads ? std::max(1, W / 32)
                                                             : threads * std::min(4, W / 32 / threads);
-    // The rings of cost rows and of partial sums: the rows whose right-left paths wait or run, and the rows the
-    // strips write meanwhile (two per thread: a strip that waits for a slot holds up the rows after it).
-    const int ring = std::min(H, 2 * threads + 4);
+    // The horizontal paths' hand-offs: with diagonal paths the strips stay within a row of each other (two rows
+    // do); else a few rows per thread let a strip run ahead.
+    const int ring = a.ndirs > 1 ? 2 : std::min(H, 2 * threads + 4);
     a.strips = strips;
     a.ring = ring;
-    a.costRows.create(ring, W * D, CV_16UC1);
-    a.downRows.create(ring, W * D, CV_16UC1);
-    // The hand-offs of the horizontal paths between strips, each pixel's costs between sentinels (written only
-    // inside them).
-    a.lrEdge.create(ring, strips * a.stride, CV_16UC1);
-    a.rlEdge.create(ring, strips * a.stride, CV_16UC1);
-    a.lrEdge.setTo(Scalar::all(PATH_SENTINEL));
-    a.rlEdge.setTo(Scalar::all(PATH_SENTINEL));
-    a.lrEdgeMin.assign((size_t)ring * strips, 0);
-    a.rlEdgeMin.assign((size_t)ring * strips, 0);
-    a.noPath.assign(D + 2, PATH_SENTINEL);
+    a.edge.create(ring, (strips + 1) * a.stride + 2 * RECORD_PAD, CV_16UC1);
+    a.edge.setTo(Scalar::all(PATH_SENTINEL));
+    a.edgeMin.assign((size_t)ring * strips, 0);
+    // Per strip: the horizontal record, a copy per direction (pathInput), the complete sums and the jump penalties
+    // of each direction along a row (sweepRow).
+    a.scratchPerStrip = (size_t)(a.ndirs + 4) * st + 2 * RECORD_PAD +
+                        (size_t)(a.ndirs + 1) * (W / strips + 1 + RECORD_PAD) + RECORD_PAD;
+    a.scratch.assign(a.scratchPerStrip * strips, PATH_SENTINEL);
+    a.noPath.assign(st + 2 * RECORD_PAD, PATH_SENTINEL);
+    // The matching cost's right rows, once for both sweeps.
+    a.rightRows.create(H, 2 * (W + D - 1) + 64, CV_16UC1);
+    parallel_for_(Range(0, H), [&](const Range& r) { runRightRows(a, r.start, r.end); }, rowStripes(H));
     // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
-    // [W - x1 + minD, W - x0 + minD + D - 1): room for every row. Each strip marks its row empty before the row
-    // (verticalStrip), so that nothing here runs alone over the whole.
+    // [W - x1 + minD, W - x0 + minD + D - 1): room for every row (those outside the right image are dropped when the
+    // strips are joined). Each strip marks its row empty before the row (sweepRow), so that nothing here runs alone
+    // over the whole.
     a.rightAt.resize(strips);
     a.rightLo.resize(strips);
     a.rightWidth.resize(strips);
@@ -195,25 +248,22 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     for (int s = 0; s < strips; s++)
     {
         const int x0 = W * s / strips, x1 = W * (s + 1) / strips;
-        a.rightLo[s] = std::max(W - x1 + p.minDisparity, 0);
-        a.rightWidth[s] = std::max(std::min(W - x0 + p.minDisparity + D - 1, W) - a.rightLo[s], 0);
+        a.rightLo[s] = W - x1 + p.minDisparity;
+        a.rightWidth[s] = x1 - x0 + D - 1;
         a.rightAt[s] = (int)rightTotal;
         rightTotal += (size_t)a.rightWidth[s] * H;
     }
-    a.rightCost.resize(rightTotal);
-    a.rightIndex.resize(rightTotal);
+    a.rightCost.resize(rightTotal + 64);
+    a.rightIndex.resize(rightTotal + 64);
 
-    const auto strip = [&](int s, int y, bool down) {
-        runVerticalStrip(a, y, W * s / strips, W * (s + 1) / strips, s, down);
+    const auto sweep = [&](bool down) {
+        // Down: the left-right path enters from the strip on the left; up: the right-left path from the right.
+        Wavefront(strips, H, a.ndirs > 1, down ? -1 : 1, ring).run(threads, [&](int s, int i) {
+            runSweepRow(a, i, W * s / strips, W * (s + 1) / strips, s, down);
+        });
     };
-    // 1. Down: the strips compute the costs, the top-down and left-right paths (forward items), then the right-left
-    // paths, which complete the partial sums (back items).
-    Wavefront(strips, H, a.ndirs > 1, ring).run(threads,
-        [&](int s, int i) { strip(s, i, true); },
-        [&](int s, int i) { runRightLeftStrip(a, i, W * s / strips, W * (s + 1) / strips, s); });
-    // 2. Up: the bottom-up paths complete the sums; the winner is taken at once.
-    Wavefront(strips, H, a.ndirs > 1, 0).run(threads,
-        [&](int s, int i) { strip(s, H - 1 - i, false); }, [](int, int) {});
+    sweep(true);
+    sweep(false);
 
     // The right view: strip by strip from the left, a strip's candidate replaces the one so far only at a lower cost
     // (its disparities are larger: RightView).
@@ -228,7 +278,8 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
                 const size_t at = (size_t)a.rightAt[s] + (size_t)y * a.rightWidth[s];
                 const ushort* c = a.rightCost.data() + at;
                 const ushort* k = a.rightIndex.data() + at;
-                for (int i = 0, u = a.rightLo[s]; i < a.rightWidth[s]; i++, u++)
+                const int i0 = std::max(-a.rightLo[s], 0), i1 = std::min(W - a.rightLo[s], a.rightWidth[s]);
+                for (int i = i0, u = a.rightLo[s] + i0; i < i1; i++, u++)
                     if (k[i] != RightView::NONE && (mi[u] == RightView::NONE || c[i] < mc[u]))
                     {
                         mc[u] = c[i];
@@ -265,6 +316,7 @@ void winnerTakesAll(const Mat& sum, int width, const PipelineParams& p, Mat& dis
     a.W = width;
     a.H = sum.rows;
     a.D = p.numDisparities;
+    fillIota(a);
     disp16.create(a.H, a.W, CV_16SC1);
     dispInt.create(a.H, a.W, CV_16SC1);
     dispRight.create(a.H, a.W, CV_16SC1);

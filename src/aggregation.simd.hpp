@@ -2,21 +2,21 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Semi-global aggregation (paper Eq. 2; the jump penalty is jumpPenalty, pipeline.hpp) over 4 paths (left-right,
-// right-left, top-down, bottom-up) or 8 (plus the four diagonals), with the matching cost computed as the paths go
-// (no cost volume) and the winner-takes-all done as each pixel's sum completes. Two sweeps over one 16-bit volume:
-//  1. down, row by row in column strips: verticalStrip computes the row's costs into a ring row of costs, the
-//     top-down paths (1 or 3 directions, previous row at x - dx) and the left-right path (entering from the strip
-//     on the left) and their sum into a ring row; rightLeftStrip then adds the right-left path (entering from the
-//     strip on the right, from the same cost row) and stores the sum in the volume;
-//  2. up, row by row in the same strips: verticalStrip computes the costs again and the bottom-up paths, completes
-//     each pixel's sum, and selectPixel takes the winner.
-// A strip's row depends on its own row before and on a pixel's path costs at each edge, so the strips run in
-// parallel, each a few rows behind the one before it (wavefront.hpp), and a row's data stays with the thread that
-// has the strip: the horizontal paths pass from strip to strip as one pixel's path costs (the edge slots) instead
-// of the whole row going to one thread. Path costs stay below the matching cost plus P2, and the
-// weights are scaled so that the sum of all paths fits in 16 bits: the saturating adds never saturate on real values,
-// only on the 0xFFFF sentinels that stand for "d - 1 / d + 1 out of range" (so the order of the adds does not
-// matter). Compiled once per instruction set (CPU dispatch, aggregation.dispatch.cpp).
+// right-left, top-down, bottom-up) or 8 (plus the four diagonals), with the matching cost computed inside the path
+// loop (no cost volume) and the winner-takes-all done as each pixel's sum completes. Two sweeps over one 16-bit
+// volume, row by row in column strips (wavefront.hpp), each pixel in one pass over its disparities:
+//  1. down, each strip's row left to right: the top-down directions (1 or 3) and the left-right path; their sum
+//     goes to the volume;
+//  2. up, each strip's row right to left: the bottom-up directions and the right-left path, the volume's partial sum
+//     added; the winner, its uniqueness and the right view's candidates are tracked in the same pass (selectPixel).
+// The vertical directions keep one record of path costs per slot, and a pixel writes its own into the record that
+// the pixel before it in the row has just read (the slots move by dx + 1 per row down, dx - 1 up, so that the
+// records of a row take the place of the row before), so a step's loads and stores never overlap; the horizontal
+// path keeps one record per strip, overwritten in place.
+// Path costs stay below the matching cost plus P2, and the weights are scaled so that the sum of all paths fits in
+// 16 bits: the saturating adds never saturate on real values, only on the 0xFFFF sentinels that stand for "no cost"
+// (d - 1 / d + 1 out of range, or out of a window), so the order of the adds does not matter. Compiled once per
+// instruction set (CPU dispatch, aggregation.dispatch.cpp).
 
 #include "cpu_stages.hpp"
 #include "opencv2/core/hal/intrin.hpp"
@@ -26,14 +26,20 @@
 #define LIDARSGM_AGGREGATION_STATE
 namespace cv { namespace lidarsgm { namespace detail {
 
-//! Stands for "d - 1 / d + 1 out of range" beside a pixel's path costs (and for "no key" in the right view).
+//! Stands for "no path cost" beside and, with windows, inside a pixel's path costs (and for "no key" in the right
+//! view).
 const ushort PATH_SENTINEL = 0xFFFF;
+
+/** A pixel's path costs (a record): RECORD_PAD elements, then the D costs (aligned for the widest vector), in a
+stride of D + RECORD_PAD; the element before the costs and the one after them (the next record's first) hold
+PATH_SENTINEL, and a vector's worth on each side may be read. */
+enum { RECORD_PAD = 16 };
 
 /** The right view's best candidates so far, indexed by u = W - 1 - xr (reversed, so that the candidates one pixel
 offers are contiguous and increasing in d): the lowest cost and its disparity index, NONE where nothing was offered
-yet. A later candidate replaces an earlier one only at a lower cost, so of equal costs the first one offered stays:
-the pixels of a row offer in increasing x, i.e. in increasing d for a given right pixel, so that is the smallest d,
-as on the GPU (where the (cost << 16 | d) keys are compared). */
+yet. The up sweep walks a row from the right, so a right pixel's candidates arrive in decreasing d: a later one
+replaces an earlier one at a lower or equal cost, so of equal costs the smallest d stays, as on the GPU (where the
+(cost << 16 | d) keys are compared). */
 struct RightView
 {
     enum { NONE = 0xFFFF };
@@ -48,8 +54,8 @@ struct AggregationState
     Mat censusL, censusR, prior16, intensity;   // intensity: CV_16U left image, empty without the edge rule
     Mat own16;   // the filtered sparse map where copied priors take wCopy (copiedPrior), else empty
     PipelineParams p;
-    int W, H, D, stride;                        // stride: D + 2, a sentinel on each side of a pixel's path costs
-    Mat sum;                                    // the 16-bit volume of the top-down + horizontal paths, every
+    int W, H, D, stride;                        // stride: D + RECORD_PAD, a record's elements
+    Mat sum;                                    // the 16-bit volume of the down sweep's partial sums, every
                                                 // pixel's window in turn (at sumAt), one continuous block
     std::shared_ptr<void> sumMemory;            // sum's memory where aggregation.dispatch.cpp allocates it itself
     // The disparity windows (searchWindows; [0, D) everywhere without them): tile (tx, ty) searches [lo, hi) =
@@ -80,24 +86,34 @@ struct AggregationState
         return (ushort*)sum.data + rowBase[y] + tileBase[(size_t)(y / WINDOW_TILE) * windows.cols + tx] +
                (size_t)(x - tx * WINDOW_TILE) * n;
     }
-    int strips, ring;                           // column strips; rows in each ring below
-    Mat costRows, downRows;                     // rings (down sweep) of rows of costs and of the sums of the
-                                                // top-down and left-right paths: row y in row y % ring
-    // The horizontal paths' hand-offs (down sweep): in row y % ring, at strip * stride + 1, the left-right path
-    // costs at strip's last pixel of row y (lrEdge) and the right-left ones at its first (rlEdge), between
-    // sentinels; their minima at [(y % ring) * strips + strip].
-    Mat lrEdge, rlEdge;
-    std::vector<ushort> lrEdgeMin, rlEdgeMin;
-    // D + 2 sentinels: the predecessor of a path's first pixel (with minPrev 0 and P2 0, pathStepsAndSum gives L = C).
+    // The right census rows as the matching cost reads them (rightRows): row y's low halves at rightRows.ptr(y), its
+    // high halves W + D - 1 further.
+    Mat rightRows;
+    // The DDC term of each pixel at disparity index d: ddcTable[addend(y, x) + d] (ddcRows); rows of zeros where
+    // the pixel has no prior.
+    Mat addend;
+    std::vector<ushort> ddcTable;
+    int strips, ring;
+    // The horizontal path's hand-off between strips: the path costs at the strip's last pixel of a row, as a
+    // record at edge.ptr(row % ring) + strip * stride, their minimum at edgeMin[(row % ring) * strips + strip].
+    Mat edge;
+    std::vector<ushort> edgeMin;
+    std::vector<ushort> scratch;                // per strip: its horizontal record, copies (pathInput), sums
+    size_t scratchPerStrip;
+    // A record of sentinels: the predecessor of a path's first pixel (with minimum 0 and P2 0 the step gives L = C).
     std::vector<ushort> noPath;
     Mat finalSum;                               // optional (tests): the complete sums
     Mat disp16, dispInt, nonUnique16;           // outputs of the winner-takes-all (nonUnique16 may be empty)
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
-    std::vector<ushort> L[3][2], minL[3][2];    // per direction, rows of path costs: row y in [y & 1]
+    // Per vertical direction, the records of path costs and their minima: pixel x of the sweep's row i writes slot
+    // x - c i + max(c, 0) (H - 1), c = dx + 1 down and dx - 1 up (sweepRow), W + 2 H - 2 slots at most.
+    std::vector<ushort> records[3], recordMin[3];
     // The right view's candidates per strip and row (RightView): strip s, row y at rightAt[s] + y * rightWidth[s],
-    // covering u in [rightLo[s], rightLo[s] + rightWidth[s]).
+    // covering u in [rightLo[s], rightLo[s] + rightWidth[s]) (beyond [0, W) where the strip offers candidates that
+    // fall outside the right image).
     std::vector<ushort> rightCost, rightIndex;
     std::vector<int> rightAt, rightLo, rightWidth;
+    std::vector<ushort> iota;                   // iota[i] = i (WinnerLanes)
 };
 
 }}} // namespace cv::lidarsgm::detail
@@ -106,8 +122,8 @@ struct AggregationState
 namespace cv { namespace lidarsgm { namespace detail {
 CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 
-void rightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip);
-void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down);
+void rightRows(AggregationState& a, int y0, int y1);
+void sweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool down);
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
 void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight,
                 Mat& nonUnique16);
@@ -134,105 +150,117 @@ namespace {
 
 const ushort SENTINEL = PATH_SENTINEL;
 
-/* The path loops' scratch rows live on the heap, never on the stack: the main thread's stack starts at a random offset
-in every process (address-space layout randomisation), and with the rows there one single-thread process in four or
-five ran about a third slower for its whole life while MODE_SGBM_3WAY beside it did not; with the randomisation off
-(`setarch -R`) no process did (tools/analysis/cpu_pinned.sh, doc/perf.md). A likely mechanism is the CPU's false
-store-to-load dependence between addresses equal in their low 12 bits. The heap's placement is the same in every
-process. */
-template <typename T>
-using ScratchRow = AutoBuffer<T, 1>;
-
-/** One step of the recursion (paper Eq. 2) for each of ND paths through one pixel, in one pass over the
-disparities: for direction k, Lout[k](d) = C(d) + min(Lp[k](d), Lp[k](d-1) + P1, Lp[k](d+1) + P1, minPrev[k] + P2[k])
-- minPrev[k], minOut[k] = min_d Lout[k](d); and S = A + Lout[0] + ... + Lout[ND - 1] + B (A, B may be null). Lp[k][-1]
-and Lp[k][D] must hold SENTINEL; a path's first pixel passes a row of sentinels, minPrev 0 and P2 0, which gives
-Lout = C. C and the outputs are loaded once instead of once per direction. stream: S is written with streaming stores
-(aligned). FRESH: the direction whose Lp the previous pixel has just stored (a horizontal path; -1: none). Its
-neighbours d - 1 and d + 1 are shifted out of the vectors at d and d +- one vector, loaded as they were stored: a
-load that spans two recent stores waits for both to reach the cache (a failed store forwarding, 4.9 % of
-verticalStrip's samples with windows on, perf). */
-template <int ND, int FRESH = -1>
-inline void pathStepsAndSum(const ushort* C, const ushort* const* Lp, const ushort* minPrev, ushort* const* Lout,
-                            ushort* minOut, const ushort* P2, const ushort* A, const ushort* B, ushort* S, int D,
-                            ushort P1, bool stream = false)
+/** One pixel's step: ND directions (NV vertical ones, then the sweep's horizontal path), the matching cost computed
+in the loop, n disparities (the window's; a multiple of the vector width where there are vectors). */
+template <int NV>
+struct StepArgs
 {
+    enum { ND = NV + 1 };
+    CostInput cost;
+    // Direction k: the predecessor's costs at the window's first disparity (lp[k][-1] and lp[k][n] readable, a
+    // vector's worth beyond them too), the outputs, the predecessor's minimum and the jump penalty. Only the
+    // horizontal path (the last direction) may write where it reads.
+    const ushort* lp[ND];
+    ushort* out[ND];
+    ushort minPrev[ND], p2[ND];
+    ushort minOut[ND];
+    const ushort* partial;   // up: the down sweep's partial sums
+    ushort* sum;             // down: the partial sums out (to the volume, aligned: streaming stores); up: the
+                             // complete sums
+};
+
+/** The recursion (paper Eq. 2) for each direction k of the step: Lout[k](d) = C(d) + min(Lp[k](d), Lp[k](d-1) + P1,
+Lp[k](d+1) + P1, minPrev[k] + P2[k]) - minPrev[k], minOut[k] = min_d Lout[k](d); the sum of the directions (and of
+the partial sums, up) to sum. UP: the winner's state and the right view's candidates as the sums complete. The
+horizontal path (the last direction) reads what the previous pixel has just stored: its neighbours d - 1 and d + 1
+are shifted out of the vectors at d and d +- one vector, loaded as they were stored (a load that spans two recent
+stores waits for both to reach the cache: a failed store forwarding). */
+template <int NV, bool UP, bool EXACT>
+inline void pathStep(StepArgs<NV>& s, int n, ushort P1, WinnerLanes* win, const RightOffer* rv)
+{
+    enum { ND = NV + 1, H = NV };
     int d = 0;
-    ushort m[ND];
-    for (int k = 0; k < ND; k++)
-        m[k] = SENTINEL;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-    const int n = VTraits<v_uint16>::vlanes();
+#if CV_SIMD
+    const int N = VTraits<v_uint16>::nlanes;
+    const CostVectors cv(s.cost);
     const v_uint16 vp1 = vx_setall_u16(P1);
     v_uint16 vjump[ND], vmp[ND], vmin[ND];
     for (int k = 0; k < ND; k++)
     {
-        vjump[k] = vx_setall_u16((ushort)(minPrev[k] + P2[k]));
-        vmp[k] = vx_setall_u16(minPrev[k]);
+        vmp[k] = vx_setall_u16(s.minPrev[k]);
+        vjump[k] = vx_setall_u16((ushort)(s.minPrev[k] + s.p2[k]));
         vmin[k] = vx_setall_u16(SENTINEL);
     }
-#if CV_SIMD
-    const int N = VTraits<v_uint16>::nlanes;   // n, as a constant for the shifts
-    v_uint16 freshBelow = vx_setall_u16(FRESH >= 0 ? Lp[FRESH < 0 ? 0 : FRESH][-1] : SENTINEL);
-#endif
-    for (; d <= D - n; d += n)
+    const ushort* hp = s.lp[H];
+    v_uint16 below = vx_load(hp - N), ha = vx_load(hp);   // below's last lane: hp[-1]
+    for (; d < n; d += N)
     {
-        const v_uint16 c = vx_load(C + d);
-        v_uint16 sum = A ? vx_load(A + d) : vx_setzero_u16();
-        for (int k = 0; k < ND; k++)
+        const v_uint16 c = costAt<EXACT>(cv, s.cost, d);
+        v_uint16 sum = UP ? vx_load(s.partial + d) : vx_setzero_u16();
+        for (int k = 0; k < NV; k++)
         {
-            const ushort* lp = Lp[k];
-            const v_uint16 a = vx_load(lp + d);
+            const ushort* q = s.lp[k] + d;
+            const v_uint16 a = vx_load(q);
             // min(Lp(d-1) + P1, Lp(d+1) + P1) as min(Lp(d-1), Lp(d+1)) + P1: the saturating add is monotonic
             // (and SENTINEL + P1 stays SENTINEL), so one add does for both.
-            v_uint16 b;
-#if CV_SIMD
-            if (k == FRESH && (d + 2 * N <= D || d + N == D))
-            {
-                const v_uint16 above = d + N == D ? vx_setall_u16(lp[D]) : vx_load(lp + d + N);
-                b = v_min(v_extract<N - 1>(freshBelow, a), v_extract<1>(a, above));
-            }
-            else
-#endif
-                b = v_min(vx_load(lp + d - 1), vx_load(lp + d + 1));
-#if CV_SIMD
-            if (k == FRESH)
-                freshBelow = a;
-#endif
-            b = v_add(b, vp1);
-            const v_uint16 best = v_min(v_min(a, b), vjump[k]);
-            const v_uint16 l = v_sub(v_add(c, best), vmp[k]);
-            v_store(Lout[k] + d, l);
+            const v_uint16 b = v_add(v_min(vx_load(q - 1), vx_load(q + 1)), vp1);
+            const v_uint16 l = v_sub(v_add(c, v_min(v_min(a, b), vjump[k])), vmp[k]);
+            v_store(s.out[k] + d, l);
             vmin[k] = v_min(vmin[k], l);
             sum = v_add(sum, l);
         }
-        if (B)
-            sum = v_add(sum, vx_load(B + d));
-        if (stream)
-            v_store_aligned_nocache(S + d, sum);
+        {
+            const v_uint16 above = vx_load(hp + d + N);
+            const v_uint16 b = v_add(v_min(v_extract<N - 1>(below, ha), v_extract<1>(ha, above)), vp1);
+            const v_uint16 l = v_sub(v_add(c, v_min(v_min(ha, b), vjump[H])), vmp[H]);
+            v_store(s.out[H] + d, l);
+            vmin[H] = v_min(vmin[H], l);
+            sum = v_add(sum, l);
+            below = ha;
+            ha = above;
+        }
+        if (UP)
+        {
+            v_store(s.sum + d, sum);
+            trackSums(*win, *rv, sum, d);
+        }
         else
-            v_store(S + d, sum);
+            v_store_aligned_nocache(s.sum + d, sum);   // read again only by the up sweep, after the whole image
     }
     for (int k = 0; k < ND; k++)
-        m[k] = minLane(vmin[k]);
-#endif
-    for (; d < D; d++)
+        s.minOut[k] = minLane(vmin[k]);
+#else
+    // Scalar: the horizontal path's input is copied first, as it overwrites it.
+    ushort m[ND];
+    for (int k = 0; k < ND; k++)
+        m[k] = SENTINEL;
+    AutoBuffer<ushort> tmpBuf(n + 2);
+    for (int j = -1; j <= n; j++)
+        tmpBuf[j + 1] = s.lp[H][j];
+    s.lp[H] = tmpBuf.data() + 1;
+    for (; d < n; d++)
     {
-        int sum = A ? A[d] : 0;
+        int sum = UP ? s.partial[d] : 0;
+        const int c = costAt(s.cost, d);
         for (int k = 0; k < ND; k++)
         {
-            const ushort* lp = Lp[k];
-            const int best = std::min(std::min((int)lp[d], (int)lp[d - 1] + P1),
-                                      std::min((int)lp[d + 1] + P1, minPrev[k] + P2[k]));
-            const ushort l = (ushort)(C[d] + best - minPrev[k]);
-            Lout[k][d] = l;
+            const ushort* lp = s.lp[k];
+            const int best = std::min(std::min((int)lp[d], std::min((int)lp[d - 1], (int)lp[d + 1]) + P1),
+                                      s.minPrev[k] + s.p2[k]);
+            const ushort l = (ushort)(c + best - s.minPrev[k]);
+            s.out[k][d] = l;
             m[k] = std::min(m[k], l);
             sum += l;
         }
-        S[d] = (ushort)(sum + (B ? B[d] : 0));
+        s.sum[d] = (ushort)sum;
+        if (UP)
+        {
+            trackSums(*win, *rv, (ushort)sum, d);
+        }
     }
     for (int k = 0; k < ND; k++)
-        minOut[k] = m[k];
+        s.minOut[k] = m[k];
+#endif
 }
 
 /** The previous pixel's path costs lp (window [plo, phi), with SENTINEL at plo - 1 and phi) as the step at window
@@ -247,274 +275,360 @@ inline const ushort* pathInput(const ushort* lp, int plo, int phi, int lo, int h
     return temp;
 }
 
-/** SENTINEL beside a pixel's path costs L[lo, hi) that pathInput reads as "no cost". At -1 and D they are there from
-the start and never overwritten; inside the range they are written only for a narrower window (a scalar store that the
-next pixel's vector loads overlap stalls their forwarding: about 10 % of the full-range aggregation). */
-inline void fenceWindow(ushort* L, int lo, int hi, int D)
+//! The jump penalty from intensity iq to ip (I null: no edge rule, always P2).
+inline ushort jump(const PipelineParams& p, const ushort* I, const ushort* Iq, int x, int xq)
 {
-    if (lo > 0)
-        L[lo - 1] = SENTINEL;
-    if (hi < D)
-        L[hi] = SENTINEL;
-}
-
-//! The jump penalty from xq to x on an intensity row I (nullptr: no edge rule, always P2).
-inline ushort jump(const AggregationState& a, const ushort* I, int x, int xq)
-{
-    return I ? (ushort)jumpPenalty(I[x], I[xq], a.p.edgeThreshold, a.p.w) : (ushort)a.p.w.p2;
+    return I ? (ushort)jumpPenalty(I[x], Iq[xq], p.edgeThreshold, p.w) : (ushort)p.w.p2;
 }
 
 } // namespace
 
-/* The right-left sweep in two forms: Narrowed (some window is narrower than the range: lookups per pixel, pathInput,
-fences, the compact volume) and the full range's (none of it: callgrind, two create() calls at KITTI size, 184.6 M
-instructions in this sweep against 248.8 M when the full range ran the windowed form). */
-template <bool Narrowed>
-void rightLeftStripT(AggregationState& a, int y, int x0, int x1, int strip)
+/** The jump penalties (jumpPenalty; I null: no edge rule, P2) of the pixels x0 .. x1 - 1 of row I from their
+predecessors x - dq in row Iq, to out[x - x0]; 0 where the predecessor lies outside the image (a path's first pixel:
+with minimum 0 and a row of sentinels the step gives L = C). */
+static void jumpRow(const PipelineParams& p, const ushort* I, const ushort* Iq, int dq, int W, int x0, int x1,
+                    ushort* out)
 {
-    const int W = a.W, D = a.D, st = a.stride, slot = y % a.ring;
-    const ushort P1 = (ushort)a.p.w.p1;
-    ScratchRow<ushort> pathBuf(3 * (size_t)st);
-    ushort* u = pathBuf.data() + 1;
-    ushort* v = u + st;
-    ushort* temp = v + st;
-    u[-1] = u[D] = v[-1] = v[D] = SENTINEL;
-    const ushort* C = a.costRows.ptr<ushort>(slot);
-    const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
-    const ushort* V = a.downRows.ptr<ushort>(slot);
-    ushort* edge = a.rlEdge.ptr<ushort>(slot) + 1;
-    ushort* edgeMin = &a.rlEdgeMin[(size_t)slot * a.strips];
-    // The volume row is read again only by the up sweep, after the whole image: streaming stores write it without
-    // first reading each cache line in (aligned vectors only).
-    ushort* const rowSum = Narrowed ? nullptr : (ushort*)a.sum.data + (size_t)y * W * D;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-    const bool streamRow = !Narrowed && ((size_t)rowSum % (size_t)CV_SIMD_WIDTH) == 0 &&
-                           (D * sizeof(ushort)) % CV_SIMD_WIDTH == 0;
-#else
-    const bool streamRow = false;
-#endif
-    bool streamed = streamRow;
-    // The path enters from strip + 1's first pixel; at the image's right edge it starts.
-    const bool enters = x1 < W;
-    const ushort* lp = enters ? edge + (size_t)(strip + 1) * st : a.noPath.data() + 1;
-    ushort m = enters ? edgeMin[strip + 1] : 0;
-    int plo = 0, phi = D;
-    if (Narrowed && enters)
-        a.window(x1, y, plo, phi);
-    for (int x = x1 - 1; x >= x0; x--)
-    {
-        int lo = 0, hi = D;
-        if (Narrowed)
-            a.window(x, y, lo, hi);
-        const int n = hi - lo;
-        const ushort p2 = x + 1 < W ? jump(a, I, x, x + 1) : 0;
-        ushort* out = x == x0 ? edge + (size_t)strip * st : u;
-        const ushort* in = Narrowed ? pathInput(lp, plo, phi, lo, hi, temp) + lo : lp;
-        ushort* outLo = out + lo;
-        ushort* S = Narrowed ? a.sumAt(x, y, n) : rowSum + (size_t)x * D;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-        const bool stream = Narrowed ? ((size_t)S % (size_t)CV_SIMD_WIDTH) == 0 &&
-                                       (n * sizeof(ushort)) % CV_SIMD_WIDTH == 0 : streamRow;
-#else
-        const bool stream = false;
-#endif
-        streamed = streamed || stream;
-        // S = (top-down + left-right) + right-left, each volume row written once.
-        pathStepsAndSum<1, 0>(C + (size_t)x * D + lo, &in, &m, &outLo, &m, &p2, V + (size_t)x * D + lo, nullptr, S, n,
-                              P1, stream);
-        if (Narrowed)
-            fenceWindow(out, lo, hi, D);
-        lp = out;
-        plo = lo;
-        phi = hi;
-        std::swap(u, v);
-    }
-    edgeMin[strip] = m;
-#if CV_SSE2
-    if (streamed)
-        _mm_sfence();   // the streamed stores are weakly ordered: the row is complete before the item says so
-#else
-    (void)streamed;
-#endif
-}
-
-void rightLeftStrip(AggregationState& a, int y, int x0, int x1, int strip)
-{
-    if (a.narrowed)
-        rightLeftStripT<true>(a, y, x0, x1, strip);
+    const int xs = std::min(std::max(x0, dq), x1), xe = std::max(std::min(x1, W + dq), xs);
+    int x = x0;
+    for (; x < xs; x++)
+        out[x - x0] = 0;
+    if (!I)
+        for (; x < xe; x++)
+            out[x - x0] = (ushort)p.w.p2;
     else
-        rightLeftStripT<false>(a, y, x0, x1, strip);
+    {
+#if CV_SIMD
+        const int N = VTraits<v_uint16>::nlanes;
+        const v_uint16 thr = vx_setall_u16((ushort)p.edgeThreshold), p2 = vx_setall_u16((ushort)p.w.p2),
+                       p2e = vx_setall_u16((ushort)p.w.p2Edge);
+        for (; x + N <= xe; x += N)
+            v_store(out + (x - x0), v_select(v_gt(v_absdiff(vx_load(I + x), vx_load(Iq + x - dq)), thr), p2e, p2));
+#endif
+        for (; x < xe; x++)
+            out[x - x0] = (ushort)jumpPenalty(I[x], Iq[x - dq], p.edgeThreshold, p.w);
+    }
+    for (; x < x1; x++)
+        out[x - x0] = 0;
 }
 
-void verticalStrip(AggregationState& a, int y, int x0, int x1, int strip, bool down)
+#if defined(__clang__)
+#define LIDARSGM_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define LIDARSGM_UNROLL _Pragma("GCC unroll 4")
+#else
+#define LIDARSGM_UNROLL
+#endif
+
+/** One strip's row of one sweep: pixels x0 .. x1 - 1 of the sweep's row i (down: image row i, walked left to right;
+up: row H - 1 - i, right to left). NARROW: some window is narrower than the range (searchWindows): the row is walked
+tile by tile, a tile's window, predecessor windows and volume layout set once per tile segment. The pixels at the
+ends of a strip (the horizontal path's hand-offs, the image's edges) and, NARROW, of a tile segment (a predecessor
+in another tile) take the general set-up; the others advance pointers. */
+template <int NV, bool UP, bool EXACT, bool NARROW>
+static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
 {
-    const int W = a.W, D = a.D, st = a.stride, minD = a.p.minDisparity;
+    enum { ND = NV + 1, H = NV };
+    const int W = a.W, D = a.D, T = WINDOW_TILE;
+    const ptrdiff_t st = a.stride;
+    const int step = UP ? -1 : 1;
+    const int y = UP ? a.H - 1 - i : i, yq = y - step;
+    const bool first = i == 0;
     const ushort P1 = (ushort)a.p.w.p1;
-    const bool first = down ? y == 0 : y == a.H - 1;
-    const int yq = down ? y - 1 : y + 1;
-    // The right strings of the strip's pixels: rv[W - 1 - x + d] (only the strip's span is written); up: a pixel's
-    // costs and sums (the down sweep writes both to ring rows).
-    ScratchRow<ushort> rvBuf(2 * (W + D)), cBuf(down ? 0 : D), fBuf(down ? 0 : D);
-    ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
-    reversedRightRow(a.censusR.ptr<unsigned>(y), W, minD, D, x0, x1, rvLo, rvHi);
+    const PipelineParams& p = a.p;
+    const ushort* rl0 = a.rightRows.ptr<ushort>(y);
+    const ushort* rh0 = rl0 + (W + D - 1);
     const unsigned* L = a.censusL.ptr<unsigned>(y);
-    const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
-    const short* own = a.own16.empty() ? nullptr : a.own16.ptr<short>(y);
-    // Down: the costs and the sums of the top-down and left-right paths go to the row's ring rows, for
-    // rightLeftStrip. Up: the costs to a scratch vector.
-    const int slot = down ? y % a.ring : 0;
-    ushort* costRow = down ? a.costRows.ptr<ushort>(slot) : nullptr;
-    ushort* downRow = down ? a.downRows.ptr<ushort>(slot) : nullptr;
-    const int cur = y & 1, prev = 1 - cur;
-    ushort *curL[3] = {}, *prevL[3] = {}, *curMin[3] = {}, *prevMin[3] = {};
-    for (int k = 0; k < a.ndirs; k++)
-    {
-        curL[k] = a.L[k][cur].data() + 1;
-        prevL[k] = a.L[k][prev].data() + 1;
-        curMin[k] = a.minL[k][cur].data();
-        prevMin[k] = a.minL[k][prev].data();
-    }
+    const ushort* addRow = a.addend.ptr<ushort>(y);
+    const ushort* ddc = a.ddcTable.data();
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
     const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
+    const ushort* noPath = a.noPath.data() + RECORD_PAD;
+    // The strip's scratch: its horizontal record, one copy per direction (pathInput), the complete sums, the jump
+    // penalties of each direction along the row.
+    ushort* scratch = a.scratch.data() + a.scratchPerStrip * strip;
+    ushort* hrec = scratch + RECORD_PAD;
+    ushort* temp[ND];
+    for (int k = 0; k < ND; k++)
+        temp[k] = scratch + (size_t)(k + 1) * st + RECORD_PAD;
+    ushort* sums = scratch + (size_t)(ND + 1) * st + RECORD_PAD;
+    ushort* jumps[ND];
+    for (int k = 0; k < ND; k++)
+        jumps[k] = scratch + (size_t)(ND + 2) * st + 2 * RECORD_PAD + (size_t)k * (x1 - x0 + RECORD_PAD) - x0;
+    for (int k = 0; k < NV; k++)
+    {
+        if (first)
+            std::fill(jumps[k] + x0, jumps[k] + x1, (ushort)0);
+        else
+            jumpRow(p, I, Iq, a.dx[k], W, x0, x1, jumps[k] + x0);
+    }
+    jumpRow(p, I, I, step, W, x0, x1, jumps[H] + x0);
+    // The horizontal path walks xBegin .. xEnd - step: it enters from the strip it comes from (that strip's hand-off
+    // of this row) or starts at the image's edge, and leaves through this strip's hand-off.
+    const int slot = i % a.ring;
+    const int xBegin = UP ? x1 - 1 : x0, xEnd = UP ? x0 - 1 : x1;
+    const bool enters = UP ? x1 < W : x0 > 0;
+    ushort* edgeRow = a.edge.ptr<ushort>(slot) + RECORD_PAD;
+    ushort* edgeMinRow = &a.edgeMin[(size_t)slot * a.strips];
+    const int from = strip - step;
+    const ushort* hPrev = enters ? edgeRow + (size_t)from * st : noPath;
+    ushort hMin = enters ? edgeMinRow[from] : 0;
+    int hlo = 0, hhi = D;
+    if (NARROW && enters)
+        a.window(xBegin - step, y, hlo, hhi);
+    ushort* hEdge = edgeRow + (size_t)strip * st;
+    // The right view (up): this strip's candidates of row y, marked empty first.
     RightView rv = { nullptr, nullptr, 0 };
-    if (!down && a.rightWidth[strip] > 0)
+    if (UP)
     {
         const size_t at = (size_t)a.rightAt[strip] + (size_t)y * a.rightWidth[strip];
         rv = { a.rightCost.data() + at, a.rightIndex.data() + at, a.rightLo[strip] };
+        std::fill(rv.cost, rv.cost + a.rightWidth[strip], (ushort)SENTINEL);
         std::fill(rv.index, rv.index + a.rightWidth[strip], (ushort)RightView::NONE);
     }
-    ushort* finalSum = a.finalSum.empty() ? nullptr : a.finalSum.ptr<ushort>(y);
-    short* d16 = down ? nullptr : a.disp16.ptr<short>(y);
-    short* dInt = down ? nullptr : a.dispInt.ptr<short>(y);
-    short* nu = down || a.nonUnique16.empty() ? nullptr : a.nonUnique16.ptr<short>(y);
-    const ushort* noPath = a.noPath.data() + 1;
-    // Down: the left-right path, as one more direction (index ndirs) of each pixel: it enters from strip - 1's last
-    // pixel (or starts at the image's left edge), steps through lrBuf, and leaves from the strip's last pixel.
-    ScratchRow<ushort> lrBuf(down ? 2 * (size_t)st : 0);
-    ushort *lrU = nullptr, *lrV = nullptr;
-    if (down)
+    short* d16 = UP ? a.disp16.ptr<short>(y) : nullptr;
+    short* dInt = UP ? a.dispInt.ptr<short>(y) : nullptr;
+    short* nu = UP && !a.nonUnique16.empty() ? a.nonUnique16.ptr<short>(y) : nullptr;
+    ushort* finalSum = UP && !a.finalSum.empty() ? a.finalSum.ptr<ushort>(y) : nullptr;
+    const Vec2s* winRowQ = NARROW ? a.windows.ptr<Vec2s>(first ? y / T : yq / T) : nullptr;
+    // Vertical direction k: pixel x writes record slot x - c i + offset (c = dx + step) and reads its predecessor
+    // x - dx's, slot x - dx - c (i - 1) + offset: the one the pixel before it has just read.
+    ushort* recBase[NV];
+    ushort* minBase[NV];
+    int c[NV], offset[NV];
+    LIDARSGM_UNROLL
+    for (int k = 0; k < NV; k++)
     {
-        lrU = lrBuf.data() + 1;
-        lrV = lrU + st;
-        lrU[-1] = lrU[D] = lrV[-1] = lrV[D] = SENTINEL;
+        recBase[k] = a.records[k].data() + RECORD_PAD;
+        minBase[k] = a.recordMin[k].data();
+        c[k] = a.dx[k] + step;
+        offset[k] = std::max(c[k], 0) * (a.H - 1);
     }
-    ushort* lrEdge = down ? a.lrEdge.ptr<ushort>(slot) + 1 : nullptr;
-    ushort* lrEdgeMin = down ? &a.lrEdgeMin[(size_t)slot * a.strips] : nullptr;
-    const ushort* lrPrev = down && x0 > 0 ? lrEdge + (size_t)(strip - 1) * st : noPath;
-    ushort lrMin = down && x0 > 0 ? lrEdgeMin[strip - 1] : 0;
-    const int nd = down ? a.ndirs + 1 : a.ndirs;
-    // The predecessors' path costs where their windows do not hold the pixel's (pathInput), one row per direction.
-    const bool narrowed = a.narrowed;
-    ScratchRow<ushort> tempBuf(narrowed ? 4 * (size_t)st : 0);
-    int lrLo = 0, lrHi = D;
-    if (down && x0 > 0)
-        a.window(x0 - 1, y, lrLo, lrHi);
-    auto pixel = [&](int x) {
-        int lo, hi;
-        a.window(x, y, lo, hi);
+    StepArgs<NV> s;
+    s.cost.census256 = p.w.census256;
+    WinnerLanes win;
+    win.iota = a.iota.data();
+
+    // The pixels of the segment [xa, xb) (walk order xFirst .. xLast) with window [lo, hi).
+    const auto segment = [&](int xa, int xb, int lo, int hi) {
         const int n = hi - lo;
-        ushort* c = (down ? costRow + (size_t)x * D : cBuf.data()) + lo;
-        costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), L[x], prior ? priorIndex(prior[x], minD) : -1,
-                   own && copiedPrior(true, prior[x], own[x]) ? a.p.wCopy : a.p.w, lo, n, c);
-        // out: each direction's path costs at this pixel; outLo: from lo, set beside out (copied from out afterwards,
-        // the pointers just stored were reloaded with vector loads: a failed store forwarding that took 6 % of this
-        // function's samples with windows on, perf).
-        const ushort* lp[4] = {};
-        ushort *out[4] = {}, *outLo[4] = {};
-        ushort minPrev[4] = {}, p2[4] = {}, mins[4];
-        for (int k = 0; k < a.ndirs; k++)
+        const int xFirst = UP ? xb - 1 : xa, xLast = UP ? xa : xb - 1;
+        // NARROW: whether the predecessors above in this tile column hold the window (else pathInput copies).
+        bool copyAbove = false;
+        int qlo = 0, qhi = D;
+        if (NARROW && !first)
         {
-            const int xp = x - a.dx[k];
-            out[k] = curL[k] + (size_t)x * st;
-            outLo[k] = out[k] + lo;
-            if (first || xp < 0 || xp >= W)
-                lp[k] = noPath;
-            else
-            {
-                lp[k] = prevL[k] + (size_t)xp * st;
-                minPrev[k] = prevMin[k][xp];
-                p2[k] = Iq ? (ushort)jumpPenalty(I[x], Iq[xp], a.p.edgeThreshold, a.p.w) : (ushort)a.p.w.p2;
-            }
+            const Vec2s w = winRowQ[xa / T];
+            qlo = w[0];
+            qhi = w[1];
+            copyAbove = lo < qlo || hi > qhi;
         }
-        if (down)
+        // What advances from pixel to pixel.
+        const ushort* rl = rl0 + (W - 1 - xFirst) + lo;
+        const ushort* rh = rh0 + (W - 1 - xFirst) + lo;
+        const ushort* rd[NV];
+        ushort* wr[NV];
+        const ushort* rmin[NV];
+        ushort* wmin[NV];
+        LIDARSGM_UNROLL
+        for (int k = 0; k < NV; k++)
         {
-            const int k = a.ndirs;
-            lp[k] = lrPrev;
-            minPrev[k] = lrMin;
-            p2[k] = x > 0 ? jump(a, I, x, x - 1) : 0;
-            out[k] = x == x1 - 1 ? lrEdge + (size_t)strip * st : lrU;
-            outLo[k] = out[k] + lo;
+            const ptrdiff_t ws = xFirst - c[k] * i + offset[k], rs = xFirst - a.dx[k] - c[k] * (i - 1) + offset[k];
+            wr[k] = recBase[k] + ws * st + lo;
+            wmin[k] = minBase[k] + ws;
+            rd[k] = first ? noPath + lo : recBase[k] + rs * st + lo;
+            rmin[k] = first ? nullptr : minBase[k] + rs;
         }
-        // Windows: each predecessor's costs as this window reads them, all pointers from lo. Apart from the full
-        // range's loop above (kept as it was: a window test inside it stopped the compiler from unrolling it, 180
-        // instructions a pixel measured by callgrind).
-        if (narrowed)
+        ushort* vol = a.sumAt(xFirst, y, n);
+        const ptrdiff_t volStep = (ptrdiff_t)step * n;
+        RightOffer offer = { nullptr, nullptr };
+        if (UP)
         {
-            for (int k = 0; k < nd; k++)
+            const int u0 = W - 1 - xFirst + p.minDisparity;
+            offer.cost = rv.cost + (u0 + lo - rv.lo);
+            offer.index = rv.index + (u0 + lo - rv.lo);
+        }
+        for (int x = xFirst;; x += step)
+        {
+            s.cost.rl = rl;
+            s.cost.rh = rh;
+            s.cost.l = L[x];
+            s.cost.add = ddc + addRow[x] + lo;
+            const bool general = x == xFirst || x == xLast;
+            LIDARSGM_UNROLL
+            for (int k = 0; k < NV; k++)
             {
-                int plo = 0, phi = D;
-                if (k == a.ndirs)
+                s.out[k] = wr[k];
+                s.p2[k] = jumps[k][x];
+                if (first)
                 {
-                    plo = lrLo;
-                    phi = lrHi;
+                    s.lp[k] = rd[k];
+                    s.minPrev[k] = 0;
+                    continue;
                 }
-                else if (lp[k] != noPath)
-                    a.window(x - a.dx[k], yq, plo, phi);
-                lp[k] = pathInput(lp[k], plo, phi, lo, hi, tempBuf.data() + k * st + 1) + lo;
+                const int xp = x - a.dx[k];
+                if (general && (xp < 0 || xp >= W))
+                {
+                    s.lp[k] = noPath + lo;
+                    s.minPrev[k] = 0;
+                    continue;
+                }
+                s.minPrev[k] = *rmin[k];
+                s.lp[k] = rd[k];
+                if (NARROW)
+                {
+                    // A predecessor in another tile column (the segment's ends), or above a wider window.
+                    int plo = qlo, phi = qhi;
+                    if (general && xp / T != x / T)
+                    {
+                        const Vec2s w = winRowQ[xp / T];
+                        plo = w[0];
+                        phi = w[1];
+                    }
+                    if ((general && xp / T != x / T) ? (lo < plo || hi > phi) : copyAbove)
+                        s.lp[k] = pathInput(rd[k] - lo, plo, phi, lo, hi, temp[k]) + lo;
+                }
+            }
+            // The horizontal path: its input is the previous pixel's record (hPrev, window [hlo, hhi)), overwritten
+            // in place along the strip; the strip's last pixel writes the hand-off.
+            if (NARROW && x == xFirst)
+                s.lp[H] = pathInput(hPrev, hlo, hhi, lo, hi, temp[H]) + lo;
+            else
+                s.lp[H] = hPrev + lo;
+            s.minPrev[H] = hMin;
+            s.p2[H] = jumps[H][x];
+            ushort* hOut = x + step == xEnd ? hEdge : hrec;
+            s.out[H] = hOut + lo;
+            s.partial = vol;
+            s.sum = UP ? sums + lo : vol;
+            if (UP)
+            {
+                win.reset(lo);
+                pathStep<NV, true, EXACT>(s, n, P1, &win, &offer);
+            }
+            else
+                pathStep<NV, false, EXACT>(s, n, P1, nullptr, nullptr);
+            LIDARSGM_UNROLL
+            for (int k = 0; k < NV; k++)
+            {
+                *wmin[k] = s.minOut[k];
+                if (NARROW)
+                {
+                    wr[k][-1] = SENTINEL;   // the record's -1 and D hold SENTINEL already
+                    wr[k][n] = SENTINEL;
+                }
+            }
+            if (NARROW && (x == xFirst || hOut == hEdge))   // a new window in the record, or the hand-off
+            {
+                hOut[lo - 1] = SENTINEL;
+                hOut[hi] = SENTINEL;
+            }
+            hPrev = hOut;
+            hMin = s.minOut[H];
+            hlo = lo;
+            hhi = hi;
+            if (UP)
+            {
+                if (finalSum)
+                {
+                    ushort* fs = finalSum + (size_t)x * D;
+                    std::fill(fs, fs + D, SENTINEL);
+                    memcpy(fs + lo, sums + lo, n * sizeof(ushort));
+                }
+                selectPixel(win, sums + lo, lo, n, p, d16[x], dInt[x], nu ? nu + x : nullptr);
+            }
+            if (x == xLast)
+                break;
+            rl -= step;
+            rh -= step;
+            LIDARSGM_UNROLL
+            for (int k = 0; k < NV; k++)
+            {
+                wr[k] += step * st;
+                wmin[k] += step;
+                if (!first)
+                {
+                    rd[k] += step * st;
+                    rmin[k] += step;
+                }
+            }
+            vol += volStep;
+            if (UP)
+            {
+                offer.cost -= step;
+                offer.index -= step;
             }
         }
-        // Down: the sum of the top-down and left-right paths to the ring row; up: the pixel's complete sum.
-        ushort* f = down ? downRow + (size_t)x * D + lo : fBuf.data();
-        const ushort* base = down ? nullptr : a.sumAt(x, y, n);
-        // Down, the left-right path (the last direction) reads what the previous pixel has just stored.
-        switch (down ? nd : -nd)
-        {
-        case 4: pathStepsAndSum<4, 3>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1); break;
-        case 2: pathStepsAndSum<2, 1>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1); break;
-        case -3: pathStepsAndSum<3>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1); break;
-        case -1: pathStepsAndSum<1>(c, lp, minPrev, outLo, mins, p2, base, nullptr, f, n, P1); break;
-        default: CV_Error(Error::StsInternal, "lidarsgm: unexpected number of directions");
-        }
-        for (int k = 0; narrowed && k < nd; k++)
-            fenceWindow(out[k], lo, hi, D);
-        for (int k = 0; k < a.ndirs; k++)
-            curMin[k][x] = mins[k];
-        if (down)
-        {
-            lrPrev = out[a.ndirs];
-            lrMin = mins[a.ndirs];
-            lrLo = lo;
-            lrHi = hi;
-            std::swap(lrU, lrV);
-            return;
-        }
-        if (finalSum)
-        {
-            ushort* fs = finalSum + (size_t)x * D;
-            std::fill(fs, fs + D, SENTINEL);
-            memcpy(fs + lo, f, n * sizeof(ushort));
-        }
-        selectPixel(f, x, W, a.p, lo, n, d16[x], dInt[x], nu ? nu + x : nullptr, rv);
     };
-    for (int x = x0; x < x1; x++)
-        pixel(x);
-    if (down && x1 > x0)
-        lrEdgeMin[strip] = lrMin;
+    if (NARROW)
+    {
+        const Vec2s* winRow = a.windows.ptr<Vec2s>(y / T);
+        const int t0 = x0 / T, t1 = (x1 - 1) / T;
+        for (int t = UP ? t1 : t0; UP ? t >= t0 : t <= t1; t += step)
+            segment(std::max(x0, t * T), std::min(x1, t * T + T), winRow[t][0], winRow[t][1]);
+    }
+    else
+        segment(x0, x1, 0, D);
+    edgeMinRow[strip] = hMin;
+#if CV_SSE2
+    if (!UP)
+        _mm_sfence();   // the streamed stores are weakly ordered: the row is complete before the item says so
+#endif
+}
+
+template <int NV, bool UP, bool EXACT>
+static void sweepRowW(AggregationState& a, int i, int x0, int x1, int strip)
+{
+    if (a.narrowed)
+        sweepRowT<NV, UP, EXACT, true>(a, i, x0, x1, strip);
+    else
+        sweepRowT<NV, UP, EXACT, false>(a, i, x0, x1, strip);
+}
+
+void sweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool down)
+{
+    const bool exact = censusMulExact(a.p.w);
+    if (a.ndirs == 3)
+    {
+        if (down)
+            exact ? sweepRowW<3, false, true>(a, i, x0, x1, strip) : sweepRowW<3, false, false>(a, i, x0, x1, strip);
+        else
+            exact ? sweepRowW<3, true, true>(a, i, x0, x1, strip) : sweepRowW<3, true, false>(a, i, x0, x1, strip);
+    }
+    else
+    {
+        if (down)
+            exact ? sweepRowW<1, false, true>(a, i, x0, x1, strip) : sweepRowW<1, false, false>(a, i, x0, x1, strip);
+        else
+            exact ? sweepRowW<1, true, true>(a, i, x0, x1, strip) : sweepRowW<1, true, false>(a, i, x0, x1, strip);
+    }
+}
+
+void rightRows(AggregationState& a, int y0, int y1)
+{
+    const int W = a.W, D = a.D;
+    for (int y = y0; y < y1; y++)
+    {
+        ushort* rvLo = a.rightRows.ptr<ushort>(y);
+        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvLo, rvLo + (W + D - 1));
+    }
 }
 
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
 {
     const int W = a.W, D = a.D;
-    ScratchRow<ushort> rvBuf(2 * (W + D));
-    ushort *rvLo = rvBuf.data(), *rvHi = rvLo + W + D;
+    AutoBuffer<ushort> rvBuf(2 * (W + D));
+    ushort *rvLo = rvBuf.data(), *rvHi = rvLo + (W + D - 1);
     for (int y = y0; y < y1; y++)
     {
-        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, 0, W, rvLo, rvHi);
-        const short* prior = a.prior16.empty() ? nullptr : a.prior16.ptr<short>(y);
+        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvLo, rvHi);
+        const ushort* addRow = a.addend.ptr<ushort>(y);
         for (int x = 0; x < W; x++)
-            costVector(rvLo + (W - 1 - x), rvHi + (W - 1 - x), a.censusL.ptr<unsigned>(y)[x],
-                       prior ? priorIndex(prior[x], a.p.minDisparity) : -1, a.p.w, 0, D,
-                       cost.ptr<ushort>(y) + (size_t)x * D);
+        {
+            const CostInput in = { rvLo + (W - 1 - x), rvHi + (W - 1 - x), a.censusL.ptr<unsigned>(y)[x],
+                                   a.ddcTable.data() + addRow[x], a.p.w.census256 };
+            costVector(in, a.p.w, D, cost.ptr<ushort>(y) + (size_t)x * D);
+        }
     }
 }
 
@@ -522,21 +636,29 @@ void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& 
                 Mat& nonUnique16)
 {
     const int W = a.W, D = a.D;
-    ScratchRow<ushort> fBuf(D), costBuf(W), indexBuf(W);
-    RightView rv = { costBuf.data(), indexBuf.data(), 0 };
+    AutoBuffer<ushort> costBuf(W + 2 * D), indexBuf(W + 2 * D);
+    // Candidates of u in [-D, W + D) (those outside the right image are dropped at the end).
+    RightView rv = { costBuf.data(), indexBuf.data(), -D };
+    WinnerLanes win;
+    win.iota = a.iota.data();
     for (int y = y0; y < y1; y++)
     {
-        std::fill(rv.index, rv.index + W, (ushort)RightView::NONE);
-        for (int x = 0; x < W; x++)
+        std::fill(rv.cost, rv.cost + W + 2 * D, (ushort)PATH_SENTINEL);
+        std::fill(rv.index, rv.index + W + 2 * D, (ushort)RightView::NONE);
+        for (int x = W - 1; x >= 0; x--)
         {
-            memcpy(fBuf.data(), sum.ptr<ushort>(y) + (size_t)x * D, D * sizeof(ushort));
-            selectPixel(fBuf.data(), x, W, a.p, 0, D, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x],
-                        nonUnique16.ptr<short>(y) + x, rv);
+            const ushort* s = sum.ptr<ushort>(y) + (size_t)x * D;
+            const int u0 = W - 1 - x + a.p.minDisparity;
+            const RightOffer pix = { rv.cost + (u0 - rv.lo), rv.index + (u0 - rv.lo) };
+            win.reset(0);
+            selectSums(s, D, win, pix);
+            selectPixel(win, s, 0, D, a.p, disp16.ptr<short>(y)[x], dispInt.ptr<short>(y)[x],
+                        nonUnique16.ptr<short>(y) + x);
         }
         short* dr = dispRight.ptr<short>(y);
         for (int xr = 0; xr < W; xr++)
         {
-            const ushort k = rv.index[W - 1 - xr];
+            const ushort k = rv.index[W - 1 - xr - rv.lo];
             dr[xr] = (short)(k == RightView::NONE ? NO_DISP : k + a.p.minDisparity);
         }
     }

@@ -10,11 +10,11 @@
 // it. What a strip's row reads:
 //  - its own row before (the strip runs its rows in order, one thread at a time);
 //  - with diagonal paths, the last pixel of each neighbouring strip's row before: strips beside each other are at
-//    most one row apart, so the path rows kept by row parity (AggregationState::L) are never overwritten early;
-//  - in the down sweep (ring > 0), the left-right path at the last pixel of strip s - 1 in the same row; and the
-//    ring slot it writes must be free: its own back item of the row `ring` rows before has run. A back item (the
-//    right-left path of the strip's row) reads the strip's forward item of the row and the right-left path at the
-//    first pixel of strip s + 1 in the same row.
+//    most one row apart, so the path records that a row overwrites in place (AggregationState) are never
+//    overwritten early;
+//  - the horizontal path of the sweep at the edge pixel of the strip it enters from, in the same row (down: the
+//    left-right path, from strip s - 1; up: the right-left path, from strip s + 1), kept in a ring of `ring` rows:
+//    a strip starts a row only when the strip that reads its hand-off has taken the one `ring` rows before.
 // A task keeps to its own strips while the task they belong to runs: taking a running task's strip when one's own
 // are not ready moves that strip's rows to the other core and back (on the 2-core EPYC that stealing made the calls
 // 2.5 x slower while the two CPUs sat far apart). The strips of a task that has not started are anyone's, and an
@@ -24,6 +24,7 @@
 #ifndef LIDARSGM_WAVEFRONT_HPP
 #define LIDARSGM_WAVEFRONT_HPP
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 #include <vector>
@@ -33,26 +34,25 @@ namespace cv { namespace lidarsgm { namespace detail {
 class Wavefront
 {
 public:
-    /** strips x rows forward items (rows in sweep order); diagonal: strip s's row i waits for s - 1 and s + 1 to
-    finish row i - 1; ring > 0: as many back items, and the hand-offs and ring slots above. */
-    Wavefront(int strips, int rows, bool diagonal, int ring)
-        : strips_(strips), rows_(rows), diagonal_(diagonal), ring_(ring), state_(strips)
+    /** strips x rows items (rows in sweep order); diagonal: strip s's row i waits for s - 1 and s + 1 to finish row
+    i - 1; from: -1 (+1) strip s's row i reads strip s - 1's (s + 1's) row i, kept in a ring of `ring` rows; 0: no
+    hand-off. */
+    Wavefront(int strips, int rows, bool diagonal, int from, int ring)
+        : strips_(strips), rows_(rows), diagonal_(diagonal), from_(from), ring_(std::max(ring, 1)), state_(strips)
     {
         for (Strip& s : state_)
         {
-            s.forward.store(0);
-            s.back.store(ring > 0 ? 0 : rows);
+            s.done.store(0);
             s.busy.store(0);
         }
         failed_.store(false);
     }
 
-    /** Runs the items on up to `threads` threads: forward(s, i) and back(s, i) for strip s and row i. Thread t keeps
-    to its strips [t * strips / threads, (t + 1) * strips / threads): of them a ready back item first (it frees a
-    ring slot), else the forward item of the one furthest behind, so that the rows and the hand-offs stream in
-    order. */
-    template <typename Forward, typename Back>
-    void run(int threads, const Forward& forward, const Back& back)
+    /** Runs item(s, i) for strip s and row i on up to `threads` threads. Thread t keeps to its strips [t * strips /
+    threads, (t + 1) * strips / threads), taking the ready row of the one furthest behind, so that the rows and the
+    hand-offs stream in order. */
+    template <typename Item>
+    void run(int threads, const Item& item)
     {
         started_ = std::vector<std::atomic<bool> >(threads);
         for (std::atomic<bool>& b : started_)
@@ -61,7 +61,7 @@ public:
             for (int t = r.start; t < r.end; t++)
             {
                 started_[t].store(true);
-                work(t, forward, back);
+                work(t, item);
             }
         }, threads);
     }
@@ -69,10 +69,9 @@ public:
 private:
     struct Strip
     {
-        std::atomic<int> forward;   // forward rows finished
-        std::atomic<int> back;      // back rows finished (rows where there are none)
+        std::atomic<int> done;      // rows finished
         std::atomic<int> busy;      // a thread runs one of its items
-        char pad[64 - 3 * sizeof(std::atomic<int>)];   // one strip per cache line: their counters change often
+        char pad[64 - 2 * sizeof(std::atomic<int>)];   // one strip per cache line: their counters change often
     };
 
     //! Task t's strips: [first(t), first(t + 1)).
@@ -81,14 +80,14 @@ private:
         return t * strips_ / (int)started_.size();
     }
 
-    template <typename Forward, typename Back>
-    void work(int task, const Forward& forward, const Back& back)
+    template <typename Item>
+    void work(int task, const Item& item)
     {
         try
         {
             for (int idle = 0; !failed_.load(std::memory_order_relaxed);)
             {
-                if (takeOwn(first(task), first(task + 1), forward, back) || takeUnstarted(forward, back))
+                if (takeOwn(first(task), first(task + 1), item) || takeUnstarted(item))
                     idle = 0;
                 else if (finished())
                     break;
@@ -106,35 +105,36 @@ private:
     bool finished() const
     {
         for (const Strip& st : state_)
-            if (st.back.load(std::memory_order_acquire) < rows_ || st.forward.load(std::memory_order_acquire) < rows_)
+            if (st.done.load(std::memory_order_acquire) < rows_)
                 return false;
         return true;
     }
 
-    int done(int s, bool back) const
+    int done(int s) const
     {
-        return (back ? state_[s].back : state_[s].forward).load(std::memory_order_acquire);
+        return state_[s].done.load(std::memory_order_acquire);
     }
 
-    bool forwardReady(int s, int i) const
+    bool ready(int s, int i) const
     {
         if (i >= rows_)
             return false;
-        if (s > 0 && ((ring_ > 0 && done(s - 1, false) <= i) || (diagonal_ && done(s - 1, false) < i)))
+        if (diagonal_ && ((s > 0 && done(s - 1) < i) || (s + 1 < strips_ && done(s + 1) < i)))
             return false;
-        if (diagonal_ && s + 1 < strips_ && done(s + 1, false) < i)
-            return false;
-        return ring_ == 0 || i < ring_ || done(s, true) > i - ring_;
+        if (from_ != 0)
+        {
+            const int producer = s + from_, consumer = s - from_;
+            if (producer >= 0 && producer < strips_ && done(producer) <= i)
+                return false;
+            if (consumer >= 0 && consumer < strips_ && i >= ring_ && done(consumer) <= i - ring_)
+                return false;
+        }
+        return true;
     }
 
-    bool backReady(int s, int i) const
-    {
-        return ring_ > 0 && i < rows_ && done(s, false) > i && (s + 1 == strips_ || done(s + 1, true) > i);
-    }
-
-    //! Among strips [s0, s1): a ready back item, else the forward item of the strip furthest behind; runs it.
-    template <typename Forward, typename Back>
-    bool takeOwn(int s0, int s1, const Forward& forward, const Back& back)
+    //! Among strips [s0, s1): the ready row of the strip furthest behind; runs it.
+    template <typename Item>
+    bool takeOwn(int s0, int s1, const Item& item)
     {
         int best = -1, bestRow = rows_;
         for (int s = s0; s < s1; s++)
@@ -142,58 +142,49 @@ private:
             const Strip& st = state_[s];
             if (st.busy.load(std::memory_order_relaxed))
                 continue;
-            if (backReady(s, st.back.load(std::memory_order_relaxed)) && runItem(s, forward, back))
-                return true;
-            const int i = st.forward.load(std::memory_order_relaxed);
-            if (i < bestRow && forwardReady(s, i))
+            const int i = st.done.load(std::memory_order_relaxed);
+            if (i < bestRow && ready(s, i))
             {
                 best = s;
                 bestRow = i;
             }
         }
-        return best >= 0 && runItem(best, forward, back);
+        return best >= 0 && runItem(best, item);
     }
 
     //! A ready item of a task that has not started (a task's own have started).
-    template <typename Forward, typename Back>
-    bool takeUnstarted(const Forward& forward, const Back& back)
+    template <typename Item>
+    bool takeUnstarted(const Item& item)
     {
         for (int t = 0; t < (int)started_.size(); t++)
             if (!started_[t].load(std::memory_order_relaxed))
                 for (int s = first(t); s < first(t + 1); s++)
-                    if (runItem(s, forward, back))
+                    if (runItem(s, item))
                         return true;
         return false;
     }
 
-    //! Runs strip s's next back item, else its next forward item, if one is ready and no other thread holds the strip.
-    template <typename Forward, typename Back>
-    bool runItem(int s, const Forward& forward, const Back& back)
+    //! Runs strip s's next row if it is ready and no other thread holds the strip.
+    template <typename Item>
+    bool runItem(int s, const Item& item)
     {
         Strip& st = state_[s];
         if (st.busy.load(std::memory_order_relaxed) || st.busy.exchange(1, std::memory_order_acquire))
             return false;
-        bool ran = true;
-        const int b = st.back.load(std::memory_order_relaxed), f = st.forward.load(std::memory_order_relaxed);
-        if (backReady(s, b))   // only the holder of busy moves the counters
+        const int i = st.done.load(std::memory_order_relaxed);   // only the holder of busy moves the counter
+        const bool ran = ready(s, i);
+        if (ran)
         {
-            back(s, b);
-            st.back.store(b + 1, std::memory_order_release);
+            item(s, i);
+            st.done.store(i + 1, std::memory_order_release);
         }
-        else if (forwardReady(s, f))
-        {
-            forward(s, f);
-            st.forward.store(f + 1, std::memory_order_release);
-        }
-        else
-            ran = false;
         st.busy.store(0, std::memory_order_release);
         return ran;
     }
 
     const int strips_, rows_;
     const bool diagonal_;
-    const int ring_;
+    const int from_, ring_;
     std::vector<Strip> state_;
     std::vector<std::atomic<bool> > started_;    // per task
     std::atomic<bool> failed_;

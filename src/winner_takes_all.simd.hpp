@@ -1,150 +1,138 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Winner-takes-all of one pixel (paper Eq. 3) from its aggregated costs, with
+// Winner-takes-all of one pixel (paper Eq. 3) from its aggregated costs, tracked as the sums complete (trackSums, in
+// the up sweep's path loop) and decided after (selectPixel), with
 //  - the uniqueness check (uniqueWinner, pipeline.hpp), else invalid
 //    (the winner goes to nonUnique where given: the ring check may keep it);
 //  - the parabola fit through the costs at d - 1, d, d + 1 (subpixelOffset16, pipeline.hpp);
 //  - the right view: the pixel offers its cost at d to the right pixel x - minD - d; each right pixel keeps the lowest
-//    cost (the first of equal ones, see RightView), so its disparity is the lowest cost along its diagonal x + d.
+//    cost (of equal ones the smallest d, see RightView), so its disparity is the lowest cost along its diagonal x + d.
 // Ties go to the smallest disparity everywhere (the CUDA twin compares the same keys).
 // Included by aggregation.simd.hpp, inside its CPU-dispatch namespace: compiled once per instruction set.
 // (RightView is defined in aggregation.simd.hpp, outside that namespace.)
 
-//! The winner's disparity x16 (s: the window's sums from lo, D of them): with the parabola's offset where enabled
+//! A pixel's candidates for the right view: cost[d], index[d] for the d-th disparity of its window (RightView).
+struct RightOffer
+{
+    ushort* cost;
+    ushort* index;
+};
+
+/** The winner's state as a pixel's sums arrive a vector at a time, per lane: the lowest sum, the disparity index of
+its first occurrence, and the lowest of the lane's other sums. A lane holds every lanes-th disparity, so the three
+disparities around the winner lie in three different lanes: the lowest sum more than one disparity away is each
+lane's lowest, or its second where the lowest is the excluded one (selectPixel). Without vectors selectPixel scans
+the sums. */
+struct WinnerLanes
+{
+    const ushort* iota;   // iota[i] = i for i < MAX_DISPARITIES
+    int base;             // the window's first disparity index
+#if CV_SIMD
+    v_uint16 min1, idx1, min2;
+#endif
+    void reset(int lo)
+    {
+        base = lo;
+#if CV_SIMD
+        min1 = min2 = vx_setall_u16(0xFFFF);
+        idx1 = vx_load(iota + lo);   // the first vector's indices: its sums are at most 0xFFFF
+#endif
+    }
+};
+
+#if CV_SIMD
+//! The sums s at the window's disparities d .. d + lanes - 1: the winner's lanes and the right view's candidates.
+static inline void trackSums(WinnerLanes& w, const RightOffer& r, const v_uint16& s, int d)
+{
+    const v_uint16 idx = vx_load(w.iota + w.base + d);
+    const v_uint16 m = v_min(s, w.min1);
+    w.idx1 = v_select(v_eq(m, w.min1), w.idx1, idx);   // a later lane value takes it only when lower
+    w.min2 = v_min(w.min2, v_max(s, w.min1));
+    w.min1 = m;
+    const v_uint16 oc = vx_load(r.cost + d), oi = vx_load(r.index + d);
+    const v_uint16 mc = v_min(s, oc);
+    v_store(r.cost + d, mc);
+    v_store(r.index + d, v_select(v_eq(mc, s), idx, oi));   // s <= the cost so far: a smaller d at equal cost
+}
+#endif
+
+//! The same for one disparity (the scalar path: the right view only, selectPixel scans the sums).
+static inline void trackSums(WinnerLanes& w, const RightOffer& r, ushort s, int d)
+{
+    if (s <= r.cost[d])
+    {
+        r.cost[d] = s;
+        r.index[d] = (ushort)(w.base + d);
+    }
+}
+
+//! trackSums over a pixel's n sums (the volume form of the tests).
+static inline void selectSums(const ushort* s, int n, WinnerLanes& w, const RightOffer& r)
+{
+    int d = 0;
+#if CV_SIMD
+    const int N = VTraits<v_uint16>::nlanes;
+    for (; d <= n - N; d += N)
+        trackSums(w, r, vx_load(s + d), d);
+    CV_DbgAssert(d == n);
+#endif
+    for (; d < n; d++)
+        trackSums(w, r, s[d], d);
+}
+
+//! The winner's disparity x16 (s: the window's sums from lo, n of them): with the parabola's offset where enabled
 //! and both neighbours are in the window.
-static inline int winner16(const ushort* s, int best, int lo, int D, const PipelineParams& p)
+static inline int winner16(const ushort* s, int best, int lo, int n, const PipelineParams& p)
 {
     int v16 = (lo + best + p.minDisparity) * 16;
-    if (p.subpixel && best > 0 && best < D - 1)
+    if (p.subpixel && best > 0 && best < n - 1)
         v16 += subpixelOffset16(s[best - 1], s[best], s[best + 1]);
     return v16;
 }
 
-/** The pixel's winner from s, its sums over its window [lo, lo + D) (searchWindows; lo 0 and D numDisparities without
-windows): indices below are the window's, disparities lo + index. */
-static inline void selectPixel(ushort* s, int x, int W, const PipelineParams& p, int lo, int D, short& d16,
-                               short& dInt, short* nonUnique, RightView rv)
+/** The pixel's winner from its sums s over its window [lo, lo + n) (searchWindows; lo 0 and n numDisparities without
+windows; a multiple of the vector width where there are vectors) and the lanes trackSums kept: indices below are the
+window's, disparities lo + index. */
+static inline void selectPixel(const WinnerLanes& w, const ushort* s, int lo, int n, const PipelineParams& p,
+                               short& d16, short& dInt, short* nonUnique)
 {
-    const int minD = p.minDisparity;
-    // Right view, before the uniqueness check may reject this pixel (it does not affect the right view). In the
-    // reversed index u = W - 1 - xr this pixel's candidates are contiguous: u = u0 + d (d the disparity index).
-    const int u0 = W - 1 - x + minD;
-    const int k0 = std::max(lo, -u0), n = std::min(lo + D, W - u0) - k0;
-    // rc[j], ri[j]: the candidate at u = u0 + k0 + j (disparity index k0 + j); pointers formed only inside the view.
-    ushort* rc = n > 0 ? rv.cost + (u0 + k0 - rv.lo) : nullptr;
-    ushort* ri = n > 0 ? rv.index + (u0 + k0 - rv.lo) : nullptr;
-    const ushort* sk = s + (k0 - lo);
-    // Where the pixel offers all its costs (away from the left border), the minimum is taken in the same pass.
-    const bool whole = k0 == lo && n == D;
-    ushort minv = 0xFFFF;
-    int j = 0;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-    const int n16 = VTraits<v_uint16>::vlanes();
+    int best, minv, second = 0xFFFF;
+    const bool checkUnique = p.uniqueness1024 < 1024;
+#if CV_SIMD
+    (void)n;
+    minv = minLane(w.min1);
+    const int bestIndex = minLane(v_select(v_eq(w.min1, vx_setall_u16((ushort)minv)), w.idx1, vx_setall_u16(0xFFFF)));
+    best = bestIndex - lo;
+    if (checkUnique)
     {
-        static const ushort iota[128] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
-            21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46,
-            47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63, 64, 65, 66, 67, 68, 69, 70, 71, 72,
-            73, 74, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97, 98,
-            99, 100, 101, 102, 103, 104, 105, 106, 107, 108, 109, 110, 111, 112, 113, 114, 115, 116, 117, 118, 119,
-            120, 121, 122, 123, 124, 125, 126, 127 };
-        const v_uint16 vnone = vx_setall_u16(RightView::NONE), vstep = vx_setall_u16((ushort)n16);
-        v_uint16 vmin = vx_setall_u16(0xFFFF);
-        v_uint16 vi = v_add(vx_load(iota), vx_setall_u16((ushort)k0));   // disparity indices of lanes j ..
-        for (; n16 <= 128 && j <= n - n16; j += n16, vi = v_add(vi, vstep))
-        {
-            const v_uint16 c = vx_load(sk + j), oc = vx_load(rc + j), oi = vx_load(ri + j);
-            const v_uint16 take = v_or(v_lt(c, oc), v_eq(oi, vnone));
-            v_store(rc + j, v_select(take, c, oc));
-            v_store(ri + j, v_select(take, vi, oi));
-            vmin = v_min(vmin, c);
-        }
-        if (whole)
-            minv = minLane(vmin);
+        // A lane whose lowest sum sits at best - 1, best or best + 1 (index - (best - 1) <= 2, unsigned) offers its
+        // second instead.
+        const v_uint16 rel = v_sub_wrap(w.idx1, vx_setall_u16((ushort)(bestIndex - 1)));
+        const v_uint16 two = vx_setall_u16(2);
+        second = minLane(v_select(v_eq(v_min(rel, two), rel), w.min2, w.min1));
     }
-#endif
-    for (; j < n; j++)
-    {
-        if (sk[j] < rc[j] || ri[j] == RightView::NONE)
-        {
-            rc[j] = sk[j];
-            ri[j] = (ushort)(k0 + j);
-        }
-        minv = std::min(minv, sk[j]);
-    }
-    int d = 0;
-    if (!whole)
-    {
-        minv = 0xFFFF;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-        v_uint16 vmin = vx_setall_u16(0xFFFF);
-        for (; d <= D - n16; d += n16)
-            vmin = v_min(vmin, vx_load(s + d));
-        minv = minLane(vmin);
-#endif
-        for (; d < D; d++)
-            minv = std::min(minv, s[d]);
-    }
-    int best = -1;
-    d = 0;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-    {
-        const v_uint16 vm = vx_setall_u16(minv);
-        for (; d <= D - n16; d += n16)
-        {
-            const v_uint16 eq = v_eq(vx_load(s + d), vm);
-            if (v_check_any(eq))
-            {
-                best = d + v_scan_forward(eq);   // the first lane that holds the minimum
-                break;
-            }
-        }
-    }
-#endif
-    for (; best < 0; d++)
-        if (s[d] == minv)
+#else
+    (void)w;
+    best = 0;
+    for (int d = 1; d < n; d++)
+        if (s[d] < s[best])
             best = d;
-
-    if (p.uniqueness1024 < 1024)
-    {
-        // The lowest cost more than one disparity away: the costs at best - 1 .. best + 1 masked out in registers
-        // (writing them in s and reading s back in vectors would stall each load on the little stores).
-        const int exLo = best - 1, exHi = best + 1;
-        ushort second = 0xFFFF;
-        d = 0;
-#if (CV_SIMD || CV_SIMD_SCALABLE)
-        static const ushort iota16[64] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20,
-            21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31, 32, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 43, 44, 45, 46,
-            47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59, 60, 61, 62, 63 };
-        v_uint16 vmin = vx_setall_u16(0xFFFF);
-        for (; n16 <= 64 && d <= D - n16; d += n16)
-        {
-            v_uint16 v = vx_load(s + d);
-            if (d + n16 > exLo && d <= exHi)
-            {
-                // index - exLo <= 2 (unsigned: indices below exLo wrap to large values) marks best - 1 .. best + 1
-                const v_uint16 rel = v_sub_wrap(v_add_wrap(vx_load(iota16), vx_setall_u16((ushort)d)),
-                                                vx_setall_u16((ushort)exLo));
-                v = v_select(v_le(rel, vx_setall_u16(2)), vx_setall_u16(0xFFFF), v);
-            }
-            vmin = v_min(vmin, v);
-        }
-        second = minLane(vmin);
+    minv = s[best];
+    for (int d = 0; checkUnique && d < n; d++)
+        if (d < best - 1 || d > best + 1)
+            second = std::min(second, (int)s[d]);
 #endif
-        for (; d < D; d++)
-            if (d < exLo || d > exHi)
-                second = std::min(second, s[d]);
-        if (!uniqueWinner((int)minv, (int)second, p.uniqueness1024))
-        {
-            if (nonUnique)
-                *nonUnique = (short)winner16(s, best, lo, D, p);
-            d16 = NO_DISP;
-            dInt = NO_DISP;
-            return;
-        }
+    if (checkUnique && !uniqueWinner(minv, second, p.uniqueness1024))
+    {
+        if (nonUnique)
+            *nonUnique = (short)winner16(s, best, lo, n, p);
+        d16 = NO_DISP;
+        dInt = NO_DISP;
+        return;
     }
     if (nonUnique)
         *nonUnique = NO_DISP;
-    d16 = (short)winner16(s, best, lo, D, p);
-    dInt = (short)(lo + best + minD);
+    d16 = (short)winner16(s, best, lo, n, p);
+    dInt = (short)(lo + best + p.minDisparity);
 }
