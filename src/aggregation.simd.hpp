@@ -171,7 +171,7 @@ struct StepArgs
 
 /** The recursion (paper Eq. 2) for each direction k of the step: Lout[k](d) = C(d) + min(Lp[k](d), Lp[k](d-1) + P1,
 Lp[k](d+1) + P1, minPrev[k] + P2[k]) - minPrev[k], minOut[k] = min_d Lout[k](d); the sum of the directions (and of
-the partial sums, up) to sum. UP: the winner's state and the right view's candidates as the sums complete. The
+the partial sums, up) to sum. UP: then the winner's lanes and the right view's candidates from the sums. The
 horizontal path (the last direction) reads what the previous pixel has just stored: its neighbours d - 1 and d + 1
 are shifted out of the vectors at d and d +- one vector, loaded as they were stored (a load that spans two recent
 stores waits for both to reach the cache: a failed store forwarding). */
@@ -193,6 +193,10 @@ inline void pathStep(StepArgs<NV>& s, int n, ushort P1, WinnerLanes* win, const 
     }
     const ushort* hp = s.lp[H];
     v_uint16 below = vx_load(hp - N), ha = vx_load(hp);   // below's last lane: hp[-1]
+#if CV_AVX2 && CV_SIMD_WIDTH == 32
+    // The lane permute that shifts in the vector below is the one the previous vector needed for the one above.
+    __m256i swap = _mm256_permute2x128_si256(below.val, ha.val, 0x21);
+#endif
     for (; d < n; d += N)
     {
         const v_uint16 c = costAt<EXACT>(cv, s.cost, d);
@@ -211,7 +215,14 @@ inline void pathStep(StepArgs<NV>& s, int n, ushort P1, WinnerLanes* win, const 
         }
         {
             const v_uint16 above = vx_load(hp + d + N);
+#if CV_AVX2 && CV_SIMD_WIDTH == 32
+            const __m256i next = _mm256_permute2x128_si256(ha.val, above.val, 0x21);
+            const v_uint16 b = v_add(v_min(v_uint16(_mm256_alignr_epi8(ha.val, swap, 14)),
+                                           v_uint16(_mm256_alignr_epi8(next, ha.val, 2))), vp1);
+            swap = next;
+#else
             const v_uint16 b = v_add(v_min(v_extract<N - 1>(below, ha), v_extract<1>(ha, above)), vp1);
+#endif
             const v_uint16 l = v_sub(v_add(c, v_min(v_min(ha, b), vjump[H])), vmp[H]);
             v_store(s.out[H] + d, l);
             vmin[H] = v_min(vmin[H], l);
@@ -220,15 +231,16 @@ inline void pathStep(StepArgs<NV>& s, int n, ushort P1, WinnerLanes* win, const 
             ha = above;
         }
         if (UP)
-        {
             v_store(s.sum + d, sum);
-            trackSums(*win, *rv, sum, d);
-        }
         else
             v_store_aligned_nocache(s.sum + d, sum);   // read again only by the up sweep, after the whole image
     }
     for (int k = 0; k < ND; k++)
         s.minOut[k] = minLane(vmin[k]);
+    // The winner and the right view from the sums just stored (in L1): in the loop above their state would not
+    // fit in the vector registers beside the paths'.
+    if (UP)
+        selectSums(s.sum, n, *win, *rv);
 #else
     // Scalar: the horizontal path's input is copied first, as it overwrites it.
     ushort m[ND];
@@ -253,13 +265,11 @@ inline void pathStep(StepArgs<NV>& s, int n, ushort P1, WinnerLanes* win, const 
             sum += l;
         }
         s.sum[d] = (ushort)sum;
-        if (UP)
-        {
-            trackSums(*win, *rv, (ushort)sum, d);
-        }
     }
     for (int k = 0; k < ND; k++)
         s.minOut[k] = m[k];
+    if (UP)
+        selectSums(s.sum, n, *win, *rv);
 #endif
 }
 

@@ -51,7 +51,7 @@ struct ConfidenceTable
 
 void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
                       const Mat& nonUnique16, const RingMaps& rings, const PipelineParams& p, OutputArray _out,
-                      OutputArray _confidence)
+                      OutputArray _confidence, const SparseColumns* points)
 {
     const int W = disp16.cols, H = disp16.rows;
     const bool useStereo = p.stereoCheck, useLidar = p.lidarCheck, conf = p.confidence;
@@ -60,14 +60,13 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
     CV_Assert(!lidarTest || (sparse16.type() == CV_16SC1 && sparse16.size() == disp16.size()));
     const bool useRings = ringCheckOn(p) && rings.valid;
     CV_Assert(!useRings || (nonUnique16.type() == CV_16SC1 && nonUnique16.size() == disp16.size() &&
-                            rings.above16.size() == disp16.size() && rings.below16.size() == disp16.size() &&
-                            rings.above16.step1() == rings.below16.step1()));
-    const short* above = useRings ? rings.above16.ptr<short>() : nullptr;
-    const short* below = useRings ? rings.below16.ptr<short>() : nullptr;
-    const size_t ringStep = useRings ? rings.above16.step1() : 0, sparseStep = sparse16.step1();
+                            rings.nearest.type() == CV_16SC4 && rings.nearest.size() == disp16.size()));
+    const RingNearestMap ringNearest = { useRings ? rings.nearest.ptr<Vec4s>() : nullptr,
+                                         useRings ? rings.nearest.step1() / 4 : 0 };
+    const size_t sparseStep = sparse16.step1();
     const auto ringSupports = [&](int v, int x, int y) {
-        return ringLineSupports(v, above, below, ringStep, sparse16.ptr<short>(), sparseStep, x, y, W, rings.gap,
-                                p.checkThreshold16);
+        return ringLineSupportsOf(v, ringNearest, sparse16.ptr<short>(), sparseStep, x, y, rings.gap,
+                                  p.checkThreshold16);
     };
     // confidenceRange16 of a whole row at once: each row's 3-wide minima and maxima (NO_DISP left out), then the
     // three rows' combined; the same values as the rule's 3x3 loop, without its per-pixel bounds tests.
@@ -110,7 +109,12 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
         confidence = _confidence.getMat();
     }
     static const ConfidenceTable confidenceOf;
-    const SparseColumns cols(lidarTest ? sparse16 : Mat(1, 1, CV_16SC1, Scalar::all(NO_DISP)));
+    SparseColumns own;
+    if (!lidarTest)
+        own.build(Mat(1, 1, CV_16SC1, Scalar::all(NO_DISP)));
+    else if (!points)
+        own.build(sparse16);
+    const SparseColumns& cols = lidarTest && points ? *points : own;
     const int rc = p.checkRadius, tc = p.checkThreshold16;
 
     const int rs = p.semidenseRadius;   // the confidence's LiDAR evidence window (outputConfidence)

@@ -6,6 +6,7 @@
 
 #include "precomp.hpp"
 #include "cpu_stages.hpp"
+#include "sparse_window.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 
@@ -28,10 +29,13 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     }
     else
         sparse16_.release();
+    if (!points_)
+        points_ = makePtr<SparseColumns>();
+    points_->build(sparse16_);
     if (semidenseOnly || p.semidense)
     {
-        semidensify(censusL_, censusR_, sparse16_, p, semidense16_);
-        interpolateRings(censusL_, censusR_, sparse16_, p, semidense16_, rings_);
+        semidensify(censusL_, censusR_, sparse16_, p, semidense16_, points_.get());
+        interpolateRings(censusL_, censusR_, sparse16_, p, semidense16_, rings_, points_.get());
     }
     else
         rings_.valid = false;
@@ -60,10 +64,12 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
         medianFilter(disp16_, med16_);
         medianFilter(dispInt_, medInt_);
         medianFilter(dispRight_, medRight_);
-        consistencyCheck(med16_, medInt_, medRight_, sparse16_, nonUnique16_, rings_, p, out, confidence);
+        consistencyCheck(med16_, medInt_, medRight_, sparse16_, nonUnique16_, rings_, p, out, confidence,
+                         points_.get());
     }
     else
-        consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, nonUnique16_, rings_, p, out, confidence);
+        consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, nonUnique16_, rings_, p, out, confidence,
+                         points_.get());
 }
 
 }}} // namespace cv::lidarsgm::detail

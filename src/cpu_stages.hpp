@@ -34,16 +34,22 @@ CV_EXPORTS bool isLidarScan(const Mat& sparse16);
 //! Census transform (CV_8UC1 or CV_16UC1 in, CV_32SC1 bit strings out); pixels outside the image are clamped.
 CV_EXPORTS void censusTransform(const Mat& image, Mat& census);
 
+struct SparseColumns;   // sparse16's points by column and by row (sparse_window.hpp)
+
 /** Semidensification (paper Eq. 5): among the sparse disparities q in the (2 rs + 1)^2 window of p, the best
 candidate (semidenseKey: census cost H(p, round(q)) first) wins if its cost is below Ts; otherwise p keeps its own sparse
-value (or none). */
+value (or none). points: sparse16's points where the caller has listed them (else listed here). */
 CV_EXPORTS void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
-                            Mat& semidense16);
+                            Mat& semidense16, const SparseColumns* points = nullptr);
 
 /** Ring interpolation (pipeline.hpp; off where p.ringGapFactor16 is 0): fills the pixels of semidense16 that have no
-value. rings receives the maps and gap limit that the ring check reuses (valid false where the rule is off). */
+value. rings receives the maps and gap limit that the ring check reuses (valid false where the rule is off). points:
+sparse16's points where the caller has listed them. */
 CV_EXPORTS void interpolateRings(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
-                                 Mat& semidense16, RingMaps& rings);
+                                 Mat& semidense16, RingMaps& rings, const SparseColumns* points = nullptr);
+/** Ring interpolation's maps of a sparse map (RingMaps: above16, below16 and each pixel's nearestRingPoints in
+nearest; the gap and valid are left as they are). */
+CV_EXPORTS void ringNearestMaps(const Mat& sparse16, RingMaps& rings);
 
 /** The disparity windows (tileWindow, pipeline.hpp): windows receives per WINDOW_TILE tile (lo, hi) as CV_16SC2.
 prior16: the call's prior map (may be empty); where a tile has no prior around it, the coarse pass
@@ -97,10 +103,12 @@ CV_EXPORTS void medianFilter(const Mat& src, Mat& dst);
 (2 rc + 1)^2 window is within checkThreshold16 of it), as p says; out receives the encoded result (encodeOutput).
 With ringCheckOn(p) and valid rings, the LiDAR test includes the ring check (pipeline.hpp), which may also keep the
 value of nonUnique16 where disp16 has none. With p.confidence, confidence receives each output pixel's confidence
-(outputConfidence, CV_32FC1, 0 where out has no disparity). */
+(outputConfidence, CV_32FC1, 0 where out has no disparity). points: sparse16's points where the caller has listed them
+(else listed here). */
 CV_EXPORTS void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
                                  const Mat& nonUnique16, const RingMaps& rings, const PipelineParams& p,
-                                 OutputArray out, OutputArray confidence = noArray());
+                                 OutputArray out, OutputArray confidence = noArray(),
+                                 const SparseColumns* points = nullptr);
 
 //! A 1/16-pixel map in the output format without any check (the semidense map of semidensify()).
 CV_EXPORTS void encodeOutput(const Mat& disp16, const PipelineParams& p, OutputArray out);

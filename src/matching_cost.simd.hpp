@@ -57,11 +57,11 @@ struct CostInput
     int census256;
 };
 
-//! Whether the vector cost's exact rounding multiply applies (mulRound15: census256 < 2^15).
+//! Whether the vector cost's exact rounding multiply applies (costAt: census256 < 2^14).
 static inline bool censusMulExact(const CostWeights& w)
 {
 #if CV_SIMD && ((CV_AVX2 && CV_SIMD_WIDTH == 32) || (CV_SSSE3 && CV_SIMD_WIDTH == 16))
-    return w.census256 < 32768;
+    return w.census256 < 16384;
 #else
     (void)w;
     return false;
@@ -77,18 +77,24 @@ static inline int costAt(const CostInput& in, int d)
 
 #if CV_SIMD
 #if CV_AVX2 && CV_SIMD_WIDTH == 32
-//! Each 16-bit lane's two bytes added (unsigned bytes).
-static inline v_uint16 bytePairSums(const v_uint8& b) { return v_uint16(_mm256_maddubs_epi16(b.val, _mm256_set1_epi8(1))); }
+//! Each 16-bit lane's two bytes added (unsigned bytes), times f (f < 128).
+static inline v_uint16 bytePairSums(const v_uint8& b, schar f = 1)
+{
+    return v_uint16(_mm256_maddubs_epi16(b.val, _mm256_set1_epi8(f)));
+}
 //! (a b + 2^14) >> 15 per 16-bit lane (a, b < 2^15).
 static inline v_uint16 mulRound15(const v_uint16& a, const v_uint16& b) { return v_uint16(_mm256_mulhrs_epi16(a.val, b.val)); }
 #elif CV_SSSE3 && CV_SIMD_WIDTH == 16
-static inline v_uint16 bytePairSums(const v_uint8& b) { return v_uint16(_mm_maddubs_epi16(b.val, _mm_set1_epi8(1))); }
+static inline v_uint16 bytePairSums(const v_uint8& b, schar f = 1)
+{
+    return v_uint16(_mm_maddubs_epi16(b.val, _mm_set1_epi8(f)));
+}
 static inline v_uint16 mulRound15(const v_uint16& a, const v_uint16& b) { return v_uint16(_mm_mulhrs_epi16(a.val, b.val)); }
 #else
-static inline v_uint16 bytePairSums(const v_uint8& b)
+static inline v_uint16 bytePairSums(const v_uint8& b, schar f = 1)
 {
     const v_uint16 w = v_reinterpret_as_u16(b);
-    return v_add(v_and(w, vx_setall_u16(0xFF)), v_shr<8>(w));
+    return v_mul_wrap(v_add(v_and(w, vx_setall_u16(0xFF)), v_shr<8>(w)), vx_setall_u16((ushort)f));
 }
 static inline v_uint16 mulRound15(const v_uint16& a, const v_uint16&) { return a; }   // not used (censusMulExact)
 #endif
@@ -99,28 +105,31 @@ struct CostVectors
     v_uint16 lLo, lHi, weight, hi, lo;
     explicit CostVectors(const CostInput& in)
         : lLo(vx_setall_u16((ushort)(in.l & 0xFFFF))), lHi(vx_setall_u16((ushort)(in.l >> 16))),
-          weight(vx_setall_u16((ushort)in.census256)), hi(vx_setall_u16((ushort)(in.census256 >> 8))),
+          weight(vx_setall_u16((ushort)(2 * in.census256))), hi(vx_setall_u16((ushort)(in.census256 >> 8))),
           lo(vx_setall_u16((ushort)(in.census256 & 255)))
     {
     }
 };
 
 /** The costs at disparity indices d .. d + lanes - 1. The Hamming distance: byte popcounts of both halves added (at
-most 16 a byte), then the two bytes of each 16-bit lane. EXACT (census256 < 2^15, every configuration but plain SGM
-with small penalties): (128 h census256 + 2^14) >> 15 is (census256 h + 128) >> 8 exactly, one rounding high multiply.
-Otherwise with census256 = 256 hi + lo it is hi h + (lo h + 128) / 256 (exact: 256 hi h is a multiple of 256), both
-products below 2^13 for h <= 31: wrapping multiplies give the same. */
+most 16 a byte), then the two bytes of each 16-bit lane. EXACT (census256 < 2^14, every configuration but plain SGM
+with small penalties): (64 h 2 census256 + 2^14) >> 15 is (census256 h + 128) >> 8 exactly, the factor 64 in the
+byte pairs' multiply-add and one rounding high multiply. Otherwise with census256 = 256 hi + lo it is hi h + (lo h +
+128) / 256 (exact: 256 hi h is a multiple of 256), both products below 2^13 for h <= 31: wrapping multiplies give the
+same. */
 template <bool EXACT>
 static inline v_uint16 costAt(const CostVectors& v, const CostInput& in, int d)
 {
     const v_uint8 pc = v_add(v_popcount(v_reinterpret_as_u8(v_xor(vx_load(in.rl + d), v.lLo))),
                              v_popcount(v_reinterpret_as_u8(v_xor(vx_load(in.rh + d), v.lHi))));
-    const v_uint16 h = bytePairSums(pc);
     v_uint16 t;
     if (EXACT)
-        t = mulRound15(v_shl<7>(h), v.weight);
+        t = mulRound15(bytePairSums(pc, 64), v.weight);
     else
+    {
+        const v_uint16 h = bytePairSums(pc);
         t = v_add(v_mul_wrap(h, v.hi), v_shr<8>(v_add(v_mul_wrap(h, v.lo), vx_setall_u16(128))));
+    }
     return v_add(t, vx_load(in.add + d));
 }
 #endif

@@ -393,14 +393,28 @@ static LIDARSGM_HD int ringPointGap(const short* above, const short* below, int 
     return yb < 0 ? -1 : yb - y < RING_GAP_BINS - 1 ? yb - y : RING_GAP_BINS - 1;
 }
 
-/** The ring interpolation's value at pixel (x, y) in 1/16 pixel, NO_DISP where the rule gives none: maps above and
-below (rows of each column's nearest sparse point, -1: none; `step` elements per row), the sparse map (sparseStep),
-the gap limit. The caller checks its range and census cost. */
-static LIDARSGM_HD int ringCandidate16(const short* above, const short* below, size_t step, const short* sparse,
-                                       size_t sparseStep, int x, int y, int W, int gap)
+/** nearestRingPoints on the maps above and below of a whole image (`step` elements per row), for ringCandidateOf. */
+struct RingMapsNearest
+{
+    const short* above;
+    const short* below;
+    size_t step;
+    int W;
+    LIDARSGM_HD void operator()(int x, int y, int& xa, int& ya, int& xb, int& yb) const
+    {
+        nearestRingPoints(above + (size_t)y * step, below + (size_t)y * step, x, W, xa, ya, xb, yb);
+    }
+};
+
+/** The ring interpolation's value at pixel (x, y) in 1/16 pixel, NO_DISP where the rule gives none: nearest(x, y, xa,
+ya, xb, yb) gives nearestRingPoints at a pixel (RingMapsNearest, or the CPU's maps of them), the sparse map (sparseStep
+elements per row), the gap limit. The caller checks its range and census cost. */
+template <class Nearest>
+static LIDARSGM_HD int ringCandidateOf(const Nearest& nearest, const short* sparse, size_t sparseStep, int x, int y,
+                                       int gap)
 {
     int xa, ya, xb, yb;
-    nearestRingPoints(above + (size_t)y * step, below + (size_t)y * step, x, W, xa, ya, xb, yb);
+    nearest(x, y, xa, ya, xb, yb);
     if (ya < 0 && yb < 0)
         return NO_DISP;
     if (ya < 0 || yb < 0)
@@ -409,7 +423,7 @@ static LIDARSGM_HD int ringCandidate16(const short* above, const short* below, s
         const bool belowLast = ya >= 0;
         const int xn = belowLast ? xa : xb, yn = belowLast ? ya : yb;
         int xu, yu, xd, yd;
-        nearestRingPoints(above + (size_t)yn * step, below + (size_t)yn * step, xn, W, xu, yu, xd, yd);
+        nearest(xn, yn, xu, yu, xd, yd);
         const int x2 = belowLast ? xu : xd, y2 = belowLast ? yu : yd;
         if (y2 < 0 || (belowLast ? y - yn : yn - y) > gap || (belowLast ? yn - y2 : y2 - yn) > gap)
             return NO_DISP;
@@ -423,6 +437,14 @@ static LIDARSGM_HD int ringCandidate16(const short* above, const short* below, s
     return ringLine16(sparse[(size_t)ya * sparseStep + xa], ya, sparse[(size_t)yb * sparseStep + xb], yb, y);
 }
 
+//! ringCandidateOf on the maps above and below (rows of each column's nearest sparse point, -1: none).
+static LIDARSGM_HD int ringCandidate16(const short* above, const short* below, size_t step, const short* sparse,
+                                       size_t sparseStep, int x, int y, int W, int gap)
+{
+    const RingMapsNearest nearest = { above, below, step, W };
+    return ringCandidateOf(nearest, sparse, sparseStep, x, y, gap);
+}
+
 /* The ring check, with ring interpolation in SDSGM where the LiDAR test runs (ringCheckOn): the LiDAR test also
 passes a disparity within checkThreshold16 of the ring line at the pixel itself (ringCandidate16), and a winner that
 failed the uniqueness check (and that the median left without a value) is kept when it passes this test. Between
@@ -433,12 +455,20 @@ static LIDARSGM_HD bool ringCheckOn(const PipelineParams& p)
     return p.ringGapFactor16 > 0 && p.semidense && p.lidarCheck;
 }
 
-//! The ring check's test of disparity v16 at (x, y): the arguments of ringCandidate16, then the threshold.
+//! The ring check's test of disparity v16 at (x, y): the arguments of ringCandidateOf, then the threshold.
+template <class Nearest>
+static LIDARSGM_HD bool ringLineSupportsOf(int v16, const Nearest& nearest, const short* sparse, size_t sparseStep,
+                                           int x, int y, int gap, int tc)
+{
+    const int line = ringCandidateOf(nearest, sparse, sparseStep, x, y, gap);
+    return line != NO_DISP && (v16 > line ? v16 - line : line - v16) <= tc;
+}
+//! ringLineSupportsOf on the maps above and below.
 static LIDARSGM_HD bool ringLineSupports(int v16, const short* above, const short* below, size_t step,
                                          const short* sparse, size_t sparseStep, int x, int y, int W, int gap, int tc)
 {
-    const int line = ringCandidate16(above, below, step, sparse, sparseStep, x, y, W, gap);
-    return line != NO_DISP && (v16 > line ? v16 - line : line - v16) <= tc;
+    const RingMapsNearest nearest = { above, below, step, W };
+    return ringLineSupportsOf(v16, nearest, sparse, sparseStep, x, y, gap, tc);
 }
 
 /* The 3x3 median of a disparity map: "no disparity" ranks above every value (so a pixel with 5 or more invalid
@@ -578,14 +608,31 @@ static LIDARSGM_HD float projectDisparity(double focalBaseline, double z)
 #ifndef __CUDACC__
 
 struct AggregationState;   // the CPU aggregation's buffers (src/aggregation.simd.hpp)
+struct SparseColumns;      // a sparse map's points by column and by row (src/sparse_window.hpp)
 
-//! Ring interpolation's maps (interpolateRings), kept for the ring check: for each pixel the rows of its column's
-//! nearest sparse point above and below (-1: none), and the gap limit; valid false where the rule did not run.
+/** Ring interpolation's maps (interpolateRings), kept for the ring check: for each pixel the rows of its column's
+nearest sparse point above and below (-1: none), nearestRingPoints of each pixel on them (CV_16SC4: xa, ya, xb, yb),
+and the gap limit; valid false where the rule did not run. */
 struct RingMaps
 {
-    Mat above16, below16;
+    Mat above16, below16, nearest;
     int gap = 0;
     bool valid = false;
+};
+
+//! nearestRingPoints read from RingMaps::nearest, for ringCandidateOf.
+struct RingNearestMap
+{
+    const Vec4s* map;
+    size_t step;   // elements (Vec4s) per row
+    void operator()(int x, int y, int& xa, int& ya, int& xb, int& yb) const
+    {
+        const Vec4s& v = map[(size_t)y * step + x];
+        xa = v[0];
+        ya = v[1];
+        xb = v[2];
+        yb = v[3];
+    }
 };
 
 /** The CPU pipeline (src/cpu_pipeline.cpp): its work buffers and the order of the stage calls. Inputs are checked by
@@ -604,6 +651,7 @@ private:
     Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, disp16_, dispInt_, dispRight_, nonUnique16_;
     RingMaps rings_;
     Ptr<AggregationState> aggregation_, coarseAggregation_;
+    Ptr<SparseColumns> points_;   // sparse16_'s points, listed once for semidensification and the check
     Mat med16_, medInt_, medRight_;
 };
 

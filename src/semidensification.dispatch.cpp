@@ -17,12 +17,15 @@ static void runSemidensifyRows(const Mat& censusL, const Mat& censusR, const Mat
 }
 
 void semidensify(const Mat& censusL, const Mat& censusR, const Mat& sparse16, const PipelineParams& p,
-                 Mat& semidense16)
+                 Mat& semidense16, const SparseColumns* points)
 {
     const int H = censusL.rows;
     CV_Assert(sparse16.type() == CV_16SC1 && sparse16.size() == censusL.size());
     semidense16.create(censusL.size(), CV_16SC1);
-    const SparseColumns cols(sparse16);
+    SparseColumns own;
+    if (!points)
+        own.build(sparse16);
+    const SparseColumns& cols = points ? *points : own;
 
     parallel_for_(Range(0, H), [&](const Range& r) {
         runSemidensifyRows(censusL, censusR, sparse16, cols, p, semidense16, r);

@@ -1,8 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Winner-takes-all of one pixel (paper Eq. 3) from its aggregated costs, tracked as the sums complete (trackSums, in
-// the up sweep's path loop) and decided after (selectPixel), with
+// Winner-takes-all of one pixel (paper Eq. 3) from its aggregated costs: one pass over them (selectSums, right after
+// the up sweep's path loop stored them) keeps per lane what the decision needs (selectPixel), with
 //  - the uniqueness check (uniqueWinner, pipeline.hpp), else invalid
 //    (the winner goes to nonUnique where given: the ring check may keep it);
 //  - the parabola fit through the costs at d - 1, d, d + 1 (subpixelOffset16, pipeline.hpp);
@@ -67,7 +67,7 @@ static inline void trackSums(WinnerLanes& w, const RightOffer& r, ushort s, int 
     }
 }
 
-//! trackSums over a pixel's n sums (the volume form of the tests).
+//! trackSums over a pixel's n sums.
 static inline void selectSums(const ushort* s, int n, WinnerLanes& w, const RightOffer& r)
 {
     int d = 0;

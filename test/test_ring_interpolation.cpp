@@ -121,6 +121,47 @@ TEST_F(Lidarsgm_RingInterpolation, ring_check)
     EXPECT_EQ(NO_DISP, check(NO_DISP, plane16(y), rings));
 }
 
+/* The maps of each pixel's nearest ring points (ringNearestMaps: vectors of pixels at a time, 16-bit keys; rows past
+4094 by the rule itself) equal nearestRingPoints on the above / below maps, on random maps of several densities and
+sizes: ties between columns, the image's side columns, widths that are not a multiple of the vector width. */
+TEST(Lidarsgm_RingInterpolationRules, nearest_maps_match_the_rule)
+{
+    RNG rng(11);
+    const Size sizes[] = { Size(1, 7), Size(5, 40), Size(37, 23), Size(100, 61), Size(3, 4200) };
+    for (const Size& sz : sizes)
+        for (double density : { 0.01, 0.05, 0.3 })
+        {
+            Mat sparse(sz, CV_16SC1, Scalar::all(NO_DISP));
+            for (int y = 0; y < sz.height; y++)
+                for (int x = 0; x < sz.width; x++)
+                    if (rng.uniform(0.0, 1.0) < density)
+                        sparse.at<short>(y, x) = (short)rng.uniform(0, 2000);
+            RingMaps rings;
+            ringNearestMaps(sparse, rings);
+            for (int y = 0; y < sz.height; y++)
+                for (int x = 0; x < sz.width; x++)
+                {
+                    // above / below as their definition gives them
+                    int xa, ya, xb, yb;
+                    nearestRingPoints(rings.above16.ptr<short>(y), rings.below16.ptr<short>(y), x, sz.width, xa, ya,
+                                      xb, yb);
+                    const Vec4s v = rings.nearest.at<Vec4s>(y, x);
+                    ASSERT_EQ(Vec4s((short)xa, (short)ya, (short)xb, (short)yb), v) << sz << " " << x << "," << y;
+                }
+            for (int x = 0; x < sz.width; x++)
+                for (int y = 0; y < sz.height; y++)
+                {
+                    int a = -1, b = -1;
+                    for (int v = y - 1; v >= 0 && a < 0; v--)
+                        a = sparse.at<short>(v, x) != NO_DISP ? v : -1;
+                    for (int v = y + 1; v < sz.height && b < 0; v++)
+                        b = sparse.at<short>(v, x) != NO_DISP ? v : -1;
+                    ASSERT_EQ(a, rings.above16.at<short>(y, x));
+                    ASSERT_EQ(b, rings.below16.at<short>(y, x));
+                }
+        }
+}
+
 TEST(Lidarsgm_RingInterpolationRules, arithmetic)
 {
     // Rounded to nearest, halves up, for rising and falling values.

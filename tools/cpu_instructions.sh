@@ -63,8 +63,9 @@ def table(path):
     t = {}
     for line in open(path):
         m = re.match(r"\s*([\d,]+)\s+\([^)]*\)\s+[^:]*:(.*?)(\s+\[.*\])?$", line)
-        if m:
-            t[m.group(2)] = int(m.group(1).replace(",", ""))
+        if m:   # with debug information a function is listed once per source file of its lines: the largest
+            k = m.group(2)
+            t[k] = max(t.get(k, 0), int(m.group(1).replace(",", "")))
     return t
 a, b = table(sys.argv[1]), table(sys.argv[2])
 keep = re.compile(r"lidarsgm::detail::|SGBM3Way|calcPixelCostBT|StereoSGBMImpl::compute|StereoLidarSGMImpl::compute")
