@@ -172,7 +172,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     for (int ty = 0; ty < tiles.height; ty++)
     {
         size_t rowCells = 0;
-        for (int tx = 0; tx < tiles.width; tx++)
+        for (int tx = tiles.width - 1; tx >= 0; tx--)   // right to left (AggregationState::sum)
         {
             const Vec2s w = a.windows.at<Vec2s>(ty, tx);
             CV_Assert(0 <= w[0] && w[0] < w[1] && w[1] <= D);
@@ -228,11 +228,24 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.edge.create(ring, (strips + 1) * a.stride + 2 * RECORD_PAD, CV_16UC1);
     a.edge.setTo(Scalar::all(PATH_SENTINEL));
     a.edgeMin.assign((size_t)ring * strips, 0);
-    // Per strip: the horizontal record, a copy per direction (pathInput), the complete sums and the jump penalties
-    // of each direction along a row (sweepRow).
-    a.scratchPerStrip = (size_t)(a.ndirs + 4) * st + 2 * RECORD_PAD +
-                        (size_t)(a.ndirs + 1) * (W / strips + 1 + RECORD_PAD) + RECORD_PAD;
-    a.scratch.assign(a.scratchPerStrip * strips, PATH_SENTINEL);
+    // Per strip (AggregationState::scratch): first the buffers at fixed addresses, each after the one before
+    // (4 KB of them hold the lot at 128 disparities), then the copies and jump rows.
+    const size_t page = 2048;   // 4 KB in elements
+    a.scratchSums = st + RECORD_PAD;
+    a.scratchIota = a.scratchSums + D + 2 * RECORD_PAD;
+    a.scratchDdc = a.scratchIota + D + 2 * RECORD_PAD;
+    a.scratchTemp = a.scratchDdc + a.ddcTable.size() + RECORD_PAD;
+    a.scratchJumps = a.scratchTemp + (size_t)(a.ndirs + 1) * st + RECORD_PAD;
+    a.jumpStride = (size_t)(W / strips + 1 + RECORD_PAD);
+    a.scratchPerStrip = (a.scratchJumps + (size_t)(a.ndirs + 1) * a.jumpStride + page - 1) / page * page;
+    a.scratchMemory.assign(a.scratchPerStrip * strips + page, PATH_SENTINEL);
+    a.scratch = alignPtr(a.scratchMemory.data(), (int)(2 * page));
+    for (int s = 0; s < strips; s++)
+    {
+        ushort* block = a.scratch + a.scratchPerStrip * s;
+        std::copy(a.iota.begin(), a.iota.begin() + D + 2 * RECORD_PAD, block + a.scratchIota);
+        std::copy(a.ddcTable.begin(), a.ddcTable.end(), block + a.scratchDdc);
+    }
     a.noPath.assign(st + 2 * RECORD_PAD, PATH_SENTINEL);
     // The matching cost's right rows, once for both sweeps.
     a.rightRows.create(H, 2 * (W + D - 1) + 64, CV_16UC1);

@@ -56,10 +56,13 @@ struct AggregationState
     PipelineParams p;
     int W, H, D, stride;                        // stride: D + RECORD_PAD, a record's elements
     Mat sum;                                    // the 16-bit volume of the down sweep's partial sums, every
-                                                // pixel's window in turn (at sumAt), one continuous block
+                                                // pixel's window in turn (at sumAt), one continuous block; a
+                                                // row's pixels from right to left, the order the up sweep reads
+                                                // them in (a descending stream defeats the prefetchers)
     std::shared_ptr<void> sumMemory;            // sum's memory where aggregation.dispatch.cpp allocates it itself
     // The disparity windows (searchWindows; [0, D) everywhere without them): tile (tx, ty) searches [lo, hi) =
-    // windows(ty, tx). In the volume, row y starts at rowBase[y] and tile tx of it at rowBase[y] + tileBase[ty][tx].
+    // windows(ty, tx). In the volume, row y starts at rowBase[y] and tile tx of it at rowBase[y] + tileBase[ty][tx]
+    // (the tiles of a row from right to left).
     // narrowed: some window is narrower than [0, D); else the lookups below give the full range and its layout.
     Mat windows;
     std::vector<size_t> rowBase, tileBase;
@@ -77,14 +80,14 @@ struct AggregationState
         lo = w[0];
         hi = w[1];
     }
-    //! Pixel (x, y)'s sums in the volume (hi - lo of them).
+    //! Pixel (x, y)'s sums in the volume (hi - lo of them); pixel x - 1's follow them.
     ushort* sumAt(int x, int y, int n) const
     {
         if (!narrowed)
-            return (ushort*)sum.data + ((size_t)y * W + x) * D;
-        const int tx = x / WINDOW_TILE;
+            return (ushort*)sum.data + ((size_t)y * W + (W - 1 - x)) * D;
+        const int tx = x / WINDOW_TILE, tileEnd = std::min(W, (tx + 1) * WINDOW_TILE);
         return (ushort*)sum.data + rowBase[y] + tileBase[(size_t)(y / WINDOW_TILE) * windows.cols + tx] +
-               (size_t)(x - tx * WINDOW_TILE) * n;
+               (size_t)(tileEnd - 1 - x) * n;
     }
     // The right census rows as the matching cost reads them (rightRows): row y's low halves at rightRows.ptr(y), its
     // high halves W + D - 1 further.
@@ -98,8 +101,13 @@ struct AggregationState
     // record at edge.ptr(row % ring) + strip * stride, their minimum at edgeMin[(row % ring) * strips + strip].
     Mat edge;
     std::vector<ushort> edgeMin;
-    std::vector<ushort> scratch;                // per strip: its horizontal record, copies (pathInput), sums
-    size_t scratchPerStrip;
+    /* Per strip a block of scratch (sweepRow), 4 KB aligned. The buffers that the path loop reads or writes at the
+    same addresses for every pixel (the horizontal record, the sums, the DDC rows and the indices) lie at different
+    offsets modulo 4 KB: a load whose address matches a recent store's in its low 12 bits waits for the store (4K
+    aliasing), and with the record over the DDC table a strip ran at half speed. */
+    std::vector<ushort> scratchMemory;
+    ushort* scratch;
+    size_t scratchPerStrip, scratchSums, scratchIota, scratchDdc, scratchTemp, scratchJumps, jumpStride;
     // A record of sentinels: the predecessor of a path's first pixel (with minimum 0 and P2 0 the step gives L = C).
     std::vector<ushort> noPath;
     Mat finalSum;                               // optional (tests): the complete sums
@@ -322,6 +330,17 @@ static void jumpRow(const PipelineParams& p, const ushort* I, const ushort* Iq, 
         out[x - x0] = 0;
 }
 
+//! A hint to fetch the cache line at p (for reading).
+static inline void prefetchRead(const char* p)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    __builtin_prefetch(p, 0, 3);
+#else
+    (void)p;
+#endif
+}
+enum { PREFETCH = 1, PREFETCH_AHEAD = 4 };
+
 #if defined(__clang__)
 #define LIDARSGM_UNROLL _Pragma("unroll")
 #elif defined(__GNUC__)
@@ -350,21 +369,23 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
     const ushort* rh0 = rl0 + (W + D - 1);
     const unsigned* L = a.censusL.ptr<unsigned>(y);
     const ushort* addRow = a.addend.ptr<ushort>(y);
-    const ushort* ddc = a.ddcTable.data();
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
     const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
     const ushort* noPath = a.noPath.data() + RECORD_PAD;
-    // The strip's scratch: its horizontal record, one copy per direction (pathInput), the complete sums, the jump
-    // penalties of each direction along the row.
-    ushort* scratch = a.scratch.data() + a.scratchPerStrip * strip;
+    // The strip's scratch (AggregationState::scratch): its horizontal record, the complete sums, its copies of the
+    // indices and DDC rows, one copy of a predecessor per direction (pathInput), the jump penalties of each direction
+    // along the row.
+    ushort* scratch = a.scratch + a.scratchPerStrip * strip;
     ushort* hrec = scratch + RECORD_PAD;
+    ushort* sums = scratch + a.scratchSums;
+    const ushort* ddc = scratch + a.scratchDdc;
     ushort* temp[ND];
-    for (int k = 0; k < ND; k++)
-        temp[k] = scratch + (size_t)(k + 1) * st + RECORD_PAD;
-    ushort* sums = scratch + (size_t)(ND + 1) * st + RECORD_PAD;
     ushort* jumps[ND];
     for (int k = 0; k < ND; k++)
-        jumps[k] = scratch + (size_t)(ND + 2) * st + 2 * RECORD_PAD + (size_t)k * (x1 - x0 + RECORD_PAD) - x0;
+    {
+        temp[k] = scratch + a.scratchTemp + (size_t)k * st + RECORD_PAD;
+        jumps[k] = scratch + a.scratchJumps + (size_t)k * a.jumpStride - x0;
+    }
     for (int k = 0; k < NV; k++)
     {
         if (first)
@@ -417,7 +438,7 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
     StepArgs<NV> s;
     s.cost.census256 = p.w.census256;
     WinnerLanes win;
-    win.iota = a.iota.data();
+    win.iota = scratch + a.scratchIota;
 
     // The pixels of the segment [xa, xb) (walk order xFirst .. xLast) with window [lo, hi).
     const auto segment = [&](int xa, int xb, int lo, int hi) {
@@ -450,7 +471,7 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
             rmin[k] = first ? nullptr : minBase[k] + rs;
         }
         ushort* vol = a.sumAt(xFirst, y, n);
-        const ptrdiff_t volStep = (ptrdiff_t)step * n;
+        const ptrdiff_t volStep = -(ptrdiff_t)step * n;
         RightOffer offer = { nullptr, nullptr };
         if (UP)
         {
@@ -511,6 +532,20 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
             s.out[H] = hOut + lo;
             s.partial = vol;
             s.sum = UP ? sums + lo : vol;
+            // What the pixel PREFETCH_AHEAD places on reads: its partial sums (up) and its predecessors' records,
+            // which the hardware prefetchers fetch too late.
+            if (PREFETCH)
+            {
+                for (int b = 0; b < n * (int)sizeof(ushort); b += 64)
+                {
+                    if (UP)
+                        prefetchRead((const char*)(vol + PREFETCH_AHEAD * volStep) + b);
+                    LIDARSGM_UNROLL
+                    for (int k = 0; k < NV; k++)
+                        if (!first)
+                            prefetchRead((const char*)(rd[k] + PREFETCH_AHEAD * step * st) + b);
+                }
+            }
             if (UP)
             {
                 win.reset(lo);
