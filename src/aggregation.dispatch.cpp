@@ -213,7 +213,6 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     {
         const int slots = W + 2 * H;
         a.records[k].assign((size_t)(slots + 1) * st + 2 * RECORD_PAD, PATH_SENTINEL);
-        a.recordMin[k].assign(slots, 0);
     }
     // Strips of at least 32 pixels, up to four per thread and the same number for every thread where the width
     // allows (each thread keeps to its own strips: Wavefront).
@@ -227,7 +226,6 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.ring = ring;
     a.edge.create(ring, (strips + 1) * a.stride + 2 * RECORD_PAD, CV_16UC1);
     a.edge.setTo(Scalar::all(PATH_SENTINEL));
-    a.edgeMin.assign((size_t)ring * strips, 0);
     // Per strip (AggregationState::scratch): first the buffers at fixed addresses, each after the one before
     // (4 KB of them hold the lot at 128 disparities), then the copies and jump rows.
     const size_t page = 2048;   // 4 KB in elements
@@ -237,7 +235,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.scratchTemp = a.scratchDdc + a.ddcTable.size() + RECORD_PAD;
     a.scratchJumps = a.scratchTemp + (size_t)(a.ndirs + 1) * st + RECORD_PAD;
     a.jumpStride = (size_t)(W / strips + 1 + RECORD_PAD);
-    a.scratchPerStrip = (a.scratchJumps + (size_t)(a.ndirs + 1) * a.jumpStride + page - 1) / page * page;
+    a.scratchPerStrip = (a.scratchJumps + (size_t)2 * JUMPS * a.jumpStride + page - 1) / page * page;
     a.scratchMemory.assign(a.scratchPerStrip * strips + page, PATH_SENTINEL);
     a.scratch = alignPtr(a.scratchMemory.data(), (int)(2 * page));
     for (int s = 0; s < strips; s++)

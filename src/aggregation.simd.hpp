@@ -32,8 +32,9 @@ const ushort PATH_SENTINEL = 0xFFFF;
 
 /** A pixel's path costs (a record): RECORD_PAD elements, then the D costs (aligned for the widest vector), in a
 stride of D + RECORD_PAD; the element before the costs and the one after them (the next record's first) hold
-PATH_SENTINEL, and a vector's worth on each side may be read. */
-enum { RECORD_PAD = 16 };
+PATH_SENTINEL, and a vector's worth on each side may be read. The costs' minimum sits at RECORD_MIN, in the pad.
+A strip row's jump penalties are kept JUMPS per pixel (sweepRow). */
+enum { RECORD_PAD = 16, RECORD_MIN = -2, JUMPS = 4 };
 
 /** The right view's best candidates so far, indexed by u = W - 1 - xr (reversed, so that the candidates one pixel
 offers are contiguous and increasing in d): the lowest cost and its disparity index, NONE where nothing was offered
@@ -98,9 +99,8 @@ struct AggregationState
     std::vector<ushort> ddcTable;
     int strips, ring;
     // The horizontal path's hand-off between strips: the path costs at the strip's last pixel of a row, as a
-    // record at edge.ptr(row % ring) + strip * stride, their minimum at edgeMin[(row % ring) * strips + strip].
+    // record at edge.ptr(row % ring) + strip * stride.
     Mat edge;
-    std::vector<ushort> edgeMin;
     /* Per strip a block of scratch (sweepRow), 4 KB aligned. The buffers that the path loop reads or writes at the
     same addresses for every pixel (the horizontal record, the sums, the DDC rows and the indices) lie at different
     offsets modulo 4 KB: a load whose address matches a recent store's in its low 12 bits waits for the store (4K
@@ -115,7 +115,7 @@ struct AggregationState
     int ndirs, dx[3];                           // vertical directions of each sweep: predecessor at x - dx
     // Per vertical direction, the records of path costs and their minima: pixel x of the sweep's row i writes slot
     // x - c i + max(c, 0) (H - 1), c = dx + 1 down and dx - 1 up (sweepRow), W + 2 H - 2 slots at most.
-    std::vector<ushort> records[3], recordMin[3];
+    std::vector<ushort> records[3];
     // The right view's candidates per strip and row (RightView): strip s, row y at rightAt[s] + y * rightWidth[s],
     // covering u in [rightLo[s], rightLo[s] + rightWidth[s]) (beyond [0, W) where the strip offers candidates that
     // fall outside the right image).
@@ -330,16 +330,36 @@ static void jumpRow(const PipelineParams& p, const ushort* I, const ushort* Iq, 
         out[x - x0] = 0;
 }
 
-//! A hint to fetch the cache line at p (for reading).
-static inline void prefetchRead(const char* p)
+/** The jump penalties of the pixels x0 .. x1 - 1 of the sweep's row for its vertical directions (predecessors x - dx
+in row Iq; zeros in the sweep's first row, Iq null) and its horizontal path (predecessor x - step), JUMPS per pixel
+(out[JUMPS (x - x0) + k], k the direction), so that a pixel reads them through one pointer. rows: scratch for
+JUMPS rows of stride x1 - x0 + lanes. */
+template <int NV>
+static void jumpRows(const AggregationState& a, const ushort* I, const ushort* Iq, bool first, int step, int x0,
+                     int x1, ushort* out, ushort* rows, size_t stride)
 {
-#if defined(__GNUC__) || defined(__clang__)
-    __builtin_prefetch(p, 0, 3);
-#else
-    (void)p;
+    const int W = a.W, w = x1 - x0;
+    for (int k = 0; k < JUMPS; k++)
+    {
+        ushort* r = rows + (size_t)k * stride;
+        if (k < NV && !first)
+            jumpRow(a.p, I, Iq, a.dx[k], W, x0, x1, r);
+        else if (k == NV)
+            jumpRow(a.p, I, I, step, W, x0, x1, r);
+        else
+            std::fill(r, r + w, (ushort)0);
+    }
+    int x = 0;
+#if CV_SIMD
+    const int N = VTraits<v_uint16>::nlanes;
+    for (; x + N <= w; x += N)
+        v_store_interleave(out + JUMPS * x, vx_load(rows + x), vx_load(rows + stride + x),
+                           vx_load(rows + 2 * stride + x), vx_load(rows + 3 * stride + x));
 #endif
+    for (; x < w; x++)
+        for (int k = 0; k < JUMPS; k++)
+            out[JUMPS * x + k] = rows[k * stride + x];
 }
-enum { PREFETCH = 1, PREFETCH_AHEAD = 4 };
 
 #if defined(__clang__)
 #define LIDARSGM_UNROLL _Pragma("unroll")
@@ -349,11 +369,25 @@ enum { PREFETCH = 1, PREFETCH_AHEAD = 4 };
 #define LIDARSGM_UNROLL
 #endif
 
+//! A hint to fetch the cache line at p (for reading).
+static inline void prefetchRead(const char* p)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    __builtin_prefetch(p, 0, 3);
+#else
+    (void)p;
+#endif
+}
+/* In the up sweep each pixel fetches the partial sums of the pixel PREFETCH_AHEAD after it (distances 2 to 8 measured
+alike; about 1 % of the call at 2 threads). The records stream in ascending addresses and need no hint. */
+enum { PREFETCH_AHEAD = 4 };
+
 /** One strip's row of one sweep: pixels x0 .. x1 - 1 of the sweep's row i (down: image row i, walked left to right;
 up: row H - 1 - i, right to left). NARROW: some window is narrower than the range (searchWindows): the row is walked
 tile by tile, a tile's window, predecessor windows and volume layout set once per tile segment. The pixels at the
-ends of a strip (the horizontal path's hand-offs, the image's edges) and, NARROW, of a tile segment (a predecessor
-in another tile) take the general set-up; the others advance pointers. */
+ends of a segment (the horizontal path's hand-offs, the image's edges, a predecessor in another tile), those of the
+sweep's first row and those whose predecessors' windows do not hold theirs take the general set-up; the others only
+advance pointers. */
 template <int NV, bool UP, bool EXACT, bool NARROW>
 static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
 {
@@ -373,37 +407,26 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
     const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
     const ushort* noPath = a.noPath.data() + RECORD_PAD;
     // The strip's scratch (AggregationState::scratch): its horizontal record, the complete sums, its copies of the
-    // indices and DDC rows, one copy of a predecessor per direction (pathInput), the jump penalties of each direction
-    // along the row.
+    // indices and DDC rows, one copy of a predecessor per direction (pathInput), the jump penalties.
     ushort* scratch = a.scratch + a.scratchPerStrip * strip;
     ushort* hrec = scratch + RECORD_PAD;
     ushort* sums = scratch + a.scratchSums;
     const ushort* ddc = scratch + a.scratchDdc;
     ushort* temp[ND];
-    ushort* jumps[ND];
     for (int k = 0; k < ND; k++)
-    {
         temp[k] = scratch + a.scratchTemp + (size_t)k * st + RECORD_PAD;
-        jumps[k] = scratch + a.scratchJumps + (size_t)k * a.jumpStride - x0;
-    }
-    for (int k = 0; k < NV; k++)
-    {
-        if (first)
-            std::fill(jumps[k] + x0, jumps[k] + x1, (ushort)0);
-        else
-            jumpRow(p, I, Iq, a.dx[k], W, x0, x1, jumps[k] + x0);
-    }
-    jumpRow(p, I, I, step, W, x0, x1, jumps[H] + x0);
+    ushort* jumpBuf = scratch + a.scratchJumps;
+    jumpRows<NV>(a, I, Iq, first, step, x0, x1, jumpBuf, jumpBuf + JUMPS * a.jumpStride, a.jumpStride);
+    const ushort* jumps = jumpBuf - JUMPS * x0;   // pixel x's at jumps[JUMPS x + k]
     // The horizontal path walks xBegin .. xEnd - step: it enters from the strip it comes from (that strip's hand-off
     // of this row) or starts at the image's edge, and leaves through this strip's hand-off.
     const int slot = i % a.ring;
     const int xBegin = UP ? x1 - 1 : x0, xEnd = UP ? x0 - 1 : x1;
     const bool enters = UP ? x1 < W : x0 > 0;
     ushort* edgeRow = a.edge.ptr<ushort>(slot) + RECORD_PAD;
-    ushort* edgeMinRow = &a.edgeMin[(size_t)slot * a.strips];
     const int from = strip - step;
     const ushort* hPrev = enters ? edgeRow + (size_t)from * st : noPath;
-    ushort hMin = enters ? edgeMinRow[from] : 0;
+    ushort hMin = enters ? hPrev[RECORD_MIN] : 0;
     int hlo = 0, hhi = D;
     if (NARROW && enters)
         a.window(xBegin - step, y, hlo, hhi);
@@ -422,17 +445,18 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
     short* nu = UP && !a.nonUnique16.empty() ? a.nonUnique16.ptr<short>(y) : nullptr;
     ushort* finalSum = UP && !a.finalSum.empty() ? a.finalSum.ptr<ushort>(y) : nullptr;
     const Vec2s* winRowQ = NARROW ? a.windows.ptr<Vec2s>(first ? y / T : yq / T) : nullptr;
-    // Vertical direction k: pixel x writes record slot x - c i + offset (c = dx + step) and reads its predecessor
-    // x - dx's, slot x - dx - c (i - 1) + offset: the one the pixel before it has just read.
+    // Vertical direction k, in the walk's coordinate u (x down, W - 1 - x up; its predecessor at u - du, du = dx
+    // down and -dx up): pixel u writes record slot u - c i + offset (c = du + 1) and reads its predecessor's, slot u -
+    // du - c (i - 1) + offset: the one the pixel before it has just read. Slots ascend along the walk, so that the
+    // records stream in ascending addresses. A record keeps its minimum at RECORD_MIN.
     ushort* recBase[NV];
-    ushort* minBase[NV];
-    int c[NV], offset[NV];
+    int du[NV], c[NV], offset[NV];
     LIDARSGM_UNROLL
     for (int k = 0; k < NV; k++)
     {
         recBase[k] = a.records[k].data() + RECORD_PAD;
-        minBase[k] = a.recordMin[k].data();
-        c[k] = a.dx[k] + step;
+        du[k] = UP ? -a.dx[k] : a.dx[k];
+        c[k] = du[k] + 1;
         offset[k] = std::max(c[k], 0) * (a.H - 1);
     }
     StepArgs<NV> s;
@@ -454,21 +478,19 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
             qhi = w[1];
             copyAbove = lo < qlo || hi > qhi;
         }
-        // What advances from pixel to pixel.
+        const bool allGeneral = first || copyAbove;
+        // What advances from pixel to pixel: the right strings, the records written and read (their disparity 0),
+        // the volume, the right view's candidates.
         const ushort* rl = rl0 + (W - 1 - xFirst) + lo;
         const ushort* rh = rh0 + (W - 1 - xFirst) + lo;
         const ushort* rd[NV];
         ushort* wr[NV];
-        const ushort* rmin[NV];
-        ushort* wmin[NV];
+        const int uFirst = UP ? W - 1 - xFirst : xFirst;
         LIDARSGM_UNROLL
         for (int k = 0; k < NV; k++)
         {
-            const ptrdiff_t ws = xFirst - c[k] * i + offset[k], rs = xFirst - a.dx[k] - c[k] * (i - 1) + offset[k];
-            wr[k] = recBase[k] + ws * st + lo;
-            wmin[k] = minBase[k] + ws;
-            rd[k] = first ? noPath + lo : recBase[k] + rs * st + lo;
-            rmin[k] = first ? nullptr : minBase[k] + rs;
+            wr[k] = recBase[k] + (uFirst - c[k] * i + offset[k]) * st;
+            rd[k] = recBase[k] + (uFirst - du[k] - c[k] * (i - 1) + offset[k]) * st;
         }
         ushort* vol = a.sumAt(xFirst, y, n);
         const ptrdiff_t volStep = -(ptrdiff_t)step * n;
@@ -485,67 +507,62 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
             s.cost.rh = rh;
             s.cost.l = L[x];
             s.cost.add = ddc + addRow[x] + lo;
-            const bool general = x == xFirst || x == xLast;
-            LIDARSGM_UNROLL
-            for (int k = 0; k < NV; k++)
+            const ushort* jx = jumps + JUMPS * x;
+            ushort* hOut = hrec;
+            if (allGeneral || x == xFirst || x == xLast)
             {
-                s.out[k] = wr[k];
-                s.p2[k] = jumps[k][x];
-                if (first)
+                LIDARSGM_UNROLL
+                for (int k = 0; k < NV; k++)
                 {
-                    s.lp[k] = rd[k];
-                    s.minPrev[k] = 0;
-                    continue;
-                }
-                const int xp = x - a.dx[k];
-                if (general && (xp < 0 || xp >= W))
-                {
-                    s.lp[k] = noPath + lo;
-                    s.minPrev[k] = 0;
-                    continue;
-                }
-                s.minPrev[k] = *rmin[k];
-                s.lp[k] = rd[k];
-                if (NARROW)
-                {
-                    // A predecessor in another tile column (the segment's ends), or above a wider window.
-                    int plo = qlo, phi = qhi;
-                    if (general && xp / T != x / T)
+                    s.out[k] = wr[k] + lo;
+                    s.p2[k] = jx[k];
+                    const int xp = x - a.dx[k];
+                    if (first || xp < 0 || xp >= W)
                     {
-                        const Vec2s w = winRowQ[xp / T];
-                        plo = w[0];
-                        phi = w[1];
+                        s.lp[k] = noPath + lo;
+                        s.minPrev[k] = 0;
+                        continue;
                     }
-                    if ((general && xp / T != x / T) ? (lo < plo || hi > phi) : copyAbove)
-                        s.lp[k] = pathInput(rd[k] - lo, plo, phi, lo, hi, temp[k]) + lo;
+                    s.minPrev[k] = rd[k][RECORD_MIN];
+                    s.lp[k] = rd[k] + lo;
+                    if (NARROW)
+                    {
+                        // A predecessor in another tile column (the segment's ends), or above a wider window.
+                        int plo = qlo, phi = qhi;
+                        if (xp / T != x / T)
+                        {
+                            const Vec2s w = winRowQ[xp / T];
+                            plo = w[0];
+                            phi = w[1];
+                        }
+                        s.lp[k] = pathInput(rd[k], plo, phi, lo, hi, temp[k]) + lo;
+                    }
                 }
+                // The horizontal path: its input is the previous pixel's record (hPrev, window [hlo, hhi)),
+                // overwritten in place along the strip; the strip's last pixel writes the hand-off.
+                s.lp[H] = (NARROW ? pathInput(hPrev, hlo, hhi, lo, hi, temp[H]) : hPrev) + lo;
+                if (x + step == xEnd)
+                    hOut = hEdge;
             }
-            // The horizontal path: its input is the previous pixel's record (hPrev, window [hlo, hhi)), overwritten
-            // in place along the strip; the strip's last pixel writes the hand-off.
-            if (NARROW && x == xFirst)
-                s.lp[H] = pathInput(hPrev, hlo, hhi, lo, hi, temp[H]) + lo;
             else
-                s.lp[H] = hPrev + lo;
+            {
+                LIDARSGM_UNROLL
+                for (int k = 0; k < NV; k++)
+                {
+                    s.out[k] = wr[k] + lo;
+                    s.p2[k] = jx[k];
+                    s.minPrev[k] = rd[k][RECORD_MIN];
+                    s.lp[k] = rd[k] + lo;
+                }
+                s.lp[H] = hrec + lo;
+            }
             s.minPrev[H] = hMin;
-            s.p2[H] = jumps[H][x];
-            ushort* hOut = x + step == xEnd ? hEdge : hrec;
+            s.p2[H] = jx[H];
             s.out[H] = hOut + lo;
             s.partial = vol;
             s.sum = UP ? sums + lo : vol;
-            // What the pixel PREFETCH_AHEAD places on reads: its partial sums (up) and its predecessors' records,
-            // which the hardware prefetchers fetch too late.
-            if (PREFETCH)
-            {
-                for (int b = 0; b < n * (int)sizeof(ushort); b += 64)
-                {
-                    if (UP)
-                        prefetchRead((const char*)(vol + PREFETCH_AHEAD * volStep) + b);
-                    LIDARSGM_UNROLL
-                    for (int k = 0; k < NV; k++)
-                        if (!first)
-                            prefetchRead((const char*)(rd[k] + PREFETCH_AHEAD * step * st) + b);
-                }
-            }
+            for (int b = 0; UP && b < n * (int)sizeof(ushort); b += 64)
+                prefetchRead((const char*)(vol + PREFETCH_AHEAD * volStep) + b);
             if (UP)
             {
                 win.reset(lo);
@@ -556,11 +573,11 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
             LIDARSGM_UNROLL
             for (int k = 0; k < NV; k++)
             {
-                *wmin[k] = s.minOut[k];
+                wr[k][RECORD_MIN] = s.minOut[k];
                 if (NARROW)
                 {
-                    wr[k][-1] = SENTINEL;   // the record's -1 and D hold SENTINEL already
-                    wr[k][n] = SENTINEL;
+                    wr[k][lo - 1] = SENTINEL;   // the record's -1 and D hold SENTINEL already
+                    wr[k][hi] = SENTINEL;
                 }
             }
             if (NARROW && (x == xFirst || hOut == hEdge))   // a new window in the record, or the hand-off
@@ -589,13 +606,8 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
             LIDARSGM_UNROLL
             for (int k = 0; k < NV; k++)
             {
-                wr[k] += step * st;
-                wmin[k] += step;
-                if (!first)
-                {
-                    rd[k] += step * st;
-                    rmin[k] += step;
-                }
+                wr[k] += st;
+                rd[k] += st;
             }
             vol += volStep;
             if (UP)
@@ -614,7 +626,7 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
     }
     else
         segment(x0, x1, 0, D);
-    edgeMinRow[strip] = hMin;
+    hEdge[RECORD_MIN] = hMin;
 #if CV_SSE2
     if (!UP)
         _mm_sfence();   // the streamed stores are weakly ordered: the row is complete before the item says so

@@ -26,6 +26,9 @@
 
 #include <algorithm>
 #include <atomic>
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#endif
 #include <thread>
 #include <vector>
 
@@ -67,6 +70,19 @@ public:
     }
 
 private:
+    /* Idle rounds before a waiting thread yields its CPU: a round takes well under a microsecond, a strip's row tens
+    of microseconds, and a yield costs a system call (and on a virtual machine its CPU may not come back soon). */
+    enum { SPINS = 4096 };
+
+    static void pause()
+    {
+#if defined(__SSE2__) || defined(_M_X64)
+        _mm_pause();
+#elif defined(__aarch64__) && (defined(__GNUC__) || defined(__clang__))
+        __asm__ __volatile__("yield");
+#endif
+    }
+
     struct Strip
     {
         std::atomic<int> done;      // rows finished
@@ -91,8 +107,10 @@ private:
                     idle = 0;
                 else if (finished())
                     break;
-                else if (++idle > 64)
-                    std::this_thread::yield();   // nothing ready: the items in progress belong to other threads
+                else if (++idle > SPINS)
+                    std::this_thread::yield();   // nothing ready for long: let the system run something else
+                else
+                    pause();   // nothing ready: the items in progress belong to other threads
             }
         }
         catch (...)
