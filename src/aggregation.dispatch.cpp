@@ -224,6 +224,37 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     const int ring = a.ndirs > 1 ? 2 : std::min(H, 2 * threads + 4);
     a.strips = strips;
     a.ring = ring;
+    // Where the strips start: equal widths over the full range; with windows, equal shares of the work, a pixel
+    // counting its set-up (as much as about STRIP_PIXEL_CELLS of its disparities) and its window's width. The
+    // strips run a row at a time each (Wavefront), so a strip with more work holds up the others.
+    a.stripX.resize(strips + 1);
+    for (int s = 0; s <= strips; s++)
+        a.stripX[s] = W * s / strips;
+    if (a.narrowed && strips > 1)
+    {
+        const int minWidth = std::min(16, W / strips);
+        std::vector<double> work(W + 1, 0.0);   // prefix sums over the columns
+        for (int x = 0; x < W; x++)
+        {
+            double w = 0;
+            for (int ty = 0; ty < tiles.height; ty++)
+            {
+                const Vec2s win = a.windows.at<Vec2s>(ty, x / T);
+                w += std::min(T, H - ty * T) * (double)(STRIP_PIXEL_CELLS + win[1] - win[0]);
+            }
+            work[x + 1] = work[x] + w;
+        }
+        for (int s = 1, x = 0; s < strips; s++)
+        {
+            const double share = work[W] * s / strips;
+            while (x < W && work[x] < share)
+                x++;
+            a.stripX[s] = std::min(std::max(x, a.stripX[s - 1] + minWidth), W - (strips - s) * minWidth);
+        }
+    }
+    int widest = 0;
+    for (int s = 0; s < strips; s++)
+        widest = std::max(widest, a.stripX[s + 1] - a.stripX[s]);
     a.edge.create(ring, (strips + 1) * a.stride + 2 * RECORD_PAD, CV_16UC1);
     a.edge.setTo(Scalar::all(PATH_SENTINEL));
     // Per strip (AggregationState::scratch): first the buffers at fixed addresses, each after the one before
@@ -234,7 +265,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.scratchDdc = a.scratchIota + D + 2 * RECORD_PAD;
     a.scratchTemp = a.scratchDdc + a.ddcTable.size() + RECORD_PAD;
     a.scratchJumps = a.scratchTemp + (size_t)(a.ndirs + 1) * st + RECORD_PAD;
-    a.jumpStride = (size_t)(W / strips + 1 + RECORD_PAD);
+    a.jumpStride = (size_t)(widest + RECORD_PAD);
     a.scratchPerStrip = (a.scratchJumps + (size_t)2 * JUMPS * a.jumpStride + page - 1) / page * page;
     a.scratchMemory.assign(a.scratchPerStrip * strips + page, PATH_SENTINEL);
     a.scratch = alignPtr(a.scratchMemory.data(), (int)(2 * page));
@@ -258,7 +289,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     size_t rightTotal = 0;
     for (int s = 0; s < strips; s++)
     {
-        const int x0 = W * s / strips, x1 = W * (s + 1) / strips;
+        const int x0 = a.stripX[s], x1 = a.stripX[s + 1];
         a.rightLo[s] = W - x1 + p.minDisparity;
         a.rightWidth[s] = x1 - x0 + D - 1;
         a.rightAt[s] = (int)rightTotal;
@@ -270,7 +301,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     const auto sweep = [&](bool down) {
         // Down: the left-right path enters from the strip on the left; up: the right-left path from the right.
         Wavefront(strips, H, a.ndirs > 1, down ? -1 : 1, ring).run(threads, [&](int s, int i) {
-            runSweepRow(a, i, W * s / strips, W * (s + 1) / strips, s, down);
+            runSweepRow(a, i, a.stripX[s], a.stripX[s + 1], s, down);
         });
     };
     sweep(true);
