@@ -2,10 +2,10 @@
 # Rewrites the accuracy outputs in doc/benchmarks/ (the figures of doc/accuracy.md and the README) with the tool of an
 # OpenCV build made by the README's commands: the 20 shared KITTI frames (every mode and check; DSGM and SDSGM at
 # 64, 32 and 16 LiDAR lines, and SDSGM with the other ring offsets) and the Middlebury scenes, with the create()
-# defaults and with kitti_best.yml.
-# Then kitti_best.yml with the disparity windows (--search-window 4) at 64, 32 and 16 lines and on Middlebury.
+# defaults and with kitti_best.yml (which searches disparity windows, searchWindow 4).
+# Then kitti_best.yml over the full disparity range (--search-window 0) at 64, 32 and 16 lines and on Middlebury.
 #   tools/accuracy_benchmarks.sh [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90] [shared data dir]
-# WINDOWS_ONLY=1: the windowed runs only.
+# FULL_RANGE_ONLY=1: the full-range runs only.
 set -eo pipefail
 cd "$(dirname "$0")/.."
 T=${1:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
@@ -19,7 +19,7 @@ run() {  # output file, then the tool's arguments
   echo "wrote $f"
 }
 for cfg in defaults best; do
-  [ -n "${WINDOWS_ONLY:-}" ] && break
+  [ -n "${FULL_RANGE_ONLY:-}" ] && break
   P=(); [ $cfg = best ] && P=(--params doc/params/kitti_best.yml)
   run accuracy_kitti20_$cfg.txt --kitti "$DATA/kitti2015_lidar" --table5 --quiet 1 "${P[@]}"
   run accuracy_kitti20_lines_$cfg.txt --kitti "$DATA/kitti2015_lidar" --modes dsgm,sdsgm --lidar-lines 64,32,16 \
@@ -34,7 +34,7 @@ for cfg in defaults best; do
     done; } > "$f" 2>&1
   echo "wrote $f"
 done
-P=(--params doc/params/kitti_best.yml --search-window 4)
-run accuracy_kitti20_lines_best_window4.txt --kitti "$DATA/kitti2015_lidar" --modes dsgm,sdsgm --lidar-lines 64,32,16 \
-  --quiet 1 "${P[@]}"
-run accuracy_middlebury_best_window4.txt --middlebury "$DATA/middlebury" "${P[@]}"
+P=(--params doc/params/kitti_best.yml --search-window 0)
+run accuracy_kitti20_lines_best_full_range.txt --kitti "$DATA/kitti2015_lidar" --modes dsgm,sdsgm \
+  --lidar-lines 64,32,16 --quiet 1 "${P[@]}"
+run accuracy_middlebury_best_full_range.txt --middlebury "$DATA/middlebury" "${P[@]}"

@@ -225,13 +225,14 @@ class ToolTest(unittest.TestCase):
         rc, best, se = run(frame + ["--params", BEST])
         self.assertEqual(rc, 0, se)
         rc, same, se = run(frame + ["--visibility-rx", "2", "--visibility-ry", "4", "--visibility-parallax", "0.18",
-                                    "--edge-threshold", "32", "--ring-gap-factor", "2", "--semidense-weight", "0.5"])
+                                    "--edge-threshold", "32", "--ring-gap-factor", "2", "--semidense-weight", "0.5",
+                                    "--search-window", "4"])
         self.assertEqual(rc, 0, se)
         self.assertEqual(METRICS.search(best).groups(), METRICS.search(same).groups())
         rc, over, se = run(frame + ["--params", BEST, "--edge-threshold", "0"])
         self.assertEqual(rc, 0, se)
         rc, ref, se = run(frame + ["--visibility-rx", "2", "--visibility-ry", "4", "--visibility-parallax", "0.18",
-                                   "--ring-gap-factor", "2", "--semidense-weight", "0.5"])
+                                   "--ring-gap-factor", "2", "--semidense-weight", "0.5", "--search-window", "4"])
         self.assertEqual(METRICS.search(over).groups(), METRICS.search(ref).groups())
         self.assertNotEqual(METRICS.search(over).groups(), METRICS.search(best).groups())
         # A value out of range in the file is refused with the parameter's name.
