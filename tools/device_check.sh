@@ -181,18 +181,18 @@ if [ -n "${SPREAD:-}" ]; then
   for t in $SPREAD; do tools/process_spread.sh ${SPREAD_N:-10} $t 8 "$B/.." | tail -n +2; done
 fi
 if [ "${CPU_SCALING:-0}" = 1 ]; then
-  # The CPU path on the host's cores: cv::setNumThreads 1..16, every cv::StereoSGBM mode alongside. With
-  # .device/prebuilt_base.tar.xz (tools/pack_device_build.sh with PACK_NAME=prebuilt_base, from an earlier commit)
-  # the same runs of that build follow, for a before/after on the same host.
+  # The CPU path on the host's cores: cv::setNumThreads 1..16 (CPU_THREADS), every cv::StereoSGBM mode alongside.
+  # With .device/prebuilt_base.tar.xz (tools/pack_device_build.sh with PACK_NAME=prebuilt_base, from an earlier
+  # commit) that build's process follows this one's at each thread count, for a before/after on the same host.
   builds=$B
   if [ -f .device/prebuilt_base.tar.xz ]; then
     mkdir -p /tmp/base && tar -xJf .device/prebuilt_base.tar.xz -C /tmp/base && builds="$B /tmp/base/prebuilt/bin"
   fi
-  for b in $builds; do
-    echo "== $b: $(head -c 12 $b/../COMMIT 2>/dev/null || echo built here)"
-    for t in ${CPU_THREADS:-1 2 4 8 16}; do
+  for t in ${CPU_THREADS:-1 2 4 8 16}; do
+    for b in $builds; do
+      echo "== $t threads, $(head -c 12 $b/../COMMIT 2>/dev/null || echo built here)"
       LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} $b/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
-        --id 000002 --timing ${CPU_REPS:-5} --threads $t ${CPU_ARGS:-} | grep -E "timing|lidarsgm SDSGM|SGBM_3WAY" || true
+        --id 000002 --timing ${CPU_REPS:-5} --threads $t ${CPU_ARGS:-} | grep -E "lidarsgm SDSGM  |SGBM_3WAY" || true
     done
   done
 fi
