@@ -21,42 +21,17 @@ namespace cv { namespace lidarsgm { namespace detail {
 namespace {
 
 /* The DDC terms (ddcTerm, pipeline.hpp) as table rows: a pixel with prior index k reads ddcTerm(d, k) at
-ddcTable[addend(y, x) + d], a row of zeros where it has no prior. Row r (1: w, 2: wCopy, copiedPrior) holds the term
-of d - k = j - D at j, so that addend = r * rowLength + D - k. */
+ddcTable[addend + d] (ddcAddends in aggregation.simd.hpp), a row of zeros where it has no prior. Row r (1: w, 2: wCopy,
+copiedPrior) holds the term of d - k = j - D at j, so that addend = r * ddcRowLength + D - k. */
 void ddcTables(AggregationState& a)
 {
     const PipelineParams& p = a.p;
-    const int D = a.D, rowLength = 2 * D + 64, H = a.censusL.rows, W = a.censusL.cols, minD = p.minDisparity;
-    a.ddcTable.assign((size_t)3 * rowLength, 0);
+    const int D = a.D;
+    a.ddcRowLength = 2 * D + 64;
+    a.ddcTable.assign((size_t)3 * a.ddcRowLength, 0);
     for (int r = 1; r <= 2; r++)
-        for (int j = 0; j < rowLength; j++)
-            a.ddcTable[(size_t)r * rowLength + j] = (ushort)ddcTerm(j, D, r == 1 ? p.w : p.wCopy);
-    a.addend.create(H, W, CV_16UC1);
-    if (a.prior16.empty())
-    {
-        a.addend.setTo(Scalar::all(0));
-        return;
-    }
-    parallel_for_(Range(0, H), [&](const Range& rows) {
-        for (int y = rows.start; y < rows.end; y++)
-        {
-            const short* prior = a.prior16.ptr<short>(y);
-            const short* own = a.own16.empty() ? nullptr : a.own16.ptr<short>(y);
-            ushort* out = a.addend.ptr<ushort>(y);
-            for (int x = 0; x < W; x++)
-            {
-                if (prior[x] == NO_DISP)
-                {
-                    out[x] = 0;
-                    continue;
-                }
-                // In range by construction (sparseInRange); clamped so that a table read never leaves its row.
-                const int k = std::min(std::max(roundDisp16(prior[x]) - minD, 0), D - 1);
-                const int r = own && copiedPrior(true, prior[x], own[x]) ? 2 : 1;
-                out[x] = (ushort)(r * rowLength + D - k);
-            }
-        }
-    }, rowStripes(H));
+        for (int j = 0; j < a.ddcRowLength; j++)
+            a.ddcTable[(size_t)r * a.ddcRowLength + j] = (ushort)ddcTerm(j, D, r == 1 ? p.w : p.wCopy);
 }
 
 void fillIota(AggregationState& a)
@@ -94,10 +69,6 @@ void initState(AggregationState& a, const Mat& censusL, const Mat& censusR, cons
 }
 
 // CV_CPU_DISPATCH returns from the function it stands in: one small function per kernel.
-void runRightRows(AggregationState& a, int y0, int y1)
-{
-    CV_CPU_DISPATCH(rightRows, (a, y0, y1), CV_CPU_DISPATCH_MODES_ALL);
-}
 void runSweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool down)
 {
     CV_CPU_DISPATCH(sweepRow, (a, i, x0, x1, strip, down), CV_CPU_DISPATCH_MODES_ALL);
@@ -266,7 +237,9 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     a.scratchTemp = a.scratchDdc + a.ddcTable.size() + RECORD_PAD;
     a.scratchJumps = a.scratchTemp + (size_t)(a.ndirs + 1) * st + RECORD_PAD;
     a.jumpStride = (size_t)(widest + RECORD_PAD);
-    a.scratchPerStrip = (a.scratchJumps + (size_t)2 * JUMPS * a.jumpStride + page - 1) / page * page;
+    a.scratchRight = a.scratchJumps + (size_t)2 * JUMPS * a.jumpStride;
+    a.scratchAddend = a.scratchRight + (size_t)2 * (widest + D + 2 * RECORD_PAD);
+    a.scratchPerStrip = (a.scratchAddend + widest + 2 * RECORD_PAD + page - 1) / page * page;
     a.scratchMemory.assign(a.scratchPerStrip * strips + page, PATH_SENTINEL);
     a.scratch = alignPtr(a.scratchMemory.data(), (int)(2 * page));
     for (int s = 0; s < strips; s++)
@@ -276,9 +249,6 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         std::copy(a.ddcTable.begin(), a.ddcTable.end(), block + a.scratchDdc);
     }
     a.noPath.assign(st + 2 * RECORD_PAD, PATH_SENTINEL);
-    // The matching cost's right rows, once for both sweeps.
-    a.rightRows.create(H, 2 * (W + D - 1) + 64, CV_16UC1);
-    parallel_for_(Range(0, H), [&](const Range& r) { runRightRows(a, r.start, r.end); }, rowStripes(H));
     // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
     // [W - x1 + minD, W - x0 + minD + D - 1): room for every row (those outside the right image are dropped when the
     // strips are joined). Each strip marks its row empty before the row (sweepRow), so that nothing here runs alone

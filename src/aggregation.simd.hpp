@@ -94,13 +94,10 @@ struct AggregationState
         return (ushort*)sum.data + rowBase[y] + tileBase[(size_t)(y / WINDOW_TILE) * windows.cols + tx] +
                (size_t)(tileEnd - 1 - x) * n;
     }
-    // The right census rows as the matching cost reads them (rightRows): row y's low halves at rightRows.ptr(y), its
-    // high halves W + D - 1 further.
-    Mat rightRows;
-    // The DDC term of each pixel at disparity index d: ddcTable[addend(y, x) + d] (ddcRows); rows of zeros where
-    // the pixel has no prior.
-    Mat addend;
+    // The DDC term of a pixel at disparity index d: ddcTable[addend + d], addend by its prior (ddcAddends): rows of
+    // ddcRowLength, a row of zeros where it has no prior.
     std::vector<ushort> ddcTable;
+    int ddcRowLength;
     int strips, ring;
     std::vector<int> stripX;                    // strip s covers columns [stripX[s], stripX[s + 1])
     // The horizontal path's hand-off between strips: the path costs at the strip's last pixel of a row, as a
@@ -113,6 +110,7 @@ struct AggregationState
     std::vector<ushort> scratchMemory;
     ushort* scratch;
     size_t scratchPerStrip, scratchSums, scratchIota, scratchDdc, scratchTemp, scratchJumps, jumpStride;
+    size_t scratchRight, scratchAddend;   // a strip row's right census halves and DDC offsets
     // A record of sentinels: the predecessor of a path's first pixel (with minimum 0 and P2 0 the step gives L = C).
     std::vector<ushort> noPath;
     Mat finalSum;                               // optional (tests): the complete sums
@@ -135,7 +133,6 @@ struct AggregationState
 namespace cv { namespace lidarsgm { namespace detail {
 CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 
-void rightRows(AggregationState& a, int y0, int y1);
 void sweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool down);
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
 void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight,
@@ -306,6 +303,53 @@ inline ushort jump(const PipelineParams& p, const ushort* I, const ushort* Iq, i
 
 } // namespace
 
+/** The DDC offsets (AggregationState::ddcTable) of the pixels x0 .. x1 - 1 of row y to out[x - x0]: 0 (the row of
+zeros) without a prior, else r * ddcRowLength + D - k for prior index k (round(prior) - minD, in range by
+construction, clamped so that a read never leaves its row), r 2 for a copied prior (copiedPrior: wCopy), else 1. */
+static void ddcAddends(const AggregationState& a, int y, int x0, int x1, ushort* out)
+{
+    const int D = a.D, minD = a.p.minDisparity, L = a.ddcRowLength;
+    if (a.prior16.empty())
+    {
+        std::fill(out, out + (x1 - x0), (ushort)0);
+        return;
+    }
+    const short* prior = a.prior16.ptr<short>(y);
+    const short* own = a.own16.empty() ? nullptr : a.own16.ptr<short>(y);
+    int x = x0;
+#if CV_SIMD
+    const int N = VTraits<v_int16>::nlanes;
+    const v_int16 none = vx_setall_s16(NO_DISP), zero = vx_setzero_s16();
+    const v_int16 base = vx_setall_s16((short)(L + D + minD)), eight = vx_setall_s16(8);
+    const v_int16 kLo = vx_setall_s16((short)minD), kHi = vx_setall_s16((short)(minD + D - 1));
+    const v_int16 row = vx_setall_s16((short)L);
+    for (; x + N <= x1; x += N)
+    {
+        const v_int16 v = vx_load(prior + x);
+        // round(prior) as minD + k, clamped to [minD, minD + D - 1]; base minus it is L + D - k.
+        const v_int16 k = v_min(v_max(v_shr<4>(v_add_wrap(v, eight)), kLo), kHi);
+        v_int16 o = v_sub_wrap(base, k);
+        if (own)
+        {
+            const v_int16 copied = v_not(v_eq(v, vx_load(own + x)));   // v != own (lanes without a prior: below)
+            o = v_add_wrap(o, v_and(copied, row));
+        }
+        v_store((short*)out + (x - x0), v_select(v_eq(v, none), zero, o));
+    }
+#endif
+    for (; x < x1; x++)
+    {
+        if (prior[x] == NO_DISP)
+        {
+            out[x - x0] = 0;
+            continue;
+        }
+        const int k = std::min(std::max(roundDisp16(prior[x]) - minD, 0), D - 1);
+        const int r = own && copiedPrior(true, prior[x], own[x]) ? 2 : 1;
+        out[x - x0] = (ushort)(r * L + D - k);
+    }
+}
+
 /** The jump penalties (jumpPenalty; I null: no edge rule, P2) of the pixels x0 .. x1 - 1 of row I from their
 predecessors x - dq in row Iq, to out[x - x0]; 0 where the predecessor lies outside the image (a path's first pixel:
 with minimum 0 and a row of sentinels the step gives L = C). */
@@ -404,10 +448,7 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
     const bool first = i == 0;
     const ushort P1 = (ushort)a.p.w.p1;
     const PipelineParams& p = a.p;
-    const ushort* rl0 = a.rightRows.ptr<ushort>(y);
-    const ushort* rh0 = rl0 + (W + D - 1);
     const unsigned* L = a.censusL.ptr<unsigned>(y);
-    const ushort* addRow = a.addend.ptr<ushort>(y);
     const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
     const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
     const ushort* noPath = a.noPath.data() + RECORD_PAD;
@@ -420,6 +461,16 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
     ushort* temp[ND];
     for (int k = 0; k < ND; k++)
         temp[k] = scratch + a.scratchTemp + (size_t)k * st + RECORD_PAD;
+    // The row's right census halves at j in [W - x1, W - x0 + D - 1) (reversedRightRow: rl0[j], rh0[j]) and the
+    // DDC offsets of its pixels (addRow[x]).
+    ushort* rlBuf = scratch + a.scratchRight;
+    ushort* rhBuf = rlBuf + (a.scratchAddend - a.scratchRight) / 2;
+    reversedRightRow(a.censusR.ptr<unsigned>(y), W, p.minDisparity, W - x1, W - x0 + D - 1, rlBuf, rhBuf);
+    const ushort* rl0 = rlBuf - (W - x1);
+    const ushort* rh0 = rhBuf - (W - x1);
+    ushort* addBuf = scratch + a.scratchAddend;
+    ddcAddends(a, y, x0, x1, addBuf);
+    const ushort* addRow = addBuf - x0;
     ushort* jumpBuf = scratch + a.scratchJumps;
     jumpRows<NV>(a, I, Iq, first, step, x0, x1, jumpBuf, jumpBuf + JUMPS * a.jumpStride, a.jumpStride);
     const ushort* jumps = jumpBuf - JUMPS * x0;   // pixel x's at jumps[JUMPS x + k]
@@ -666,25 +717,15 @@ void sweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool down)
     }
 }
 
-void rightRows(AggregationState& a, int y0, int y1)
-{
-    const int W = a.W, D = a.D;
-    for (int y = y0; y < y1; y++)
-    {
-        ushort* rvLo = a.rightRows.ptr<ushort>(y);
-        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvLo, rvLo + (W + D - 1));
-    }
-}
-
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost)
 {
     const int W = a.W, D = a.D;
-    AutoBuffer<ushort> rvBuf(2 * (W + D));
-    ushort *rvLo = rvBuf.data(), *rvHi = rvLo + (W + D - 1);
+    AutoBuffer<ushort> rvBuf(2 * (W + D) + W);
+    ushort *rvLo = rvBuf.data(), *rvHi = rvLo + (W + D - 1), *addRow = rvHi + (W + D - 1);
     for (int y = y0; y < y1; y++)
     {
-        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, D, rvLo, rvHi);
-        const ushort* addRow = a.addend.ptr<ushort>(y);
+        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, 0, W + D - 1, rvLo, rvHi);
+        ddcAddends(a, y, 0, W, addRow);
         for (int x = 0; x < W; x++)
         {
             const CostInput in = { rvLo + (W - 1 - x), rvHi + (W - 1 - x), a.censusL.ptr<unsigned>(y)[x],

@@ -8,14 +8,16 @@
 // Included by aggregation.simd.hpp, inside its CPU-dispatch namespace: compiled once per instruction set.
 
 /** The reversed, clamped right census row, split into 16-bit halves: rv[j] = R[clamp(W - 1 - minD - j)] for j in
-[0, W + D - 1), low halves in rvLo, high halves in rvHi. The right pixels x - minD - d of left pixel x are at
-j = W - 1 - x + d: contiguous and increasing in d. 16-bit halves keep the Hamming distances in 16-bit lanes. */
-static inline void reversedRightRow(const unsigned* R, int W, int minD, int D, ushort* rvLo, ushort* rvHi)
+[j0, j1), low halves at rvLo[j - j0], high halves at rvHi[j - j0]. The right pixels x - minD - d of left pixel x
+are at j = W - 1 - x + d: contiguous and increasing in d (left pixels [x0, x1) need j in [W - x1, W - x0 + D - 1)).
+16-bit halves keep the Hamming distances in 16-bit lanes. */
+static inline void reversedRightRow(const unsigned* R, int W, int minD, int j0, int j1, ushort* rvLo, ushort* rvHi)
 {
-    const int n = W + D - 1;
+    rvLo -= j0;
+    rvHi -= j0;
     // j < jIn: clamped to W - 1; j in [jIn, jOut): R[W - 1 - minD - j] inside the row; j >= jOut: clamped to 0.
-    const int jIn = std::min(std::max(-minD, 0), n), jOut = std::min(std::max(W - minD, jIn), n);
-    int j = 0;
+    const int jIn = std::min(std::max(-minD, j0), j1), jOut = std::min(std::max(W - minD, jIn), j1);
+    int j = j0;
     for (; j < jIn; j++)
     {
         rvLo[j] = (ushort)(R[W - 1] & 0xFFFF);
@@ -39,7 +41,7 @@ static inline void reversedRightRow(const unsigned* R, int W, int minD, int D, u
         rvLo[j] = (ushort)(r & 0xFFFF);
         rvHi[j] = (ushort)(r >> 16);
     }
-    for (; j < n; j++)
+    for (; j < j1; j++)
     {
         rvLo[j] = (ushort)(R[0] & 0xFFFF);
         rvHi[j] = (ushort)(R[0] >> 16);
