@@ -128,7 +128,8 @@ class BagTest(unittest.TestCase):
 
     def test_fail_safe_and_recalibration(self):
         """A 2-degree rotation error: the sets are fused as stereo alone (pixel for pixel the tool's SGM with the
-        left-right check), the rotation is refined from them, and the command switches to the corrected transform."""
+        left-right check on the pair alone), the rotation is refined from them, and the command switches to the
+        corrected transform."""
         bag = os.path.join(self.work, "kitti_three_times")
         kitti.write_bag(KITTI, bag, ids=list(FRAMES) * 3)
         frame = cv2.lidarsgm.loadKittiFrame(KITTI, FRAMES[0])
@@ -156,8 +157,11 @@ class BagTest(unittest.TestCase):
         stamps = sorted(got)
         for k, fid in enumerate(FRAMES):
             tool = os.path.join(self.work, "tool_sgm_" + fid)
-            subprocess.run([TOOL, "--kitti-frame", KITTI, "--id", fid, "--params", PARAMS, "--modes", "sgm",
-                            "--check", "stereo", "--out", tool], check=True, stdout=subprocess.DEVNULL)
+            # The pair alone, no LiDAR: kitti_best.yml's disparity windows then come from the images, as the bag's.
+            subprocess.run([TOOL, "--left", os.path.join(KITTI, "image_2", fid + "_10.png"),
+                            "--right", os.path.join(KITTI, "image_3", fid + "_10.png"), "--params", PARAMS,
+                            "--modes", "sgm", "--check", "stereo", "--out", tool], check=True,
+                           stdout=subprocess.DEVNULL)
             sgm = cv2.imread(os.path.join(tool, "disparity.png"), cv2.IMREAD_UNCHANGED)
             np.testing.assert_array_equal(cv2.lidarsgm.encodeKittiDisparity(got[stamps[k]]), sgm)
         # --trust-lidar: every set fused with the LiDAR, and said to be misplaced.
