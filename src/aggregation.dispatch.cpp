@@ -73,6 +73,10 @@ void runSweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool dow
 {
     CV_CPU_DISPATCH(sweepRow, (a, i, x0, x1, strip, down), CV_CPU_DISPATCH_MODES_ALL);
 }
+void runRightViewRows(const AggregationState& a, int y0, int y1, Mat& dispRight)
+{
+    CV_CPU_DISPATCH(rightViewRows, (a, y0, y1, dispRight), CV_CPU_DISPATCH_MODES_ALL);
+}
 void runCostRows(const AggregationState& a, int y0, int y1, Mat& cost)
 {
     CV_CPU_DISPATCH(costRows, (a, y0, y1, cost), CV_CPU_DISPATCH_MODES_ALL);
@@ -277,35 +281,8 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     sweep(true);
     sweep(false);
 
-    // The right view: strip by strip from the left, a strip's candidate replaces the one so far only at a lower cost
-    // (its disparities are larger: RightView).
-    parallel_for_(Range(0, H), [&](const Range& r) {
-        AutoBuffer<ushort> costBuf(W), indexBuf(W);
-        ushort *mc = costBuf.data(), *mi = indexBuf.data();
-        for (int y = r.start; y < r.end; y++)
-        {
-            std::fill(mi, mi + W, (ushort)RightView::NONE);
-            for (int s = 0; s < strips; s++)
-            {
-                const size_t at = (size_t)a.rightAt[s] + (size_t)y * a.rightWidth[s];
-                const ushort* c = a.rightCost.data() + at;
-                const ushort* k = a.rightIndex.data() + at;
-                const int i0 = std::max(-a.rightLo[s], 0), i1 = std::min(W - a.rightLo[s], a.rightWidth[s]);
-                for (int i = i0, u = a.rightLo[s] + i0; i < i1; i++, u++)
-                    if (k[i] != RightView::NONE && (mi[u] == RightView::NONE || c[i] < mc[u]))
-                    {
-                        mc[u] = c[i];
-                        mi[u] = k[i];
-                    }
-            }
-            short* dr = dispRight.ptr<short>(y);
-            for (int xr = 0; xr < W; xr++)
-            {
-                const ushort k = mi[W - 1 - xr];
-                dr[xr] = (short)(k == RightView::NONE ? NO_DISP : k + p.minDisparity);
-            }
-        }
-    }, rowStripes(H));
+    parallel_for_(Range(0, H), [&](const Range& r) { runRightViewRows(a, r.start, r.end, dispRight); },
+                  rowStripes(H));
 }
 
 void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,

@@ -134,6 +134,7 @@ namespace cv { namespace lidarsgm { namespace detail {
 CV_CPU_OPTIMIZATION_NAMESPACE_BEGIN
 
 void sweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool down);
+void rightViewRows(const AggregationState& a, int y0, int y1, Mat& dispRight);
 void costRows(const AggregationState& a, int y0, int y1, Mat& cost);
 void selectRows(const AggregationState& a, const Mat& sum, int y0, int y1, Mat& disp16, Mat& dispInt, Mat& dispRight,
                 Mat& nonUnique16);
@@ -323,8 +324,10 @@ static void ddcAddends(const AggregationState& a, int y, int x0, int x1, ushort*
     const v_int16 base = vx_setall_s16((short)(L + D + minD)), eight = vx_setall_s16(8);
     const v_int16 kLo = vx_setall_s16((short)minD), kHi = vx_setall_s16((short)(minD + D - 1));
     const v_int16 row = vx_setall_s16((short)L);
-    for (; x + N <= x1; x += N)
+    // The last vector overlaps the one before where the width is no multiple of N (the same values written again).
+    for (; x < x1 && x1 - x0 >= N; x += N)
     {
+        x = std::min(x, x1 - N);
         const v_int16 v = vx_load(prior + x);
         // round(prior) as minD + k, clamped to [minD, minD + D - 1]; base minus it is L + D - k.
         const v_int16 k = v_min(v_max(v_shr<4>(v_add_wrap(v, eight)), kLo), kHi);
@@ -369,8 +372,12 @@ static void jumpRow(const PipelineParams& p, const ushort* I, const ushort* Iq, 
         const int N = VTraits<v_uint16>::nlanes;
         const v_uint16 thr = vx_setall_u16((ushort)p.edgeThreshold), p2 = vx_setall_u16((ushort)p.w.p2),
                        p2e = vx_setall_u16((ushort)p.w.p2Edge);
-        for (; x + N <= xe; x += N)
+        // The last vector overlaps the one before where the span is no multiple of N.
+        for (; x < xe && xe - xs >= N; x += N)
+        {
+            x = std::min(x, xe - N);
             v_store(out + (x - x0), v_select(v_gt(v_absdiff(vx_load(I + x), vx_load(Iq + x - dq)), thr), p2e, p2));
+        }
 #endif
         for (; x < xe; x++)
             out[x - x0] = (ushort)jumpPenalty(I[x], Iq[x - dq], p.edgeThreshold, p.w);
@@ -714,6 +721,57 @@ void sweepRow(AggregationState& a, int i, int x0, int x1, int strip, bool down)
             exact ? sweepRowW<1, false, true>(a, i, x0, x1, strip) : sweepRowW<1, false, false>(a, i, x0, x1, strip);
         else
             exact ? sweepRowW<1, true, true>(a, i, x0, x1, strip) : sweepRowW<1, true, false>(a, i, x0, x1, strip);
+    }
+}
+
+/** The right view (dispRight's rows y0 .. y1 - 1) from the strips' candidates: strip by strip from the left, a strip's
+candidate replaces the one so far only at a lower cost (its disparities are larger: RightView); the candidates outside
+the right image are dropped. */
+void rightViewRows(const AggregationState& a, int y0, int y1, Mat& dispRight)
+{
+    const int W = a.W, minD = a.p.minDisparity;
+    const ushort NONE = RightView::NONE;
+    AutoBuffer<ushort> costBuf(W), indexBuf(W);
+    ushort *mc = costBuf.data(), *mi = indexBuf.data();
+#if CV_SIMD
+    const int N = VTraits<v_uint16>::nlanes;
+    const v_uint16 vnone = vx_setall_u16(NONE);
+#endif
+    for (int y = y0; y < y1; y++)
+    {
+        std::fill(mi, mi + W, NONE);
+        std::fill(mc, mc + W, NONE);
+        for (int s = 0; s < a.strips; s++)
+        {
+            const size_t at = (size_t)a.rightAt[s] + (size_t)y * a.rightWidth[s];
+            const ushort* c = a.rightCost.data() + at;
+            const ushort* k = a.rightIndex.data() + at;
+            const int i0 = std::max(-a.rightLo[s], 0), i1 = std::min(W - a.rightLo[s], a.rightWidth[s]);
+            const int lo = a.rightLo[s];
+            int i = i0;
+#if CV_SIMD
+            for (; i + N <= i1; i += N)
+            {
+                const v_uint16 vc = vx_load(c + i), vk = vx_load(k + i), oc = vx_load(mc + lo + i), ok = vx_load(mi + lo + i);
+                // a candidate (vk not NONE) where there is none yet, or at a lower cost (min(vc, oc) != oc)
+                const v_uint16 take = v_and(v_not(v_eq(vk, vnone)), v_or(v_eq(ok, vnone), v_not(v_eq(v_min(vc, oc), oc))));
+                v_store(mc + lo + i, v_select(take, vc, oc));
+                v_store(mi + lo + i, v_select(take, vk, ok));
+            }
+#endif
+            for (; i < i1; i++)
+                if (k[i] != NONE && (mi[lo + i] == NONE || c[i] < mc[lo + i]))
+                {
+                    mc[lo + i] = c[i];
+                    mi[lo + i] = k[i];
+                }
+        }
+        short* dr = dispRight.ptr<short>(y);
+        for (int xr = 0; xr < W; xr++)
+        {
+            const ushort k = mi[W - 1 - xr];
+            dr[xr] = (short)(k == NONE ? NO_DISP : k + minD);
+        }
     }
 }
 
