@@ -208,7 +208,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     if (a.narrowed && strips > 1)
     {
         const int minWidth = std::min(16, W / strips);
-        std::vector<double> work(W + 1, 0.0);   // prefix sums over the columns
+        std::vector<double> columnWork(W + 1, 0.0);   // prefix sums over the columns
         for (int x = 0; x < W; x++)
         {
             double w = 0;
@@ -217,12 +217,12 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
                 const Vec2s win = a.windows.at<Vec2s>(ty, x / T);
                 w += std::min(T, H - ty * T) * (double)(STRIP_PIXEL_CELLS + win[1] - win[0]);
             }
-            work[x + 1] = work[x] + w;
+            columnWork[x + 1] = columnWork[x] + w;
         }
         for (int s = 1, x = 0; s < strips; s++)
         {
-            const double share = work[W] * s / strips;
-            while (x < W && work[x] < share)
+            const double share = columnWork[W] * s / strips;
+            while (x < W && columnWork[x] < share)
                 x++;
             a.stripX[s] = std::min(std::max(x, a.stripX[s - 1] + minWidth), W - (strips - s) * minWidth);
         }

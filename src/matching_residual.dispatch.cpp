@@ -10,6 +10,8 @@
 #include "matching_residual.simd_declarations.hpp"
 #include "opencv2/lidarsgm/calibration.hpp"
 #include <algorithm>
+#include <climits>
+#include <cmath>
 
 namespace cv { namespace lidarsgm {
 
@@ -84,6 +86,20 @@ struct SparsePoints
     }
 };
 
+//! pts (in the band's coordinates: rows from y0) turned by deg about the centre of an image of `size` (checkLidar).
+std::vector<Point3i> turned(const std::vector<Point3i>& pts, double deg, Size size, int y0)
+{
+    const double a = deg * CV_PI / 180, c = std::cos(a), s = std::sin(a);
+    const double cx = (size.width - 1) * 0.5, cy = (size.height - 1) * 0.5;
+    std::vector<Point3i> out(pts.size());
+    for (size_t i = 0; i < pts.size(); i++)
+    {
+        const double x = pts[i].x - cx, y = pts[i].y + y0 - cy;
+        out[i] = Point3i(cvRound(cx + c * x - s * y), cvRound(cy + s * x + c * y) - y0, pts[i].z);
+    }
+    return out;
+}
+
 //! The inputs of matchingResidual and checkLidar checked, and the sparse map in 1/16 pixel.
 void residualInputs(InputArray left, InputArray right, InputArray sparseDisparity, const char* fn, Mat& l, Mat& r,
                     Mat& sparse16)
@@ -127,7 +143,9 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
         maxShift = std::max(l.cols / detail::kLidarShiftFraction, 1);
     const int radius = 6;   // matchingResidual's default
     LidarCheck c;
-    const SparsePoints sp(l, r, sparse16, maxShift);
+    // The band reaches the moves and the turns.
+    const int turnReach = cvCeil(l.cols * 0.5 * std::sin(detail::kLidarMaxTurn * CV_PI / 180));
+    const SparsePoints sp(l, r, sparse16, maxShift + turnReach);
     int count = 0;
     const int at0 = sp.medianOffset16(sp.points, Point(), radius, count);
     if (at0 < 0)
@@ -146,20 +164,21 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
     if (best < 0)
         return c;
     const int start = best;
-    const auto tryMove = [&](int dx, int dy) {
+    // The median of pts moved by (dx, dy), clamped to the search's reach, where it is lower than *low.
+    const auto tryMove = [&](const std::vector<Point3i>& pts, int dx, int dy, int* low, Point* at) {
         const Point move(std::max(-maxShift, std::min(maxShift, dx)), std::max(-maxShift, std::min(maxShift, dy)));
-        const int m = sp.medianOffset16(taken, move, radius, count);
-        if (m >= 0 && m < best)
+        const int m = sp.medianOffset16(pts, move, radius, count);
+        if (m >= 0 && m < *low)
         {
-            best = m;
-            c.shift = move;
+            *low = m;
+            *at = move;
         }
     };
     int grid = (maxShift + 3) / 4;
     for (int j = -4; j <= 4; j++)
         for (int i = -4; i <= 4; i++)
             if (i != 0 || j != 0)
-                tryMove(i * grid, j * grid);
+                tryMove(taken, i * grid, j * grid, &best, &c.shift);
     while (grid > 1)
     {
         grid = (grid + 1) / 2;
@@ -167,8 +186,58 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
         for (int j = -1; j <= 1; j++)
             for (int i = -1; i <= 1; i++)
                 if (i != 0 || j != 0)
-                    tryMove(centre.x + i * grid, centre.y + j * grid);
+                    tryMove(taken, centre.x + i * grid, centre.y + j * grid, &best, &c.shift);
     }
+    c.shiftedResidual = best / 16.0;
+    c.trusted = !(best < detail::kLidarShiftGain * start);
+    if (!c.trusted)
+        return c;
+    // No move condemns the map: turns of it (a rolled LiDAR). Half degrees (half a degree moves KITTI's image edges
+    // by 5 pixels, beyond which a block's match is lost), each unmoved and at the best move (which may have made up
+    // for part of the turn), the move refined around the best turn (steps of 4, 2 and 1 pixels), then quarter
+    // degrees beside it, and the move refined again: about 80 evaluations.
+    std::vector<Point3i> pts;
+    const Point moved = c.shift;
+    const auto tryTurn = [&](double deg) {
+        if (deg == 0 || std::abs(deg) > detail::kLidarMaxTurn)
+            return;
+        pts = turned(taken, deg, l.size(), sp.y0);
+        int low = best;
+        Point at = c.shift;
+        tryMove(pts, 0, 0, &low, &at);
+        if (moved != Point())
+            tryMove(pts, moved.x, moved.y, &low, &at);
+        if (low < best)
+        {
+            best = low;
+            c.turn = deg;
+            c.shift = at;
+        }
+    };
+    const auto refineMove = [&]() {
+        if (c.turn == 0)
+            return;
+        pts = turned(taken, c.turn, l.size(), sp.y0);
+        for (int g = 4; g >= 1; g /= 2)
+        {
+            const Point centre = c.shift;
+            for (int j = -1; j <= 1; j++)
+                for (int i = -1; i <= 1; i++)
+                    if (i != 0 || j != 0)
+                        tryMove(pts, centre.x + i * g, centre.y + j * g, &best, &c.shift);
+        }
+    };
+    for (double deg = 0.5; deg <= detail::kLidarMaxTurn; deg += 0.5)
+    {
+        tryTurn(-deg);
+        tryTurn(deg);
+    }
+    refineMove();
+    const double coarse = c.turn;
+    tryTurn(coarse - 0.25);
+    tryTurn(coarse + 0.25);
+    if (c.turn != coarse)
+        refineMove();
     c.shiftedResidual = best / 16.0;
     c.trusted = !(best < detail::kLidarShiftGain * start);
     return c;

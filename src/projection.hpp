@@ -21,6 +21,11 @@ moves that lower it by 29-80 %, the exact calibration at most 6 %, also at twice
 (doc/benchmarks/fail_safe_kitti20.txt). */
 const int kLidarShiftFraction = 32;
 const double kLidarShiftGain = 0.8;
+/** checkLidar: where no move condemns the map, turns of up to this many degrees about the image centre are searched too
+(each with the move refined around the best one): a roll of the LiDAR about the camera's optical axis moves the points
+in opposite directions on the two sides of the image, which no move matches. A turn about the principal point is a
+turn about the centre and a move. 3 degrees: the reach of the moves (kLidarShiftFraction) as a rotation. */
+const double kLidarMaxTurn = 3.0;
 //! checkLidar's search evaluates every k-th point, at least this many (the median of a few thousand is stable).
 const int kLidarSearchPoints = 4096;
 

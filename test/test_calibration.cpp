@@ -310,19 +310,28 @@ TEST(Lidarsgm_CheckLidar, kitti_frames_with_a_rotation_error)
         Matx34d P2 = Matx34d(Mat(calib.projection)) * 2;
         for (int c = 0; c < 4; c++)
             P2(2, c) /= 2;
-        for (int error = 0; error < 2; error++)
+        // None, the mix of pitch 1.2, yaw -1.5 and roll 0.8 degrees, and rolls of 2 degrees either way (about the
+        // optical axis: the points move in opposite directions on the two sides of the image, which no move matches).
+        const Vec3d errors[4] = { Vec3d(0, 0, 0), Vec3d(1.2, -1.5, 0.8), Vec3d(0, 0, 2), Vec3d(0, 0, -2) };
+        for (int error = 0; error < 4; error++)
         {
-            // The mix of the issue tried as a new user would: pitch 1.2, yaw -1.5, roll 0.8 degrees.
-            const Mat T(error ? cameraMotion(1.2, -1.5, 0.8) * Matx44d(calib.lidarToCamera) : Matx44d(calib.lidarToCamera));
+            const Vec3d e = errors[error];
+            const Mat T(cameraMotion(e[0], e[1], e[2]) * Matx44d(calib.lidarToCamera));
             cv::lidarsgm::projectPointsToDisparity(scan, calib.projection, T, calib.focalBaseline, f.left.size(), sparse);
             cv::lidarsgm::projectPointsToDisparity(scan, P2, T, 2 * calib.focalBaseline, big[0].size(), bigSparse);
             const cv::lidarsgm::LidarCheck c = cv::lidarsgm::checkLidar(f.left, f.right, sparse);
             const cv::lidarsgm::LidarCheck cb = cv::lidarsgm::checkLidar(big[0], big[1], bigSparse);
-            EXPECT_EQ(!error, c.trusted) << id << " " << c.residual << " " << c.shiftedResidual;
-            EXPECT_EQ(!error, cb.trusted) << id << " x2 " << cb.residual << " " << cb.shiftedResidual;
+            EXPECT_EQ(!error, c.trusted) << id << " " << error << " " << c.residual << " " << c.shiftedResidual;
+            EXPECT_EQ(!error, cb.trusted) << id << " x2 " << error << " " << cb.residual << " " << cb.shiftedResidual;
             if (!error)
             {
                 EXPECT_GT(cb.residual, 1.0) << id;   // the floor of the weaker images, above the band
+            }
+            if (error >= 2)
+            {
+                // The turn found undoes the roll, to a quarter degree.
+                EXPECT_NEAR(-e[2], c.turn, 0.25) << id;
+                EXPECT_NEAR(-e[2], cb.turn, 0.25) << id << " x2";
             }
         }
     }

@@ -6,11 +6,12 @@
    compression (weaker matches: correct LiDAR maps whose residual lies above 1 px): how many frames it condemns, and
    the residual as given and moved.
 2. The tool's folder run with kitti_best.yml under the error of 2 degrees (pitch 1.2, yaw -1.5, roll 0.8), its
-   default (the fail-safe) against --trust-lidar, stereo alone (--modes sgm --check stereo) and the exact
-   calibration.
-3. The bag command over a rosbag2 of the frames twice (40 sets) with the same error given as --lidar-to-camera: sets
-   fused as stereo alone, the switch to the recalibrated transform, and total D1 over the last 20 sets against the
-   exact calibration's.
+   default (the fail-safe) against --trust-lidar, stereo alone and the exact calibration; then under single-axis
+   errors (yaw 1, roll 1, roll 2). Stereo alone is kitti_best.yml in MODE_SGM with the left-right check on the pair
+   alone (no LiDAR: its disparity windows come from the images), run here through cv2, not through the tool.
+3. The bag command over a rosbag2 of the frames twice (40 sets) with the 2-degree mix and with a roll of 2 degrees
+   given as --lidar-to-camera: sets fused as stereo alone, the switch to the recalibrated transform, and total D1
+   over the last 20 sets against the exact calibration's.
 
     PYTHONPATH=<build>/python_loader <ros2 venv python> tools/fail_safe_benchmark.py --tool <build>/bin/lidarsgm_lidarsgm_fuse
         --data ../shared/data/kitti2015_lidar [--threads 2]
@@ -36,8 +37,10 @@ from perturb_calibration import perturbed_calib, read_calib, rotation  # noqa: E
 
 PARAMS = os.path.join(ROOT, "doc", "params", "kitti_best.yml")
 MIX2 = dict(pitch=1.2, yaw=-1.5, roll=0.8)
+ROLL2 = dict(roll=2.0)
 ERRORS = [("none", {}), ("pitch 0.5", dict(pitch=0.5)), ("yaw 1", dict(yaw=1)), ("roll 1", dict(roll=1)),
-          ("mix 1 deg (0.6, -0.7, 0.5)", dict(pitch=0.6, yaw=-0.7, roll=0.5)), ("mix 2 deg (1.2, -1.5, 0.8)", MIX2)]
+          ("roll 2", ROLL2), ("mix 1 deg (0.6, -0.7, 0.5)", dict(pitch=0.6, yaw=-0.7, roll=0.5)),
+          ("mix 2 deg (1.2, -1.5, 0.8)", MIX2)]
 
 
 def tool_row(args, folder, extra, label):
@@ -48,6 +51,21 @@ def tool_row(args, folder, extra, label):
     m = re.search(r"\| %s\s*\|\s*([\d.]+) %%\s*\|\s*([\d.]+) %%\s*\|\s*([\d.]+) %%" % re.escape(label), p.stdout)
     alone = re.search(r"fused as stereo alone: (.*)", p.stdout)
     return float(m.group(1)), float(m.group(3)), (alone.group(1).count(" px,") if alone else 0)
+
+
+def stereo_alone(cv2, data, ids):
+    """(coverage %, total D1 %) over the frames of kitti_best.yml in MODE_SGM with the left-right check on the pair
+    alone, as the fail-safe fuses a condemned frame."""
+    m = cv2.lidarsgm.StereoLidarSGM.load(PARAMS)
+    m.setMode(cv2.lidarsgm.StereoLidarSGM_MODE_SGM)
+    m.setConsistencyCheck(cv2.lidarsgm.StereoLidarSGM_CHECK_STEREO)
+    est = bad = gt = 0
+    for i in ids:
+        f = cv2.lidarsgm.loadKittiFrame(data, i)
+        d = m.compute(f.left, f.right, np.zeros(f.left.shape, np.float32))
+        e = cv2.lidarsgm.evaluateDisparity(d, f.groundTruth, cv2.lidarsgm.METRIC_KITTI_D1, 0, m.getMinDisparity())
+        est, bad, gt = est + e.estimatedPixels, bad + e.totalOutliers, gt + e.groundTruthPixels
+    return 100.0 * est / gt, 100.0 * bad / gt
 
 
 def bag_d1(cv2, out, gts):
@@ -139,24 +157,25 @@ def main():
         for label, folder, extra, row in (
                 ("exact calibration, default", a.data, ["--modes", "sdsgm"], "SDSGM (stereo-lidar)"),
                 ("error, --trust-lidar", wrong, ["--modes", "sdsgm", "--trust-lidar"], "SDSGM (stereo-lidar)"),
-                ("error, default (the fail-safe)", wrong, ["--modes", "sdsgm"], "SDSGM (stereo-lidar)"),
-                ("error, stereo alone: --modes sgm --check stereo", wrong, ["--modes", "sgm", "--check", "stereo"],
-                 "SGM (stereo)")):
+                ("error, default (the fail-safe)", wrong, ["--modes", "sdsgm"], "SDSGM (stereo-lidar)")):
             cov, d1, alone = tool_row(a, folder, extra, row)
             print("| %s | %.2f %% | %.2f %% | %d |" % (label, cov, d1, alone), flush=True)
-        # The errors the rule mostly leaves to the fusion: what the frames it does condemn cost.
-        print("\nthe same, SDSGM, under the errors the check condemns on few frames")
-        print("| error | --trust-lidar: total D1 | default: total D1 | frames fused as stereo alone |")
-        print("| --- | --- | --- | --- |")
+        cov, alone_d1 = stereo_alone(cv2, a.data, ids)
+        print("| stereo alone (MODE_SGM, left-right check, no LiDAR; cv2) | %.2f %% | %.2f %% | %d |"
+              % (cov, alone_d1, len(ids)), flush=True)
+        print("\nthe same, SDSGM, under single-axis errors (stereo alone %.2f %%)" % alone_d1)
+        print("| error | --trust-lidar: total D1 | default: total D1 | default - stereo alone | frames fused as stereo "
+              "alone |")
+        print("| --- | --- | --- | --- | --- |")
         for name, err in ERRORS:
-            if name not in ("yaw 1", "roll 1"):
+            if name not in ("yaw 1", "roll 1", "roll 2"):
                 continue
             folder = os.path.join(tmp, name.replace(" ", "_"))
             subprocess.run([sys.executable, os.path.join(HERE, "perturb_calibration.py"), a.data, folder] +
                            sum([["--" + k, str(v)] for k, v in err.items()], []), check=True)
             _, trusted, _ = tool_row(a, folder, ["--modes", "sdsgm", "--trust-lidar"], "SDSGM (stereo-lidar)")
             _, d1, alone = tool_row(a, folder, ["--modes", "sdsgm"], "SDSGM (stereo-lidar)")
-            print("| %s | %.2f %% | %.2f %% | %d |" % (name, trusted, d1, alone), flush=True)
+            print("| %s | %.2f %% | %.2f %% | %+.2f pp | %d |" % (name, trusted, d1, d1 - alone_d1, alone), flush=True)
 
         from lidarsgm_ros import kitti
         bag = os.path.join(tmp, "bag")
@@ -165,9 +184,10 @@ def main():
         # ROS's transform (to the left optical frame) with the error applied in the rectified camera frame.
         exact = kitti.ros_calibration(calib)[3]
         shift = exact @ np.linalg.inv(transform(entries))
-        motion = np.eye(4)
-        motion[:3, :3] = np.array(rotation(MIX2["pitch"], MIX2["yaw"], MIX2["roll"]))
-        wrong_T = shift @ motion @ transform(entries)
+        def wrong_transform(err):
+            motion = np.eye(4)
+            motion[:3, :3] = np.array(rotation(err.get("pitch", 0), err.get("yaw", 0), err.get("roll", 0)))
+            return shift @ motion @ transform(entries)
         gts = [cv2.imread(os.path.join(a.data, "disp_occ_0", i + "_10.png"), cv2.IMREAD_UNCHANGED)
                for i in ids + ids]
         print("\n3. the bag command (python3 -m lidarsgm_ros.bag, kitti_best.yml) over %d sets: the frames twice"
@@ -176,8 +196,12 @@ def main():
         print("| --- | --- | --- | --- | --- | --- |")
         numbers = lambda m: ["%.9g" % v for v in m.ravel()]
         for label, T, extra in (("exact calibration", exact, []),
-                                ("error, --trust-lidar", wrong_T, ["--trust-lidar"]),
-                                ("error, default (fail-safe, recalibration)", wrong_T, ["--scan-rate", "10"])):
+                                ("2-degree mix, --trust-lidar", wrong_transform(MIX2), ["--trust-lidar"]),
+                                ("2-degree mix, default (fail-safe, recalibration)", wrong_transform(MIX2),
+                                 ["--scan-rate", "10"]),
+                                ("roll 2, --trust-lidar", wrong_transform(ROLL2), ["--trust-lidar"]),
+                                ("roll 2, default (fail-safe, recalibration)", wrong_transform(ROLL2),
+                                 ["--scan-rate", "10"])):
             out = os.path.join(tmp, "out_" + str(len(os.listdir(tmp))))
             so, secs = run_bag(bag, out, ["--lidar-to-camera"] + numbers(T) + extra)
             rows = bag_d1(cv2, out, gts)

@@ -66,7 +66,8 @@ void writeMetrics(const std::string& path, const std::string& key, PassRows& fr)
                << "totalBad" << (double)r->stats.totalOutliers << "ms" << (r->ms.empty() ? -1.0 : r->ms[0]) << "}";
         fs << "]";
         fs << "matchingResidual" << fr.residual << "residualFailure" << fr.residualFailure
-           << "shiftedResidual" << fr.shiftedResidual << "shift" << fr.shift << "misplaced" << (int)fr.misplaced
+           << "shiftedResidual" << fr.shiftedResidual << "shift" << fr.shift << "turn" << fr.turn
+           << "misplaced" << (int)fr.misplaced
            << "stereoAlone" << (int)fr.stereoAlone;
         return fs.isOpened();
     });
@@ -106,6 +107,7 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr, 
         return false;
     fr.shiftedResidual = (double)fs["shiftedResidual"];
     fs["shift"] >> fr.shift;
+    fr.turn = fs["turn"].empty() ? 0.0 : (double)fs["turn"];   // none searched before turns were
     fr.misplaced = (int)fs["misplaced"] != 0;
     fr.stereoAlone = (int)fs["stereoAlone"] != 0;
     return true;

@@ -78,6 +78,7 @@ Mat checkFrameLidar(const Options& o, const Frame& f, PassRows& fr)
     fr.residual = c.residual;
     fr.shiftedResidual = c.shiftedResidual;
     fr.shift = c.shift;
+    fr.turn = c.turn;
     fr.misplaced = !c.trusted;
     fr.stereoAlone = fr.misplaced && !o.has("trust-lidar");
     if (cvIsNaN(c.residual))
@@ -97,8 +98,10 @@ void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >&
         const double v = f.second->residual;
         if (f.second->misplaced)
         {
-            misplaced += format("%s%s (%.2f px, %.2f moved by (%d, %d))", misplaced.empty() ? "" : ", ",
-                                f.first.c_str(), v, f.second->shiftedResidual, f.second->shift.x, f.second->shift.y);
+            const std::string turn = f.second->turn != 0 ? format("turned %.2f degrees and ", f.second->turn) : "";
+            misplaced += format("%s%s (%.2f px, %.2f %smoved by (%d, %d))", misplaced.empty() ? "" : ", ",
+                                f.first.c_str(), v, f.second->shiftedResidual, turn.c_str(), f.second->shift.x,
+                                f.second->shift.y);
             alone = alone || f.second->stereoAlone;
         }
         if (v != v)

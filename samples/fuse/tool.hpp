@@ -99,9 +99,11 @@ struct PassRows
     //! images could not tell (residualFailure says why).
     double residual = -1;
     std::string residualFailure;
-    //! cv::lidarsgm::checkLidar's lowest residual of the LiDAR moved by `shift` (where it searched), and its verdict
+    //! cv::lidarsgm::checkLidar's lowest residual of the LiDAR turned by `turn` degrees and moved by `shift` (where it
+    //! searched), and its verdict
     double shiftedResidual = -1;
     cv::Point shift;
+    double turn = 0;
     bool misplaced = false;
     //! The frame was fused as stereo alone: its LiDAR misplaced and the run not told --trust-lidar.
     bool stereoAlone = false;

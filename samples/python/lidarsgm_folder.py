@@ -54,6 +54,7 @@ def write_metrics(path, key, rows, check=None, stereo_alone=False):
         for v in (check.shift if check is not None else (0, 0)):
             fs.write("", int(v))
         fs.endWriteStruct()
+        fs.write("turn", float(check.turn) if check is not None else 0.0)
         fs.write("misplaced", int(check is not None and not check.trusted))
         fs.write("stereoAlone", int(stereo_alone))
         fs.release()

@@ -137,8 +137,11 @@ struct CV_EXPORTS_W_SIMPLE LidarCheck
     CV_PROP_RW double residual;
     //! the lowest residual of the map moved by `shift`; equal to residual where no move was searched
     CV_PROP_RW double shiftedResidual;
-    //! the move (pixels, x right, y down) of the sparse values that gives shiftedResidual
+    //! the move (pixels, x right, y down) of the sparse values that gives shiftedResidual (after `turn`)
     CV_PROP_RW Point shift;
+    //! the turn (degrees, about the image centre, from x toward y: clockwise on the image) that gives
+    //! shiftedResidual with `shift`; 0 where turns were not searched or none helped
+    CV_PROP_RW double turn = 0;
     //! false where the map is judged misplaced: fuse the frame as stereo alone (MODE_SGM without the sparse map;
     //! DSGM and SDSGM weigh the census by 1 - alpha even without a prior) and check the calibration
     CV_PROP_RW bool trusted = true;
@@ -153,11 +156,14 @@ error, but so it does on images that match poorly (high resolution, compression,
 right and helps most. checkLidar() tells the two apart. Where the residual is at most maxResidual, the map is trusted.
 Above it, the sparse values are moved together by up to maxShift pixels in each direction (a rotation error moves
 the points on the image by about f x angle), coarse to fine, and the lowest residual of a moved map is found: a map
-whose residual a move lowers by a fifth or more is misplaced (not trusted); one whose residual no move lowers is at
-the images' own floor (trusted).
+whose residual a move lowers by a fifth or more is misplaced (not trusted). Where no move does, the map is also
+turned about the image centre by up to 3 degrees, the move refined around the best one at each turn: a roll of the
+LiDAR about the camera's optical axis moves the points in opposite directions on the two sides of the image. A map
+whose residual neither lowers is at the images' own floor (trusted).
 
 Cost: one matchingResidual() where the residual is within maxResidual; about a hundred evaluations on the same census
-strings where it is not (on KITTI at 64 lines tens of milliseconds on two cores).
+strings where it is not, and about 80 more where no move condemns the map (on KITTI at 64 lines tens of
+milliseconds on two cores).
 @param left left image, CV_8UC1 or CV_16UC1 (rectified), as for StereoLidarSGM::compute.
 @param right right image, same size and type.
 @param sparseDisparity sparse left-view disparity, CV_16UC1 (KITTI, value / 256, 0 = none) or CV_32FC1 (pixels,

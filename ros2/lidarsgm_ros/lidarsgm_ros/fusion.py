@@ -243,8 +243,9 @@ class Fusion:
         c = result.check
         if c is None or c.trusted:
             return ""
-        return "the LiDAR misplaced on the images (%.2f px, %.2f moved by (%d, %d)): %s" % (
-            c.residual, c.shiftedResidual, c.shift[0], c.shift[1],
+        turn = "turned %.2f degrees and " % c.turn if c.turn else ""
+        return "the LiDAR misplaced on the images (%.2f px, %.2f %smoved by (%d, %d)): %s" % (
+            c.residual, c.shiftedResidual, turn, c.shift[0], c.shift[1],
             "fused as stereo alone" if result.stereo_alone else "fused anyway (trust_lidar)")
 
     # -- outputs
