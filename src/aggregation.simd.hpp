@@ -329,12 +329,14 @@ static void ddcAddends(const AggregationState& a, int y, int x0, int x1, ushort*
     {
         x = std::min(x, x1 - N);
         const v_int16 v = vx_load(prior + x);
-        // round(prior) as minD + k, clamped to [minD, minD + D - 1]; base minus it is L + D - k.
+        // The scalar rule below in lanes: roundDisp16(prior) as minD + k, clamped to [minD, minD + D - 1]; base
+        // minus it is L + D - k.
         const v_int16 k = v_min(v_max(v_shr<4>(v_add_wrap(v, eight)), kLo), kHi);
         v_int16 o = v_sub_wrap(base, k);
         if (own)
         {
-            const v_int16 copied = v_not(v_eq(v, vx_load(own + x)));   // v != own (lanes without a prior: below)
+            // copiedPrior: v != own (the lanes without a prior are zeroed below)
+            const v_int16 copied = v_not(v_eq(v, vx_load(own + x)));
             o = v_add_wrap(o, v_and(copied, row));
         }
         v_store((short*)out + (x - x0), v_select(v_eq(v, none), zero, o));
@@ -752,9 +754,12 @@ void rightViewRows(const AggregationState& a, int y0, int y1, Mat& dispRight)
 #if CV_SIMD
             for (; i + N <= i1; i += N)
             {
-                const v_uint16 vc = vx_load(c + i), vk = vx_load(k + i), oc = vx_load(mc + lo + i), ok = vx_load(mi + lo + i);
-                // a candidate (vk not NONE) where there is none yet, or at a lower cost (min(vc, oc) != oc)
-                const v_uint16 take = v_and(v_not(v_eq(vk, vnone)), v_or(v_eq(ok, vnone), v_not(v_eq(v_min(vc, oc), oc))));
+                const v_uint16 vc = vx_load(c + i), vk = vx_load(k + i);
+                const v_uint16 oc = vx_load(mc + lo + i), ok = vx_load(mi + lo + i);
+                // the scalar rule below: a candidate (vk not NONE) where there is none yet, or at a lower cost
+                // (min(vc, oc) != oc)
+                const v_uint16 lower = v_not(v_eq(v_min(vc, oc), oc));
+                const v_uint16 take = v_and(v_not(v_eq(vk, vnone)), v_or(v_eq(ok, vnone), lower));
                 v_store(mc + lo + i, v_select(take, vc, oc));
                 v_store(mi + lo + i, v_select(take, vk, ok));
             }

@@ -174,6 +174,14 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
             *at = move;
         }
     };
+    // The eight moves of pts around the best one, g pixels apart.
+    const auto tryAround = [&](const std::vector<Point3i>& pts, int g) {
+        const Point centre = c.shift;
+        for (int j = -1; j <= 1; j++)
+            for (int i = -1; i <= 1; i++)
+                if (i != 0 || j != 0)
+                    tryMove(pts, centre.x + i * g, centre.y + j * g, &best, &c.shift);
+    };
     int grid = (maxShift + 3) / 4;
     for (int j = -4; j <= 4; j++)
         for (int i = -4; i <= 4; i++)
@@ -182,11 +190,7 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
     while (grid > 1)
     {
         grid = (grid + 1) / 2;
-        const Point centre = c.shift;
-        for (int j = -1; j <= 1; j++)
-            for (int i = -1; i <= 1; i++)
-                if (i != 0 || j != 0)
-                    tryMove(taken, centre.x + i * grid, centre.y + j * grid, &best, &c.shift);
+        tryAround(taken, grid);
     }
     c.shiftedResidual = best / 16.0;
     c.trusted = !(best < detail::kLidarShiftGain * start);
@@ -196,12 +200,12 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
     // by 5 pixels, beyond which a block's match is lost), each unmoved and at the best move (which may have made up
     // for part of the turn), the move refined around the best turn (steps of 4, 2 and 1 pixels), then quarter
     // degrees beside it, and the move refined again: about 80 evaluations.
-    std::vector<Point3i> pts;
+    std::vector<Point3i> bestTurned;   // taken turned by c.turn
     const Point moved = c.shift;
     const auto tryTurn = [&](double deg) {
         if (deg == 0 || std::abs(deg) > detail::kLidarMaxTurn)
             return;
-        pts = turned(taken, deg, l.size(), sp.y0);
+        std::vector<Point3i> pts = turned(taken, deg, l.size(), sp.y0);
         int low = best;
         Point at = c.shift;
         tryMove(pts, 0, 0, &low, &at);
@@ -212,20 +216,12 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
             best = low;
             c.turn = deg;
             c.shift = at;
+            bestTurned.swap(pts);
         }
     };
     const auto refineMove = [&]() {
-        if (c.turn == 0)
-            return;
-        pts = turned(taken, c.turn, l.size(), sp.y0);
-        for (int g = 4; g >= 1; g /= 2)
-        {
-            const Point centre = c.shift;
-            for (int j = -1; j <= 1; j++)
-                for (int i = -1; i <= 1; i++)
-                    if (i != 0 || j != 0)
-                        tryMove(pts, centre.x + i * g, centre.y + j * g, &best, &c.shift);
-        }
+        for (int g = 4; c.turn != 0 && g >= 1; g /= 2)
+            tryAround(bestTurned, g);
     };
     for (double deg = 0.5; deg <= detail::kLidarMaxTurn; deg += 0.5)
     {

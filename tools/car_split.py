@@ -91,7 +91,8 @@ def main():
         for k, label in ((True, "cars (obj_map > 0)"), (False, "elsewhere")):
             print("| %s | %.1f %% | %.2f %% | %.0f %% | %.0f %% |" % (label, pct(gt_n[k], allgt), pct(bad[k], gt_n[k]),
                                                                 pct(bad[k], allbad), pct(far[k], bad[k])))
-        print("| all | 100 %% | %.2f %% | 100 %% | %.0f %% |" % (pct(allbad, allgt), pct(far[True] + far[False], allbad)))
+        print("| all | 100 %% | %.2f %% | 100 %% | %.0f %% |" % (pct(allbad, allgt),
+                                                               pct(far[True] + far[False], allbad)))
         print("the projected LiDAR points, D1 against the ground truth where they have it")
         print("| | points | D1 | of the bad ones, farther than the truth |")
         print("| --- | --- | --- | --- |")
