@@ -59,10 +59,17 @@ struct CostInput
     int census256;
 };
 
+// AArch64's NEON has the byte pairs' widening add and the rounding high multiply as single instructions too.
+#if CV_NEON && defined(__aarch64__) && CV_SIMD_WIDTH == 16
+#define LIDARSGM_NEON_EXACT 1
+#else
+#define LIDARSGM_NEON_EXACT 0
+#endif
+
 //! Whether the vector cost's exact rounding multiply applies (costAt: census256 < 2^14).
 static inline bool censusMulExact(const CostWeights& w)
 {
-#if CV_SIMD && ((CV_AVX2 && CV_SIMD_WIDTH == 32) || (CV_SSSE3 && CV_SIMD_WIDTH == 16))
+#if CV_SIMD && ((CV_AVX2 && CV_SIMD_WIDTH == 32) || (CV_SSSE3 && CV_SIMD_WIDTH == 16) || LIDARSGM_NEON_EXACT)
     return w.census256 < 16384;
 #else
     (void)w;
@@ -92,6 +99,16 @@ static inline v_uint16 bytePairSums(const v_uint8& b, schar f = 1)
     return v_uint16(_mm_maddubs_epi16(b.val, _mm_set1_epi8(f)));
 }
 static inline v_uint16 mulRound15(const v_uint16& a, const v_uint16& b) { return v_uint16(_mm_mulhrs_epi16(a.val, b.val)); }
+#elif LIDARSGM_NEON_EXACT
+static inline v_uint16 bytePairSums(const v_uint8& b, schar f = 1)
+{
+    return v_uint16(vmulq_n_u16(vpaddlq_u8(b.val), (ushort)f));
+}
+//! sqrdmulh: (2 a b + 2^15) >> 16, the same as (a b + 2^14) >> 15 (a, b < 2^15: no saturation).
+static inline v_uint16 mulRound15(const v_uint16& a, const v_uint16& b)
+{
+    return v_uint16(vreinterpretq_u16_s16(vqrdmulhq_s16(vreinterpretq_s16_u16(a.val), vreinterpretq_s16_u16(b.val))));
+}
 #else
 static inline v_uint16 bytePairSums(const v_uint8& b, schar f = 1)
 {
