@@ -16,6 +16,13 @@ if(NOT _rc EQUAL 0)
   message(FATAL_ERROR "lidarsgm: pip could not install ${REQUIREMENTS} (the ROS 2 wheels exist for CPython 3.10-3.13 "
                       "on x86_64 Linux) or ${PACKAGE}")
 endif()
+# tf2_msgs (the node's /tf and /tf_static) has no wheel: generated beside the package (ros2/tf2_msgs).
+get_filename_component(_ros2 "${PACKAGE}" DIRECTORY)
+execute_process(COMMAND ${CMAKE_COMMAND} -DPYTHON=${PYTHON} -DSOURCE=${_ros2}/tf2_msgs -DWORK=${WORK}
+                        -P "${CMAKE_CURRENT_LIST_DIR}/tf2_msgs_install.cmake" RESULT_VARIABLE _rc)
+if(NOT _rc EQUAL 0)
+  message(FATAL_ERROR "lidarsgm: tf2_msgs could not be built into the environment (above)")
+endif()
 execute_process(COMMAND "${PYTHON}" -c "import cv2, rclpy, lidarsgm_ros.node; cv2.lidarsgm.StereoLidarSGM.create()"
                 RESULT_VARIABLE _rc)
 if(NOT _rc EQUAL 0)

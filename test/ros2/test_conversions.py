@@ -205,6 +205,49 @@ class Transforms(unittest.TestCase):
         with self.assertRaisesRegex(ConversionError, "no transform links frame 'velodyne' to 'map'"):
             cr.chain_transform(edges, "velodyne", "map")
 
+    def test_transform_buffer_at_a_stamp(self):
+        """/tf samples interpolated at the cloud's stamp (the rotation checked with cv2.Rodrigues: a turn about one
+        axis, a fraction of the way), the nearest within the tolerance beyond them, /tf_static as it came."""
+        def stamped(parent, child, m, stamp):
+            q = cr.rotation_quaternion(m[:3, :3])
+            return Msg(header=Msg(frame_id=parent, stamp=Msg(sec=stamp // 10**9, nanosec=stamp % 10**9)),
+                       child_frame_id=child, transform=Msg(translation=Msg(x=m[0, 3], y=m[1, 3], z=m[2, 3]),
+                                                           rotation=Msg(x=q[0], y=q[1], z=q[2], w=q[3])))
+        r0 = cv2.Rodrigues(np.array([0.2, -0.4, 0.1]))[0]
+        axis = np.array([0.6, 0.0, 0.8])
+        def lidar(t):  # base_link -> velodyne at t in [0, 1]: turned about axis by 0.3 t rad, moved 0.5 t m in x
+            m = np.eye(4)
+            m[:3, :3] = r0 @ cv2.Rodrigues(axis * 0.3 * t)[0]
+            m[:3, 3] = [1.0 + 0.5 * t, 0.2, 1.5]
+            return m
+        cam = np.eye(4)
+        cam[:3, :3] = [[0, 0, 1], [-1, 0, 0], [0, -1, 0]]
+        buf = cr.TransformBuffer(tolerance_ns=10**8)
+        with self.assertRaisesRegex(ConversionError, "nothing received on /tf_static or /tf yet"):
+            buf.lookup("velodyne", "camera_optical", 0)
+        buf.add([stamped("base_link", "camera_optical", cam, 0)], static=True)
+        t0, t1 = 10 * 10**9, 11 * 10**9
+        buf.add([stamped("base_link", "velodyne", lidar(1), t1)], static=False)
+        buf.add([stamped("/base_link", "velodyne", lidar(0), t0)], static=False)  # out of order
+        for f in (0.0, 0.25, 0.5, 1.0):
+            m = buf.lookup("velodyne", "camera_optical", t0 + int(f * 10**9))
+            np.testing.assert_allclose(m, np.linalg.inv(cam) @ lidar(f), atol=1e-12)
+        np.testing.assert_allclose(buf.lookup("velodyne", "camera_optical", t1 + 10**8),
+                                   np.linalg.inv(cam) @ lidar(1), atol=1e-12)
+        np.testing.assert_allclose(buf.lookup("velodyne", "camera_optical", t0 - 10**8),
+                                   np.linalg.inv(cam) @ lidar(0), atol=1e-12)
+        with self.assertRaisesRegex(ConversionError, r"no transform links frame 'velodyne' to 'camera_optical'.*"
+                                    r"/tf has base_link -> velodyne from 10.000 to 11.000 s, not at 11.200 s"):
+            buf.lookup("velodyne", "camera_optical", t1 + 2 * 10**8)
+        # A static transform of the child replaces its /tf history; a new static one replaces the old.
+        buf.add([stamped("base_link", "velodyne", lidar(0.5), 0)], static=True)
+        np.testing.assert_allclose(buf.lookup("velodyne", "camera_optical", 5 * 10**9),
+                                   np.linalg.inv(cam) @ lidar(0.5), atol=1e-12)
+        with self.assertRaisesRegex(ConversionError, "not a unit quaternion"):
+            bad = stamped("base_link", "x", np.eye(4), 0)
+            bad.transform.rotation.w = 2.0
+            buf.add([bad], static=True)
+
 
 def pack_rgb(bgr):
     """Colours (..., 3 uint8 BGR) packed as PCL and RViz read them: the bits of 0x00RRGGBB as float32."""

@@ -6,7 +6,8 @@ package's Fast DDS profile for megabyte messages (config/fastdds_large_data.xml)
 Checks: the DisparityImage equals the tool's output for the frame pixel for pixel (and the same call through cv2);
 its D1 against the ground truth; depth and points against cv2.lidarsgm.disparityToDepth / disparityToPoints; a frame
 whose cloud has no x/y/z is logged and skipped while the next one is fused; a value the module refuses is refused at
-run time with its message, the old value kept.
+run time with its message, the old value kept. A second node takes the transform from tf instead (a /tf_static and a
+/tf publisher): nothing but a warning before tf has it, then the same DisparityImages, and a change on /tf taken.
 """
 import os
 import random
@@ -32,8 +33,12 @@ os.environ["ROS_DOMAIN_ID"] = os.environ.get("LIDARSGM_ROS_DOMAIN_ID", str(rando
 import rclpy  # noqa: E402
 from rcl_interfaces.srv import GetParameters, SetParameters  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
+from tf2_msgs.msg import TFMessage  # noqa: E402
+from geometry_msgs.msg import TransformStamped  # noqa: E402
 
 from lidarsgm_ros import kitti  # noqa: E402
+from lidarsgm_ros.conversions import rotation_quaternion, transform_matrix  # noqa: E402
 from lidarsgm_ros.messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, rclpy_class, stamp_ns  # noqa: E402
 
 TESTDATA = os.environ["LIDARSGM_TESTDATA"]
@@ -57,7 +62,18 @@ def array_of(img):
     return np.frombuffer(bytes(img.data), dt).reshape(img.height, img.width)
 
 
-class NodeTest(unittest.TestCase):
+def pitched(degrees, m):
+    """m with a rotation about the camera's x axis before it."""
+    a = np.radians(degrees)
+    pitch = np.eye(4)
+    pitch[1:3, 1:3] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+    return pitch @ m
+
+
+class NodeRun(unittest.TestCase):
+    """The node in its own process, fed and read by a replay node here (USE_TF: no lidar_to_camera parameter)."""
+    USE_TF = False
+
     @classmethod
     def setUpClass(cls):
         cls.work = tempfile.mkdtemp(prefix="lidarsgm_ros_")
@@ -66,9 +82,9 @@ class NodeTest(unittest.TestCase):
         overrides = os.path.join(cls.work, "overrides.yaml")
         with open(overrides, "w") as f:  # what a user adds for their robot: the calibration and the params file
             f.write("lidarsgm:\n  ros__parameters:\n    params_file: %s\n    publish_confidence: true\n"
-                    "    sync_warning_seconds: 1.0\n    check_calibration_every: 1\n"
-                    "    lidar_to_camera: [%s]\n" % (os.path.abspath(PARAMS), ", ".join(repr(float(v))
-                                                                                      for v in t.ravel())))
+                    "    sync_warning_seconds: 1.0\n    check_calibration_every: 1\n" % os.path.abspath(PARAMS))
+            if not cls.USE_TF:
+                f.write("    lidar_to_camera: [%s]\n" % ", ".join(repr(float(v)) for v in t.ravel()))
         cls.lidar_to_camera = t
         cls.log = open(os.path.join(cls.work, "node.log"), "w+")
         cls.proc = subprocess.Popen(
@@ -142,15 +158,19 @@ class NodeTest(unittest.TestCase):
                         "--out", out], check=True, stdout=subprocess.DEVNULL)
         return cv2.imread(os.path.join(out, "disparity.png"), cv2.IMREAD_UNCHANGED)
 
-    def check_frame(self, stamp, fid, frame):
+    def check_frame(self, stamp, fid, frame, sparse=None):
+        """The outputs of one set against the tool's and cv2's (with the frame's sparse map, or `sparse`: a
+        transform other than KITTI's, where only the cv2 call can follow)."""
         d = self.got["disparity"][stamp]
         disp = np.frombuffer(bytes(d.image.data), np.float32).reshape(d.image.height, d.image.width)
         disp16 = np.rint(disp * 16).astype(np.int16)
         np.testing.assert_array_equal(disp16.astype(np.float32) / 16, disp)  # 1/16 px steps, as delta_d says
         # Pixel for pixel the tool's output (its KITTI PNG) and the same call through cv2.
-        np.testing.assert_array_equal(cv2.lidarsgm.encodeKittiDisparity(disp), self.tool_disparity(fid))
+        if sparse is None:
+            np.testing.assert_array_equal(cv2.lidarsgm.encodeKittiDisparity(disp), self.tool_disparity(fid))
+            sparse = frame.sparse
         sgm = cv2.lidarsgm.StereoLidarSGM.load(PARAMS)
-        np.testing.assert_array_equal(disp16, sgm.compute(frame.left, frame.right, frame.sparse))
+        np.testing.assert_array_equal(disp16, sgm.compute(frame.left, frame.right, sparse))
         e = cv2.lidarsgm.evaluateDisparity(disp16, frame.groundTruth)
         print("%s: coverage %.2f %%, total D1 %.2f %% (DisparityImage against the ground truth)"
               % (fid, e.coverage(), e.totalError()))
@@ -182,7 +202,7 @@ class NodeTest(unittest.TestCase):
         bgr = frame.leftImage.astype(np.uint32)
         np.testing.assert_array_equal(rec[..., 3].view(np.uint32), (bgr[..., 2] << 16) | (bgr[..., 1] << 8) | bgr[..., 0])
         conf = array_of(self.got["confidence"][stamp])
-        _, ref_conf = sgm.computeWithConfidence(frame.left, frame.right, frame.sparse)
+        _, ref_conf = sgm.computeWithConfidence(frame.left, frame.right, sparse)
         np.testing.assert_array_equal(conf, ref_conf)
 
     def call(self, srv_type, name, request, seconds=30):
@@ -192,6 +212,9 @@ class NodeTest(unittest.TestCase):
         wait_for(self.node, future.done, seconds, name)
         return future.result()
 
+
+
+class NodeTest(NodeRun):
     def test_frames_bad_frame_and_parameters(self):
         f0, stamp = self.publish_until_fused(FRAMES[0], 10**9)
         self.check_frame(stamp, FRAMES[0], f0)
@@ -258,10 +281,7 @@ class NodeTest(unittest.TestCase):
         # Every set is checked against its images (check_calibration_every 1): KITTI's calibration passes; with a
         # degree of pitch added at run time the next set draws the warning.
         self.assertNotIn("from where the images match", self.node_log())
-        a = np.radians(1.0)
-        pitch = np.eye(4)
-        pitch[1:3, 1:3] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
-        wrong = [float(v) for v in (pitch @ self.lidar_to_camera).ravel()]
+        wrong = [float(v) for v in pitched(1.0, self.lidar_to_camera).ravel()]
         req = SetParameters.Request(parameters=[Parameter("lidar_to_camera", value=wrong).to_parameter_msg()])
         self.assertTrue(self.call(SetParameters, "set_parameters", req).results[0].successful)
         self.publish_until_fused(FRAMES[1], 5 * 10**9)
@@ -283,6 +303,90 @@ class NodeTest(unittest.TestCase):
         self.assertIsNotNone(m, self.node_log())
         self.assertLess(abs(float(m.group(1)) + 1.0), 0.2)   # the degree of pitch undone
         self.assertLessEqual(float(m.group(2)), 1.0)
+
+
+def transform_stamped(parent, child, m, stamp):
+    t = TransformStamped()
+    t.header.frame_id, t.child_frame_id = parent, child
+    t.header.stamp.sec, t.header.stamp.nanosec = stamp // 10**9, stamp % 10**9
+    t.transform.translation.x, t.transform.translation.y, t.transform.translation.z = (float(v) for v in m[:3, 3])
+    q = rotation_quaternion(m[:3, :3])
+    t.transform.rotation.x, t.transform.rotation.y, t.transform.rotation.z, t.transform.rotation.w = q
+    return t
+
+
+class NodeTfTest(NodeRun):
+    """The transform from tf, as a robot publishes it from its URDF: base_link -> camera_left_optical on /tf_static
+    (the camera fixed to the body), base_link -> velodyne on /tf (a LiDAR whose mount may move)."""
+    USE_TF = True
+
+    def publish_tf(self, base_to_lidar, stamp):
+        self.tf_pub.publish(TFMessage(transforms=[transform_stamped("base_link", kitti.LIDAR_FRAME, base_to_lidar,
+                                                                    stamp)]))
+
+    def fuse_with_tf(self, fid, stamp, base_to_lidar):
+        """As publish_until_fused, the /tf sample of each stamp sent before its set."""
+        for attempt in range(40):
+            self.publish_tf(base_to_lidar, stamp)
+            rclpy.spin_once(self.node, timeout_sec=0.05)
+            frame = self.publish(fid, stamp)
+            try:
+                wait_for(self.node, lambda: all(stamp in v for v in self.got.values()), 3, "outputs")
+                return frame, stamp
+            except AssertionError:
+                stamp += 10**7
+        self.expect_outputs(stamp, 0)
+
+    def test_transform_from_tf(self):
+        # Without tf: a warning and no output.
+        stamp = 10**9
+        for attempt in range(40):
+            self.publish(FRAMES[0], stamp + attempt * 10**7)
+            try:
+                wait_for(self.node, lambda: "no transform from the cloud's frame 'velodyne' to the left camera's "
+                         "'camera_left_optical'" in self.node_log(), 3, "")
+                break
+            except AssertionError:
+                pass
+        self.wait(lambda: "nothing is published until tf has one" in self.node_log(), 10, "the missing-tf warning")
+        self.assertEqual({k: len(v) for k, v in self.got.items()}, {k: 0 for k in self.got})
+
+        # The body frame: 1.2 m behind and 0.3 m left of the camera, x forward, z up (REP 103), the camera's optical
+        # frame x right, y down, z forward (REP 105); the LiDAR from the KITTI calibration through it. tf carries
+        # rotations as unit quaternions, so KITTI's calibration (orthonormal to about 1e-6 only) arrives as the
+        # nearest rotation: the reference is the parameter's result for that rigid transform.
+        base_to_camera = np.array([[0, 0, 1, -1.2], [-1, 0, 0, 0.3], [0, -1, 0, 1.65], [0, 0, 0, 1]], np.float64)
+        t = self.lidar_to_camera
+        rigid = transform_matrix(t[:3, 3], rotation_quaternion(t[:3, :3]))
+        base_to_lidar = base_to_camera @ rigid
+        static_qos = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                                reliability=ReliabilityPolicy.RELIABLE)
+        static = self.node.create_publisher(TFMessage, "/tf_static", static_qos)
+        static.publish(TFMessage(transforms=[transform_stamped("base_link", kitti.LEFT_FRAME, base_to_camera, 0)]))
+        self.tf_pub = self.node.create_publisher(TFMessage, "/tf", QoSProfile(depth=100))
+        self.wait(lambda: self.tf_pub.get_subscription_count() > 0, 30, "the node's /tf subscription")
+        # The generated tf2_msgs (ros2/tf2_msgs) has the official type hash, as rosbags computes it.
+        from rosbags.typesys import Stores, get_typestore
+        info = [i for i in self.node.get_subscriptions_info_by_topic("/tf") if i.node_name == "lidarsgm"]
+        self.assertEqual(str(info[0].topic_type_hash),
+                         get_typestore(Stores.ROS2_KILTED).hash_rihs01("tf2_msgs/msg/TFMessage"))
+
+        # Pixel for pixel what the parameter gives with that transform (cv2's call on the same projection).
+        for k, fid in enumerate(FRAMES):
+            f, stamp = self.fuse_with_tf(fid, (2 + k) * 10**9, base_to_lidar)
+            points = cv2.lidarsgm.readVelodyneScan(os.path.join(KITTI, "velodyne", fid + ".bin"))[:, :3].copy()
+            left_p = kitti.ros_calibration(f.calibration)[1]
+            sparse = cv2.lidarsgm.projectPointsToDisparity(points, left_p, rigid, f.calibration.focalBaseline,
+                                                           (f.left.shape[1], f.left.shape[0]))
+            self.assertGreater(cv2.countNonZero(sparse), 10000)
+            self.check_frame(stamp, fid, f, sparse)
+        self.assertNotIn("from where the images match", self.node_log())
+
+        # The LiDAR's mount pitched by a degree on /tf at run time: the next set is checked under it (the matching
+        # residual warning and the fail-safe's stereo alone).
+        self.fuse_with_tf(FRAMES[1], 4 * 10**9, base_to_camera @ pitched(1.0, rigid))
+        self.wait(lambda: "from where the images match" in self.node_log(), 10, "the calibration warning")
+        self.wait(lambda: "fused as stereo alone; check lidar_to_camera" in self.node_log(), 10, "the fail-safe")
 
 
 if __name__ == "__main__":

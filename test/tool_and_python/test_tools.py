@@ -483,5 +483,51 @@ class PythonSampleTest(unittest.TestCase):
         self.assertEqual(rc, 2)
 
 
+def heading_anchors(path):
+    """The anchors GitHub gives a Markdown file's headings: lower case, punctuation but '-' and '_' dropped, spaces
+    to '-', repeats numbered."""
+    anchors, seen, fence = set(), {}, False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if line.startswith("```"):
+                fence = not fence
+            m = None if fence else re.match(r"#{1,6} +(.*?) *#* *$", line)
+            if m:
+                a = re.sub(r"[^\w\- ]", "", m.group(1).strip().lower()).replace(" ", "-")
+                n = seen.get(a, 0)
+                seen[a] = n + 1
+                anchors.add(a if n == 0 else "%s-%d" % (a, n))
+    return anchors
+
+
+class DocLinks(unittest.TestCase):
+    def test_every_link_resolves(self):
+        """Every relative link of README.md and doc/*.md names a file of the repository, and its #anchor a heading
+        there (web links are not followed: no network)."""
+        docs = [os.path.join(ROOT, "README.md")] + sorted(
+            os.path.join(ROOT, "doc", n) for n in os.listdir(os.path.join(ROOT, "doc")) if n.endswith(".md"))
+        checked, broken = 0, []
+        for doc in docs:
+            with open(doc, encoding="utf-8") as f:
+                text = re.sub(r"```.*?```", "", f.read(), flags=re.S)
+            for target in re.findall(r"\]\(([^)\s]+)\)", text):
+                if re.match(r"[a-z]+:", target):
+                    continue
+                path, _, anchor = target.partition("#")
+                full = os.path.normpath(os.path.join(os.path.dirname(doc), path)) if path else doc
+                checked += 1
+                if not os.path.exists(full):
+                    broken.append("%s: %s (no such file)" % (os.path.relpath(doc, ROOT), target))
+                elif anchor and full.endswith(".md") and anchor not in heading_anchors(full):
+                    broken.append("%s: %s (no such heading)" % (os.path.relpath(doc, ROOT), target))
+        print("%d relative links checked in %d files" % (checked, len(docs)))
+        self.assertGreater(checked, 50)
+        self.assertEqual(broken, [])
+
+    def test_readme_is_short(self):
+        with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as f:
+            self.assertLessEqual(len(f.read().splitlines()), 160, "README.md: keep the detail in doc/")
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -1,38 +1,44 @@
 """Launches lidarsgm_node as stereo_image_proc's disparity launch does: the node in a namespace, its topics
-remappable, the parameters from config/lidarsgm.yaml and the arguments.
+remappable, the parameters from config/lidarsgm.yaml and the arguments. The LiDAR-to-camera transform comes from tf
+(the robot's /tf_static, from its URDF), unless lidar_to_camera gives it.
 
   ros2 launch lidarsgm_ros lidarsgm.launch.py namespace:=stereo params_file:=/path/kitti_best.yml \
-      lidar_to_camera:="[...16 numbers...]" points:=/velodyne_points
+      points:=/velodyne_points
+  ros2 launch lidarsgm_ros lidarsgm.launch.py ... lidar_to_camera:="[...16 numbers...]"   # tf overridden
 """
 import os
-from typing import List
 
 from ament_index_python.packages import get_package_share_directory
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument
+from launch.actions import DeclareLaunchArgument, OpaqueFunction
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 from launch_ros.parameter_descriptions import ParameterValue
 
 
-def generate_launch_description():
+def _node(context):
     config = os.path.join(get_package_share_directory("lidarsgm_ros"), "config", "lidarsgm.yaml")
-    args = [
+    params = {
+        "params_file": LaunchConfiguration("params_file"),
+        "use_cuda": ParameterValue(LaunchConfiguration("use_cuda"), value_type=bool),
+        "approximate_sync": ParameterValue(LaunchConfiguration("approximate_sync"), value_type=bool),
+    }
+    given = LaunchConfiguration("lidar_to_camera").perform(context).strip()
+    if given:
+        params["lidar_to_camera"] = [float(v) for v in given.strip("[]").replace(",", " ").split()]
+    return [Node(package="lidarsgm_ros", executable="lidarsgm_node", name="lidarsgm",
+                 namespace=LaunchConfiguration("namespace"), output="screen", parameters=[config, params],
+                 remappings=[("points", LaunchConfiguration("points"))])]
+
+
+def generate_launch_description():
+    return LaunchDescription([
         DeclareLaunchArgument("namespace", default_value="", description="namespace of the inputs and outputs"),
         DeclareLaunchArgument("params_file", default_value="", description="matcher parameters (kitti_best.yml)"),
-        DeclareLaunchArgument("lidar_to_camera", description="4x4 LiDAR -> left optical frame, row by row"),
+        DeclareLaunchArgument("lidar_to_camera", default_value="",
+                              description="4x4 LiDAR -> left optical frame, row by row; empty: from tf"),
         DeclareLaunchArgument("use_cuda", default_value="false"),
         DeclareLaunchArgument("approximate_sync", default_value="false"),
         DeclareLaunchArgument("points", default_value="points", description="the LiDAR's PointCloud2 topic"),
-    ]
-    node = Node(
-        package="lidarsgm_ros", executable="lidarsgm_node", name="lidarsgm",
-        namespace=LaunchConfiguration("namespace"), output="screen",
-        parameters=[config, {
-            "params_file": LaunchConfiguration("params_file"),
-            "lidar_to_camera": ParameterValue(LaunchConfiguration("lidar_to_camera"), value_type=List[float]),
-            "use_cuda": ParameterValue(LaunchConfiguration("use_cuda"), value_type=bool),
-            "approximate_sync": ParameterValue(LaunchConfiguration("approximate_sync"), value_type=bool),
-        }],
-        remappings=[("points", LaunchConfiguration("points"))])
-    return LaunchDescription(args + [node])
+        OpaqueFunction(function=_node),
+    ])

@@ -11,7 +11,7 @@ import numpy as np
 
 __all__ = ["ConversionError", "StereoGeometry", "stereo_geometry", "rectification_maps", "is_raw", "image_to_array",
            "to_grey", "to_bgr", "cloud_fields", "cloud_to_points", "transform_matrix", "rotation_quaternion",
-           "chain_transform", "disparity_image", "valid_window", "depth_image", "point_cloud_array", "POINT_FIELDS", "INVALID_DEPTH_MM"]
+           "chain_transform", "TransformBuffer", "disparity_image", "valid_window", "depth_image", "point_cloud_array", "POINT_FIELDS", "INVALID_DEPTH_MM"]
 
 
 class ConversionError(ValueError):
@@ -326,6 +326,93 @@ def chain_transform(edges, source, target):
             break
         down = m @ down
     return np.linalg.inv(down) @ up
+
+
+def _slerp(q0, q1, t):
+    """The unit quaternion a fraction t of the way from q0 to q1 (the shorter arc)."""
+    q0, q1 = np.asarray(q0, np.float64), np.asarray(q1, np.float64)
+    q0, q1 = q0 / np.linalg.norm(q0), q1 / np.linalg.norm(q1)
+    dot = float(q0 @ q1)
+    if dot < 0:
+        q1, dot = -q1, -dot
+    if dot > 0.9995:  # nearly equal: the linear blend, normalised, is as exact
+        q = q0 + t * (q1 - q0)
+        return q / np.linalg.norm(q)
+    a = math.acos(dot)
+    return (math.sin((1 - t) * a) * q0 + math.sin(t * a) * q1) / math.sin(a)
+
+
+class TransformBuffer:
+    """The transforms of /tf_static and /tf (tf2_msgs/TFMessage contents), for chain_transform at a stamp.
+
+    A static transform holds until another one for the same child replaces it. A /tf transform is taken at the
+    stamp asked for: interpolated between the two samples around it (translation linearly, rotation along the
+    shorter arc), or the nearest sample where the stamp lies outside them by at most `tolerance_ns` (a transform
+    published a little after the cloud it applies to). Samples older than `history_ns` behind the newest are dropped.
+    """
+
+    def __init__(self, tolerance_ns=100000000, history_ns=10000000000):
+        self.tolerance_ns, self.history_ns = int(tolerance_ns), int(history_ns)
+        self.static = {}   # child -> (parent, 4x4)
+        self.dynamic = {}  # child -> (parent, [(stamp, translation, quaternion), ...] in stamp order)
+
+    def add(self, transforms, static):
+        """Takes the TransformStamped items of one TFMessage (from /tf_static when static)."""
+        for t in transforms:
+            parent, child = t.header.frame_id.lstrip("/"), t.child_frame_id.lstrip("/")
+            tr, rot = t.transform.translation, t.transform.rotation
+            trans, quat = (float(tr.x), float(tr.y), float(tr.z)), (float(rot.x), float(rot.y), float(rot.z),
+                                                                     float(rot.w))
+            m = transform_matrix(trans, quat)  # refuses a quaternion that is not a unit one
+            if static:
+                self.static[child] = (parent, m)
+                continue
+            stamp = int(t.header.stamp.sec) * 1000000000 + int(t.header.stamp.nanosec)
+            old_parent, samples = self.dynamic.get(child, (parent, []))
+            if old_parent != parent:
+                samples = []  # re-parented: the old history describes another edge
+            samples = [s for s in samples if s[0] != stamp] + [(stamp, trans, quat)]
+            samples.sort(key=lambda s: s[0])
+            self.dynamic[child] = (parent, [s for s in samples if s[0] >= samples[-1][0] - self.history_ns])
+
+    def edges(self, stamp_ns):
+        """(parent, child, 4x4 child -> parent) of every edge known at stamp_ns, and a line on each /tf edge that
+        is not (for the error message)."""
+        out, missing = [], []
+        for child, (parent, m) in self.static.items():
+            out.append((parent, child, m))
+        for child, (parent, samples) in self.dynamic.items():
+            if child in self.static:
+                continue
+            stamps = [s[0] for s in samples]
+            k = int(np.searchsorted(stamps, stamp_ns))
+            if k < len(samples) and stamps[k] == stamp_ns:
+                s = samples[k]
+                out.append((parent, child, transform_matrix(s[1], s[2])))
+            elif 0 < k < len(samples):
+                (t0, a0, q0), (t1, a1, q1) = samples[k - 1], samples[k]
+                f = (stamp_ns - t0) / (t1 - t0)
+                trans = [a + f * (b - a) for a, b in zip(a0, a1)]
+                out.append((parent, child, transform_matrix(trans, _slerp(q0, q1, f))))
+            else:
+                near = samples[0] if k == 0 else samples[-1]
+                if abs(near[0] - stamp_ns) <= self.tolerance_ns:
+                    out.append((parent, child, transform_matrix(near[1], near[2])))
+                else:
+                    missing.append("/tf has %s -> %s from %.3f to %.3f s, not at %.3f s" % (
+                        parent, child, stamps[0] * 1e-9, stamps[-1] * 1e-9, stamp_ns * 1e-9))
+        return out, missing
+
+    def lookup(self, source, target, stamp_ns):
+        """The 4x4 taking points in `source` to `target` at stamp_ns; raises ConversionError (why) where no chain of
+        known transforms links them."""
+        edges, missing = self.edges(stamp_ns)
+        if not edges and not missing:
+            raise ConversionError("nothing received on /tf_static or /tf yet")
+        try:
+            return chain_transform(edges, source, target)
+        except ConversionError as e:
+            raise ConversionError("%s%s" % (e, "; " + "; ".join(missing) if missing else ""))
 
 
 # ---------------------------------------------------------------------------------------------------------------

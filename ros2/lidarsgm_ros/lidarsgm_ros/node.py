@@ -6,9 +6,13 @@ DisparityImage), depth (REP 118) and points2 (an organised x y z rgb PointCloud2
 with publish_confidence the confidence (32FC1 in [0, 1]). Every check_calibration_every-th set it measures how far
 the LiDAR lies from where the images match (cv2.lidarsgm.matchingResidual) and warns above 1 px: a calibration off.
 
-lidar_to_camera (or tf) ends in the left camera's optical frame; the left camera_info's R turns it into the rectified
-frame. Raw images (left/image_rect remapped to an image_raw topic) are refused where their camera_info has distortion
-or a rectification rotation, unless rectify rectifies them here.
+The LiDAR-to-camera transform comes from tf: /tf_static and /tf, from the cloud's frame_id to the left camera_info's
+frame_id (its optical frame), chained through the tree as the robot's URDF publishes it. A /tf edge is taken at the
+cloud's stamp, interpolated between the samples around it, or the nearest sample within tf_tolerance_seconds where
+none lies after (or before) it. While no chain links the two frames the node warns (every 5 s) and publishes
+nothing. The lidar_to_camera parameter (16 numbers) overrides tf. The left camera_info's R then turns the transform
+into the rectified frame. Raw images (left/image_rect remapped to an image_raw topic) are refused where their
+camera_info has distortion or a rectification rotation, unless rectify rectifies them here.
 
 The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar, every set) is fused as
 stereo alone, with a warning (trust_lidar fuses it anyway). Those sets are pooled, and in the background the node
@@ -16,8 +20,9 @@ refines the rotation from the last recalibration_sets of them (cv2.lidarsgm.Lida
 that are not motion-compensated); it switches to the corrected transform once that brings the residual under 1 px
 and every pooled set's LiDAR is trusted under it, and logs the correction, its uncertainty and the new transform.
 
-  python3 -m lidarsgm_ros.node --ros-args -p lidar_to_camera:="[...16 numbers...]" \
-      -p params_file:=doc/params/kitti_best.yml -r left/image_rect:=/stereo/left/image_rect ...
+  python3 -m lidarsgm_ros.node --ros-args -p params_file:=doc/params/kitti_best.yml \
+      -r left/image_rect:=/stereo/left/image_rect ...        # the transform from tf
+  python3 -m lidarsgm_ros.node --ros-args -p lidar_to_camera:="[...16 numbers...]" ...  # or given
 
 Every parameter but params_file can be changed while the node runs; a value the module refuses is refused with
 its message and the old value stays. A set of messages that cannot be fused is logged with the reason and skipped.
@@ -27,14 +32,16 @@ import threading
 import time
 
 import cv2
+import numpy as np
 import rclpy
 import rclpy.exceptions
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import QoSProfile, qos_profile_sensor_data
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from tf2_msgs.msg import TFMessage
 
-from .conversions import ConversionError
+from .conversions import ConversionError, TransformBuffer
 from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class, stamp_ns
 from .recalibration import Recalibration
@@ -44,6 +51,8 @@ from .sync import ApproximateSync, ExactSync
 class StereoLidarNode(Node):
     def __init__(self, **kwargs):
         super().__init__("lidarsgm", **kwargs)
+        # The transform: the parameter's where given, else tf's; the recalibration's correction on top of either.
+        self.param_transform, self.correction = None, np.eye(4)
         try:
             self._declare()
         except (cv2.error, rclpy.exceptions.ParameterException) as e:
@@ -65,6 +74,13 @@ class StereoLidarNode(Node):
         # Images remapped to image_raw topics (fixed once subscribed): refused or rectified (Fusion.fuse).
         self.raw_images = any(self.subs[i].topic_name.endswith("image_raw") for i in (0, 2))
         self.pubs = {topic: self.create_publisher(rclpy_class(t), topic, 1) for topic, t in OUTPUT_TYPES.items()}
+        # tf as tf2_ros's listener subscribes: /tf_static latched (transient local), /tf reliable, 100 deep.
+        self.tf = TransformBuffer(int(self.get_parameter("tf_tolerance_seconds").value * 1e9))
+        self.tf_subs = [
+            self.create_subscription(TFMessage, "/tf_static", lambda m: self._on_tf(m, True), QoSProfile(
+                depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)),
+            self.create_subscription(TFMessage, "/tf", lambda m: self._on_tf(m, False), QoSProfile(depth=100))]
+        self.no_transform = 0  # sets not fused for want of a transform
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
         self.residuals = []  # the matching residuals measured (px)
@@ -93,7 +109,9 @@ class StereoLidarNode(Node):
             ("mode", self.fusion.value("mode"), "sgm, dsgm or sdsgm"),
             ("use_cuda", False, "fuse on the GPU (a CUDA build of cv2)"),
             ("lidar_to_camera", Parameter.Type.DOUBLE_ARRAY,
-             "4x4 (or 3x4) transform from the points' frame to the left optical frame, row by row"),
+             "4x4 (or 3x4) transform from the points' frame to the left optical frame, row by row; unset: from tf"),
+            ("tf_tolerance_seconds", 0.1, "how far from the cloud's stamp the nearest /tf sample may lie where none "
+             "lies on its other side (read when the node starts)"),
             ("depth_encoding", "32FC1", "32FC1 (metres, NaN invalid) or 16UC1 (millimetres, 0 invalid)"),
             ("publish_confidence", False, "publish each pixel's confidence (32FC1 in [0, 1]) on confidence"),
             ("check_calibration_every", 10, "every n-th fused set, measure the LiDAR against the images "
@@ -140,8 +158,10 @@ class StereoLidarNode(Node):
                     raise ValueError("recalibration_sets must be 0 (never) or at least 2, not %d" % p.value)
                 elif p.name == "scan_rate" and p.value != p.value:
                     raise ValueError("scan_rate must be a number of Hz")
+                elif p.name == "tf_tolerance_seconds" and not p.value >= 0:
+                    raise ValueError("tf_tolerance_seconds must be >= 0")
                 elif p.name in ("approximate_sync", "queue_size", "use_system_default_qos", "sync_warning_seconds",
-                                "approximate_sync_tolerance_seconds") and hasattr(self, "sync"):
+                                "approximate_sync_tolerance_seconds", "tf_tolerance_seconds") and hasattr(self, "sync"):
                     raise ValueError("%s is read when the node starts" % p.name)
             except ValueError as e:
                 problems.append("%s: %s" % (p.name, e))
@@ -149,6 +169,8 @@ class StereoLidarNode(Node):
             f.sgm, f.use_cuda, f.lidar_to_camera, f.trust_lidar, f.rectify = saved
         elif any(p.name in ("recalibration_sets", "scan_rate", "lidar_to_camera") for p in params):
             self.recal = None  # a new pool, with the new settings or for the new transform
+            if any(p.name == "lidar_to_camera" and p.type_ != Parameter.Type.NOT_SET for p in params):
+                self.param_transform, self.correction = f.lidar_to_camera, np.eye(4)
         return problems
 
     def _set_parameters(self):
@@ -175,6 +197,8 @@ class StereoLidarNode(Node):
         text = ("%d sets fused (%.1f ms each, conversions and publishing included), %d skipped, %d %s dropped by the "
                 "synchroniser" % (self.fused, 1000 * self.busy / max(self.fused, 1), self.skipped, self.sync.dropped,
                                   self.sync.unit))
+        if self.no_transform:
+            text += "; %d sets not fused for want of a LiDAR-to-camera transform" % self.no_transform
         if self.alone:
             text += "; %d sets fused as stereo alone (their LiDAR misplaced on the images)" % self.alone
         if self.residuals:
@@ -197,7 +221,23 @@ class StereoLidarNode(Node):
                 "off the images; check lidar_to_camera (lidarsgm_fuse --refine-calibration, or "
                 "cv2.lidarsgm.LidarCalibration)" % (r, MAX_MATCHING_RESIDUAL), throttle_duration_sec=10.0)
 
-    def _fail_safe(self, result):
+    def _on_tf(self, msg, static):
+        try:
+            self.tf.add(msg.transforms, static)
+        except ConversionError as e:
+            self.get_logger().warning("a transform on %s refused: %s" % ("/tf_static" if static else "/tf", e),
+                                      throttle_duration_sec=5.0)
+
+    def _transform(self, left_info, cloud):
+        """The transform before the correction: the parameter's, or tf's at the cloud's stamp (ConversionError)."""
+        if self.param_transform is not None:
+            return self.param_transform
+        target = left_info.header.frame_id
+        if not target:
+            raise ConversionError("the left camera_info has no frame_id to look the transform up for")
+        return self.tf.lookup(cloud.header.frame_id, target, stamp_ns(cloud))
+
+    def _fail_safe(self, result, base):
         verdict = self.fusion.verdict(result)
         if verdict:
             self.get_logger().warning(verdict + "; check lidar_to_camera", throttle_duration_sec=5.0)
@@ -207,8 +247,10 @@ class StereoLidarNode(Node):
         sets = self.get_parameter("recalibration_sets").value
         if sets <= 0 or (self.refining is not None and self.refining.is_alive()):
             return
+        if self.recal is not None and not np.array_equal(self.recal_base, base):
+            self.recal = None  # the pool holds sets of another transform (tf changed it)
         if self.recal is None:
-            self.recal = Recalibration(cv2, self.get_parameter("scan_rate").value, sets)
+            self.recal, self.recal_base = Recalibration(cv2, self.get_parameter("scan_rate").value, sets), base
         self.recal.add(result)
         if not self.recal.due():
             return
@@ -216,11 +258,13 @@ class StereoLidarNode(Node):
 
         def refine():
             corrected, text = recal.refine(start, self.fusion.sgm.getNumDisparities())
-            # Taken only if the transform is still the one refined (not changed by a parameter meanwhile).
-            if corrected is not None and recal is self.recal and self.fusion.lidar_to_camera is start:
-                self.fusion.lidar_to_camera = corrected
-                self.get_logger().warning("%s; switched to the corrected transform (set lidar_to_camera to keep it): "
-                                          "[%s]" % (text, ", ".join("%.9g" % v for v in corrected.ravel())))
+            # Taken only if the pool is still the current one (no new transform meanwhile).
+            if corrected is not None and recal is self.recal:
+                self.correction = corrected @ np.linalg.inv(base)
+                self.get_logger().warning("%s; switched to the corrected transform (%s): [%s]" % (
+                    text, "set lidar_to_camera to keep it" if self.param_transform is not None else
+                    "kept on top of tf's; set lidar_to_camera to it to keep it",
+                    ", ".join("%.9g" % v for v in corrected.ravel())))
             else:
                 self.get_logger().info(text)
         self.refining = threading.Thread(target=refine, name="lidarsgm_recalibration", daemon=True)
@@ -248,8 +292,19 @@ class StereoLidarNode(Node):
         return on_message
 
     def _fuse(self, stamp, msgs):
-        left = msgs[0]
+        left, left_info, cloud = msgs[0], msgs[1], msgs[4]
         t0 = time.perf_counter()
+        try:
+            base = self._transform(left_info, cloud)
+        except ConversionError as e:
+            self.no_transform += 1
+            self.get_logger().warning(
+                "no transform from the cloud's frame '%s' to the left camera's '%s' (%s): nothing is published until "
+                "tf has one (/tf_static, /tf), or set lidar_to_camera" % (cloud.header.frame_id,
+                                                                         left_info.header.frame_id, e),
+                throttle_duration_sec=5.0)
+            return
+        self.fusion.lidar_to_camera = self.correction @ base
         try:
             result = self.fusion.fuse(*msgs, confidence=self.get_parameter("publish_confidence").value,
                                       raw=self.raw_images)
@@ -264,7 +319,7 @@ class StereoLidarNode(Node):
             self.pubs[topic].publish(msg)
         self.fused += 1
         self._check_calibration(result)
-        self._fail_safe(result)
+        self._fail_safe(result, base)
         self.busy += time.perf_counter() - t0
         if self.sync.dropped > self.reported_drops:
             self.get_logger().warning("%d incomplete message sets dropped so far (a topic missing or late: check the "
