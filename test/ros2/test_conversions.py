@@ -239,10 +239,15 @@ class Transforms(unittest.TestCase):
         with self.assertRaisesRegex(ConversionError, r"no transform links frame 'velodyne' to 'camera_optical'.*"
                                     r"/tf has base_link -> velodyne from 10.000 to 11.000 s, not at 11.200 s"):
             buf.lookup("velodyne", "camera_optical", t1 + 2 * 10**8)
-        # A static transform of the child replaces its /tf history; a new static one replaces the old.
+        # The latest message decides: a static transform of the child replaces its /tf history, a /tf one its static.
         buf.add([stamped("base_link", "velodyne", lidar(0.5), 0)], static=True)
         np.testing.assert_allclose(buf.lookup("velodyne", "camera_optical", 5 * 10**9),
                                    np.linalg.inv(cam) @ lidar(0.5), atol=1e-12)
+        buf.add([stamped("base_link", "velodyne", lidar(0.75), t1)], static=False)
+        np.testing.assert_allclose(buf.lookup("velodyne", "camera_optical", t1),
+                                   np.linalg.inv(cam) @ lidar(0.75), atol=1e-12)
+        with self.assertRaisesRegex(ConversionError, "not at 5.000 s"):
+            buf.lookup("velodyne", "camera_optical", 5 * 10**9)
         with self.assertRaisesRegex(ConversionError, "not a unit quaternion"):
             bad = stamped("base_link", "x", np.eye(4), 0)
             bad.transform.rotation.w = 2.0

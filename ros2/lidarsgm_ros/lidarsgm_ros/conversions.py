@@ -345,8 +345,8 @@ def _slerp(q0, q1, t):
 class TransformBuffer:
     """The transforms of /tf_static and /tf (tf2_msgs/TFMessage contents), for chain_transform at a stamp.
 
-    A static transform holds until another one for the same child replaces it. A /tf transform is taken at the
-    stamp asked for: interpolated between the two samples around it (translation linearly, rotation along the
+    A static transform holds until another one for the same child replaces it; a /tf transform of a child replaces
+    its static one (the latest message decides, as in tf2). A /tf transform is taken at the stamp asked for: interpolated between the two samples around it (translation linearly, rotation along the
     shorter arc), or the nearest sample where the stamp lies outside them by at most `tolerance_ns` (a transform
     published a little after the cloud it applies to). Samples older than `history_ns` behind the newest are dropped.
     """
@@ -366,7 +366,9 @@ class TransformBuffer:
             m = transform_matrix(trans, quat)  # refuses a quaternion that is not a unit one
             if static:
                 self.static[child] = (parent, m)
+                self.dynamic.pop(child, None)
                 continue
+            self.static.pop(child, None)
             stamp = int(t.header.stamp.sec) * 1000000000 + int(t.header.stamp.nanosec)
             old_parent, samples = self.dynamic.get(child, (parent, []))
             if old_parent != parent:
@@ -382,8 +384,6 @@ class TransformBuffer:
         for child, (parent, m) in self.static.items():
             out.append((parent, child, m))
         for child, (parent, samples) in self.dynamic.items():
-            if child in self.static:
-                continue
             stamps = [s[0] for s in samples]
             k = int(np.searchsorted(stamps, stamp_ns))
             if k < len(samples) and stamps[k] == stamp_ns:
