@@ -33,7 +33,7 @@ import cv2
 
 import numpy as np
 
-from .conversions import ConversionError, chain_transform, transform_matrix
+from .conversions import ConversionError, TransformBuffer, chain_transform
 from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, stamp_ns
 from .recalibration import Recalibration
@@ -89,15 +89,12 @@ def parse_args(argv):
 
 
 def static_transforms(reader):
-    """(parent, child, 4x4 child -> parent) of every /tf_static transform in the bag."""
-    edges = []
+    """(parent, child, 4x4 child -> parent) of the bag's /tf_static transforms (a child's last one)."""
+    buf = TransformBuffer()
     conns = [c for c in reader.connections if c.topic == "/tf_static"]
     for conn, _, raw in reader.messages(connections=conns):
-        for t in reader.deserialize(raw, conn.msgtype).transforms:
-            tr, rot = t.transform.translation, t.transform.rotation
-            edges.append((t.header.frame_id, t.child_frame_id,
-                          transform_matrix((tr.x, tr.y, tr.z), (rot.x, rot.y, rot.z, rot.w))))
-    return edges
+        buf.add(reader.deserialize(raw, conn.msgtype).transforms, static=True)
+    return buf.edges(0)[0]
 
 
 class Segments:

@@ -11,7 +11,7 @@ import numpy as np
 
 __all__ = ["ConversionError", "StereoGeometry", "stereo_geometry", "rectification_maps", "is_raw", "image_to_array",
            "to_grey", "to_bgr", "cloud_fields", "cloud_to_points", "transform_matrix", "rotation_quaternion",
-           "chain_transform", "TransformBuffer", "disparity_image", "valid_window", "depth_image", "point_cloud_array", "POINT_FIELDS", "INVALID_DEPTH_MM"]
+           "chain_transform", "stamp_ns", "TransformBuffer", "disparity_image", "valid_window", "depth_image", "point_cloud_array", "POINT_FIELDS", "INVALID_DEPTH_MM"]
 
 
 class ConversionError(ValueError):
@@ -328,6 +328,11 @@ def chain_transform(edges, source, target):
     return np.linalg.inv(down) @ up
 
 
+def stamp_ns(msg):
+    """A message's header stamp in nanoseconds."""
+    return int(msg.header.stamp.sec) * 1000000000 + int(msg.header.stamp.nanosec)
+
+
 def _slerp(q0, q1, t):
     """The unit quaternion a fraction t of the way from q0 to q1 (the shorter arc)."""
     q0, q1 = np.asarray(q0, np.float64), np.asarray(q1, np.float64)
@@ -346,8 +351,8 @@ class TransformBuffer:
     """The transforms of /tf_static and /tf (tf2_msgs/TFMessage contents), for chain_transform at a stamp.
 
     A static transform holds until another one for the same child replaces it; a /tf transform of a child replaces
-    its static one (the latest message decides, as in tf2). A /tf transform is taken at the stamp asked for: interpolated between the two samples around it (translation linearly, rotation along the
-    shorter arc), or the nearest sample where the stamp lies outside them by at most `tolerance_ns` (a transform
+    its static one (the latest message decides, as in tf2). A /tf transform is taken at the stamp asked for:
+    interpolated between the two samples around it (translation linearly, rotation along the shorter arc), or the nearest sample where the stamp lies outside them by at most `tolerance_ns` (a transform
     published a little after the cloud it applies to). Samples older than `history_ns` behind the newest are dropped.
     """
 
@@ -369,7 +374,7 @@ class TransformBuffer:
                 self.dynamic.pop(child, None)
                 continue
             self.static.pop(child, None)
-            stamp = int(t.header.stamp.sec) * 1000000000 + int(t.header.stamp.nanosec)
+            stamp = stamp_ns(t)
             old_parent, samples = self.dynamic.get(child, (parent, []))
             if old_parent != parent:
                 samples = []  # re-parented: the old history describes another edge

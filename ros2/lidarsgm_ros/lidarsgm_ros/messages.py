@@ -9,7 +9,7 @@ import importlib
 
 import numpy as np
 
-from .conversions import POINT_FIELDS
+from .conversions import POINT_FIELDS, stamp_ns  # noqa: F401 (stamp_ns: imported from here by the node, the bag)
 
 FLOAT32 = 7  # sensor_msgs/PointField.FLOAT32
 
@@ -25,11 +25,6 @@ def rclpy_class(type_name):
     """rclpy's generated class of a type name such as sensor_msgs/msg/Image."""
     pkg, _, typ = type_name.split("/")
     return getattr(importlib.import_module(pkg + ".msg"), typ)
-
-
-def stamp_ns(msg):
-    """A message's header stamp in nanoseconds."""
-    return int(msg.header.stamp.sec) * 1000000000 + int(msg.header.stamp.nanosec)
 
 
 def output_messages(kit, fusion, result, header_frame, stamp, depth_encoding):
