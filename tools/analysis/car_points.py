@@ -9,7 +9,8 @@ Over the 20 shared KITTI frames, SDSGM's total D1 (the devkit's background fill)
   2. oracles that read the ground truth: the projected points that are D1 outliers on cars removed (all of them, the
      ones the module's visibility filter keeps, the ones it drops), the car pixels the matcher leaves empty filled
      with the truth, and both;
-  3. where the car errors lie: by distance to the car's outline in obj_map;
+  3. where the car errors lie: by distance to the car's outline in obj_map, and there the D1 of the estimates
+     themselves (no fill) of SDSGM and of plain SGM with the left-right check (the images alone);
   4. two rules that see only the scan and the images, each dropping points before the module runs:
      enclosure (a nearer point, by more than 3 px, within 20 px to the left, right, above and below) and census
      contrast (a nearer surface, by the D1 bound, among the visible points within 10 px, whose disparity the 7 x 7
@@ -83,6 +84,10 @@ def main():
     pts = np.zeros(3, np.int64)                               # wrong car points: all, visible, on the outline
     bands = [(0, 2), (2, 4), (4, 8), (8, 16), (16, 10**6)]
     by_band = np.zeros((len(bands), 2), np.int64)
+    stereo = cv.lidarsgm.StereoLidarSGM.load(BEST)
+    stereo.setMode(cv.lidarsgm.StereoLidarSGM_MODE_SGM)
+    stereo.setConsistencyCheck(cv.lidarsgm.StereoLidarSGM_CHECK_STEREO)
+    est_band = np.zeros((2, len(bands), 3), np.int64)   # SDSGM / SGM: estimates, wrong, wrong and farther
     for l, r, sp, g16, obj in lp.frames():
         gt, car = g16 / 256.0, obj > 0
         has = g16 > 0
@@ -110,6 +115,12 @@ def main():
         for i, (lo, hi) in enumerate(bands):
             sel = car & has & (outline >= lo) & (outline < hi)
             by_band[i] += [(bad & sel).sum(), sel.sum()]
+        for k, e16 in enumerate((d16, stereo.compute(l, r, sp))):
+            est, e = e16 >= 0, e16 / 16.0
+            for i, (lo, hi) in enumerate(bands):
+                sel = car & has & est & (outline >= lo) & (outline < hi)
+                w = sel & lp.d1(e, gt)
+                est_band[k, i] += [sel.sum(), w.sum(), (w & (e < gt)).sum()]
     print("20 shared KITTI frames, kitti_best.yml SDSGM, 64 lines; total D1 on cars (obj_map > 0) and elsewhere")
     print("projected points that are D1 outliers on cars: %d, %d of them kept by the visibility filter, %d of those "
           "within 4 px of the car's outline" % tuple(pts))
@@ -122,10 +133,13 @@ def main():
           "elsewhere, right |")
     for k, v in dropped.items():
         print("| %s | %d | %d | %d | %d |" % ((k,) + tuple(v)))
-    print("car errors by distance to the outline: | px | car GT pixels | D1 | share of the car errors |")
-    for (lo, hi), (b, n) in zip(bands, by_band):
-        print("| %s | %d | %.2f %% | %.0f %% |" % ("%d-%d" % (lo, hi) if hi < 10**6 else ">= %d" % lo, n,
-                                                 100.0 * b / n, 100.0 * b / by_band[:, 0].sum()))
+    print("car errors by distance to the outline: | px | car GT pixels | D1 | share of the car errors | estimates "
+          "only, D1 (of the wrong, farther): SDSGM | plain SGM, left-right checked |")
+    for i, ((lo, hi), (b, n)) in enumerate(zip(bands, by_band)):
+        print("| %s | %d | %.2f %% | %.0f %% | %.2f %% (%.0f %%) | %.2f %% (%.0f %%) |" % (
+            "%d-%d" % (lo, hi) if hi < 10**6 else ">= %d" % lo, n, 100.0 * b / n, 100.0 * b / by_band[:, 0].sum(),
+            *(v for k in (0, 1) for v in (100.0 * est_band[k, i, 1] / est_band[k, i, 0],
+                                          100.0 * est_band[k, i, 2] / max(1, est_band[k, i, 1])))))
 
 
 if __name__ == "__main__":
