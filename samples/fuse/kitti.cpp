@@ -352,12 +352,13 @@ lidarsgm::KittiCalibration calibrationFromData(const Options& o, const lidarsgm:
     return refined;
 }
 
-//! The run's options with the LiDAR left out: plain SGM with the left-right check.
+//! The run's options with the LiDAR left out: plain SGM with the left-right check, and no sparse map.
 Options stereoAlone(const Options& o)
 {
     Options s = o;
     s.kv["modes"] = "sgm";
     s.kv["check"] = "stereo";
+    s.kv[kLidarLeftOut] = "1";
     s.kv.erase("table5");
     return s;
 }

@@ -80,7 +80,7 @@ Mat checkFrameLidar(const Options& o, const Frame& f, PassRows& fr)
     fr.shift = c.shift;
     fr.turn = c.turn;
     fr.misplaced = !c.trusted;
-    fr.stereoAlone = fr.misplaced && !o.has("trust-lidar");
+    fr.stereoAlone = (fr.misplaced && !o.has("trust-lidar")) || o.has(kLidarLeftOut);
     if (cvIsNaN(c.residual))
         fr.residualFailure = format("fewer than 200 LiDAR pixels can be compared with the images");
     // No sparse value: every mode is stereo alone (DSGM and SDSGM without a prior are SGM, the checks left-right).

@@ -88,6 +88,9 @@ bool writesConfidence(const Options& o, const std::string& out);
 /** The DDC's Q1 band (px): a LiDAR whose median residual against the stereo pairs exceeds it pulls the fusion off
 them by more than a disparity. Above it after refinement the LiDAR is left out; above it per frame the run warns. */
 const double kMaxLidarResidual = 1.0;
+/** Set (not a command-line option) where the calibration step leaves the LiDAR out of the whole run: every frame is
+fused as stereo alone, without its sparse map, which otherwise still draws the disparity windows of MODE_SGM. */
+const char* const kLidarLeftOut = "lidar-left-out";
 
 // ---- kitti_frame.cpp --------------------------------------------------------------------------------------------
 //! The rows of one frame or of a pass: the modes, the LiDAR points, the semidense map, Table V.

@@ -325,6 +325,22 @@ class ToolTest(unittest.TestCase):
         self.assertRegex(so, r"above 1 px, where the LiDAR pulls the fusion off the images .*: 000002, 000046")
         self.assertIn("| SGM (stereo) ", so)
         self.assertNotIn("| SDSGM", so)
+        # Left out means left out: with kitti_best.yml the scans would still draw MODE_SGM's disparity windows. Each
+        # map is cv2's plain SGM, left-right checked, given no sparse map.
+        out = os.path.join(self.tmp, "left_out")
+        rc, so, se = run([TOOL, "--kitti", kitti, "--params", BEST, "--quiet", "1", "--refine-calibration", "--out",
+                          out])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("the LiDAR is left out", so)
+        stereo = cv.lidarsgm.StereoLidarSGM.load(BEST)
+        stereo.setMode(cv.lidarsgm.StereoLidarSGM_MODE_SGM)
+        stereo.setConsistencyCheck(cv.lidarsgm.StereoLidarSGM_CHECK_STEREO)
+        for fid in ("000002", "000046"):
+            f = cv.lidarsgm.loadKittiFrame(kitti, fid)
+            alone = stereo.compute(f.left, f.right, np.zeros_like(f.sparse))
+            self.assertFalse(np.array_equal(alone, stereo.compute(f.left, f.right, f.sparse)))   # the windows
+            np.testing.assert_array_equal(cv.lidarsgm.encodeKittiDisparity(alone.astype(np.float32) / 16),
+                                          cv.imread(os.path.join(out, fid, "disparity_sgm.png"), cv.IMREAD_UNCHANGED))
         for args, message in ((["--kitti-frame", KITTI, "--refine-calibration"], "go with --kitti or --kitti-raw"),
                               (["--kitti", KITTI, "--refine-translation"], "goes with --refine-calibration")):
             rc, so, se = run([TOOL] + args)
