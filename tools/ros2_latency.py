@@ -31,7 +31,7 @@ sys.path.insert(0, PACKAGE)
 from lidarsgm_ros import conversions as cr  # noqa: E402
 from lidarsgm_ros import kitti  # noqa: E402
 from lidarsgm_ros.fusion import Fusion, Result  # noqa: E402
-from lidarsgm_ros.messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class, stamp_ns  # noqa
+from lidarsgm_ros.messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class  # noqa: E402
 
 try:
     import rclpy
@@ -113,7 +113,7 @@ def node_rate(args):
     pubs = {k: node.create_publisher(rclpy_class(v), k, 10) for k, v in INPUT_TYPES.items()}
     sent, got = {}, {}
     node.create_subscription(rclpy_class(OUTPUT_TYPES["disparity"]), "disparity",
-                             lambda msg: got.setdefault(stamp_ns(msg), time.perf_counter()), 10)
+                             lambda msg: got.setdefault(cr.stamp_ns(msg), time.perf_counter()), 10)
     end = time.monotonic() + 60
     while time.monotonic() < end and not all(p.get_subscription_count() for p in pubs.values()):
         rclpy.spin_once(node, timeout_sec=0.05)

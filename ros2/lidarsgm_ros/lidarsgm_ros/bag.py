@@ -33,9 +33,9 @@ import cv2
 
 import numpy as np
 
-from .conversions import ConversionError, TransformBuffer, chain_transform
+from .conversions import ConversionError, TransformBuffer, chain_transform, stamp_ns
 from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
-from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, stamp_ns
+from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages
 from .recalibration import Recalibration
 from .sync import ApproximateSync, ExactSync
 

@@ -352,8 +352,9 @@ class TransformBuffer:
 
     A static transform holds until another one for the same child replaces it; a /tf transform of a child replaces
     its static one (the latest message decides, as in tf2). A /tf transform is taken at the stamp asked for:
-    interpolated between the two samples around it (translation linearly, rotation along the shorter arc), or the nearest sample where the stamp lies outside them by at most `tolerance_ns` (a transform
-    published a little after the cloud it applies to). Samples older than `history_ns` behind the newest are dropped.
+    interpolated between the two samples around it (translation linearly, rotation along the shorter arc), or the
+    nearest sample where the stamp lies outside them by at most `tolerance_ns` (a transform published a little after
+    the cloud it applies to). Samples older than `history_ns` behind the newest are dropped.
     """
 
     def __init__(self, tolerance_ns=100000000, history_ns=10000000000):
@@ -382,36 +383,36 @@ class TransformBuffer:
             samples.sort(key=lambda s: s[0])
             self.dynamic[child] = (parent, [s for s in samples if s[0] >= samples[-1][0] - self.history_ns])
 
-    def edges(self, stamp_ns):
-        """(parent, child, 4x4 child -> parent) of every edge known at stamp_ns, and a line on each /tf edge that
+    def edges(self, at_ns):
+        """(parent, child, 4x4 child -> parent) of every edge known at at_ns, and a line on each /tf edge that
         is not (for the error message)."""
         out, missing = [], []
         for child, (parent, m) in self.static.items():
             out.append((parent, child, m))
         for child, (parent, samples) in self.dynamic.items():
             stamps = [s[0] for s in samples]
-            k = int(np.searchsorted(stamps, stamp_ns))
-            if k < len(samples) and stamps[k] == stamp_ns:
+            k = int(np.searchsorted(stamps, at_ns))
+            if k < len(samples) and stamps[k] == at_ns:
                 s = samples[k]
                 out.append((parent, child, transform_matrix(s[1], s[2])))
             elif 0 < k < len(samples):
                 (t0, a0, q0), (t1, a1, q1) = samples[k - 1], samples[k]
-                f = (stamp_ns - t0) / (t1 - t0)
+                f = (at_ns - t0) / (t1 - t0)
                 trans = [a + f * (b - a) for a, b in zip(a0, a1)]
                 out.append((parent, child, transform_matrix(trans, _slerp(q0, q1, f))))
             else:
                 near = samples[0] if k == 0 else samples[-1]
-                if abs(near[0] - stamp_ns) <= self.tolerance_ns:
+                if abs(near[0] - at_ns) <= self.tolerance_ns:
                     out.append((parent, child, transform_matrix(near[1], near[2])))
                 else:
                     missing.append("/tf has %s -> %s from %.3f to %.3f s, not at %.3f s" % (
-                        parent, child, stamps[0] * 1e-9, stamps[-1] * 1e-9, stamp_ns * 1e-9))
+                        parent, child, stamps[0] * 1e-9, stamps[-1] * 1e-9, at_ns * 1e-9))
         return out, missing
 
-    def lookup(self, source, target, stamp_ns):
-        """The 4x4 taking points in `source` to `target` at stamp_ns; raises ConversionError (why) where no chain of
+    def lookup(self, source, target, at_ns):
+        """The 4x4 taking points in `source` to `target` at at_ns; raises ConversionError (why) where no chain of
         known transforms links them."""
-        edges, missing = self.edges(stamp_ns)
+        edges, missing = self.edges(at_ns)
         if not edges and not missing:
             raise ConversionError("nothing received on /tf_static or /tf yet")
         try:

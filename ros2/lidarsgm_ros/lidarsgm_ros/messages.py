@@ -9,7 +9,7 @@ import importlib
 
 import numpy as np
 
-from .conversions import POINT_FIELDS, stamp_ns  # noqa: F401 (stamp_ns: imported from here by the node, the bag)
+from .conversions import POINT_FIELDS
 
 FLOAT32 = 7  # sensor_msgs/PointField.FLOAT32
 

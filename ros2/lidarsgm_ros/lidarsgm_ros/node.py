@@ -41,9 +41,9 @@ from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from tf2_msgs.msg import TFMessage
 
-from .conversions import ConversionError, TransformBuffer
+from .conversions import ConversionError, TransformBuffer, stamp_ns
 from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
-from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class, stamp_ns
+from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class
 from .recalibration import Recalibration
 from .sync import ApproximateSync, ExactSync
 
