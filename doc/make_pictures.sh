@@ -9,7 +9,7 @@ TMP=$(mktemp -d)
 # The Python of the build's bindings (the superbuild's virtual environment where it made one).
 PY=python3
 for p in "$BUILD/../pyenv-"*/bin/python; do [ -x "$p" ] && PY=$p; done
-"$BUILD/bin/lidarsgm_lidarsgm_fuse" --kitti-frame testdata/kitti --id 000002 --modes sgm,sdsgm --format kitti,ply \
+"$BUILD/bin/lidarsgm_fuse" --kitti-frame testdata/kitti --id 000002 --modes sgm,sdsgm --format kitti,ply \
   --out "$TMP"
 PYTHONPATH="$BUILD/python_loader" "$PY" doc/render_cloud.py "$TMP/points_sdsgm.ply" "$TMP/cloud.png"
 PYTHONPATH="$BUILD/python_loader" "$PY" - "$TMP" doc/images <<'PY'

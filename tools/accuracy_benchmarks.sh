@@ -8,11 +8,11 @@
 # FULL_RANGE_ONLY=1: the full-range runs only.
 set -eo pipefail
 cd "$(dirname "$0")/.."
-T=${1:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
+T=${1:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_fuse
 DATA=${2:-../shared/data}
 C=$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- src src_cuda include samples || echo " + uncommitted changes")
 header() { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"; }
-tool() { echo "# Command: lidarsgm_lidarsgm_fuse $*"; "$T" "$@"; }   # the command line, then its output
+tool() { echo "# Command: lidarsgm_fuse $*"; "$T" "$@"; }   # the command line, then its output
 run() {  # output file, then the tool's arguments
   local f=doc/benchmarks/$1; shift
   { header; tool "$@"; } > "$f" 2>&1

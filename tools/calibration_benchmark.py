@@ -8,7 +8,7 @@ and the time of the fusion pass without it (reading included: the frame count ov
 LidarCalibration, one frame per refinement) under rotation errors: how many frames come within 0.15 degree on
 every axis, and how many refuse.
 
-    PYTHONPATH=<build>/python_loader python3 tools/calibration_benchmark.py --tool <build>/bin/lidarsgm_lidarsgm_fuse
+    PYTHONPATH=<build>/python_loader python3 tools/calibration_benchmark.py --tool <build>/bin/lidarsgm_fuse
         --data ../shared/data/kitti2015_lidar [--params doc/params/kitti_best.yml] [--threads 2]
 """
 import argparse

@@ -22,7 +22,7 @@ if [ -z "$FAIL_SAFE_ONLY" ]; then
 for rate in 10 0; do
   f=doc/benchmarks/calibration_kitti20.txt
   [ $rate = 0 ] && f=doc/benchmarks/calibration_kitti20_scan_rate_0.txt
-  args=(--tool "$B/bin/lidarsgm_lidarsgm_fuse" --data "$DATA/kitti2015_lidar" --params doc/params/kitti_best.yml
+  args=(--tool "$B/bin/lidarsgm_fuse" --data "$DATA/kitti2015_lidar" --params doc/params/kitti_best.yml
         --scan-rate $rate)
   { echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)), CPU path"
     echo "# Command: tools/calibration_benchmark.py ${args[*]}"
@@ -38,7 +38,7 @@ f=doc/benchmarks/calibration_image_judge_kitti20.txt
 echo "wrote $f"
 fi
 f=doc/benchmarks/fail_safe_kitti20.txt
-args=(--tool "$B/bin/lidarsgm_lidarsgm_fuse" --data "$DATA/kitti2015_lidar")
+args=(--tool "$B/bin/lidarsgm_fuse" --data "$DATA/kitti2015_lidar")
 { header ", CPU path"
   echo "# Command: tools/fail_safe_benchmark.py ${args[*]}"
   echo

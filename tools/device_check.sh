@@ -55,12 +55,12 @@ if [ "${PY:-OFF}" = ON ]; then
 fi
 grep -E "^\[  FAILED|^\[  PASSED|^\[     SKIP|Failure" "$OUT/tests.log" | sort | uniq -c | head -40
 for id in 000002 000046; do
-  $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda 1 --modes sgm,dsgm,sdsgm
+  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda 1 --modes sgm,dsgm,sdsgm
 done
-[ "${TIMING:-1}" = 1 ] && $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 --rounds ${ROUNDS:-1}
+[ "${TIMING:-1}" = 1 ] && $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 --rounds ${ROUNDS:-1}
 if [ "${SIZES:-0}" = 1 ]; then
   for sz in 1920x1080 3840x2160; do
-    $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
+    $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
   done
 fi
 if [ "${FAILSAFE:-0}" = 1 ]; then
@@ -69,7 +69,7 @@ if [ "${FAILSAFE:-0}" = 1 ]; then
   for dev in "--cuda 1 --streams 2" "--threads 16"; do
     for dir in testdata/kitti /tmp/wrong; do
       echo "== $dir $dev"
-      $B/lidarsgm_lidarsgm_fuse --kitti $dir $dev --quiet 1 --params doc/params/kitti_best.yml --modes sgm,sdsgm \
+      $B/lidarsgm_fuse --kitti $dir $dev --quiet 1 --params doc/params/kitti_best.yml --modes sgm,sdsgm \
         --out /tmp/fs_$(basename $dir)_${dev%% *} | grep -E "^\| S|stereo alone|anyway"
     done
   done
@@ -89,10 +89,10 @@ if [ "${BASE:-0}" = 1 ] && [ -f .device/prebuilt_base.tar.xz ]; then
   for ((r = 0; r < ${BASE_ROUNDS:-1}; r++)); do
     for a in "" "--resize 1920x1080 --num-disparities 256" "--resize 1920x1080 --num-disparities 256 --paths 4" \
              "--resize 3840x2160 --num-disparities 256"; do
-      LD_LIBRARY_PATH=/tmp/base/prebuilt/lib /tmp/base/prebuilt/bin/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
+      LD_LIBRARY_PATH=/tmp/base/prebuilt/lib /tmp/base/prebuilt/bin/lidarsgm_fuse --kitti-frame testdata/kitti \
         --id 000002 --cuda 1 --timing 20 $a ${WINDOWS:+--search-window $WINDOWS} | grep -E "^device:|lidarsgm SDSGM " \
         | sed "s/^/base ${a:-KITTI}: /"
-      $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 $a \
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 $a \
         ${WINDOWS:+--search-window $WINDOWS} | grep -E "lidarsgm SDSGM " | sed "s/^/this build ${a:-KITTI}: /"
     done
   done
@@ -122,7 +122,7 @@ if [ "${PERF:-0}" = 1 ]; then
 fi
 if [ "${PATHS4:-0}" = 1 ]; then
   # 4 paths at 1080p against cv::cuda::StereoSGM's 4 paths (MODE_HH4).
-  $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize 1920x1080 \
+  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize 1920x1080 \
     --num-disparities 256 --paths 4 | grep -E "device:|lidarsgm SDSGM|StereoSGM 4"
 fi
 if [ -n "${WINDOWS:-}" ]; then
@@ -133,14 +133,14 @@ if [ -n "${WINDOWS:-}" ]; then
            "--resize 3840x2160 --num-disparities 256"; do
     for w in 0 $WINDOWS; do
       echo "== ${a:-KITTI defaults} --search-window $w"
-      $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 $a --search-window $w \
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 $a --search-window $w \
         | grep -E "lidarsgm SDSGM |StereoSGM|cells searched" || true
     done
   done
 fi
 if [ "${BEST:-0}" = 1 ]; then
   echo "doc/params/kitti_best.yml at KITTI size (against the defaults above):"
-  $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 \
+  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 \
     --params doc/params/kitti_best.yml | grep "lidarsgm"
 fi
 if [ "${THROUGHPUT:-0}" = 1 ]; then
@@ -154,22 +154,22 @@ if [ "${THROUGHPUT:-0}" = 1 ]; then
   done
   for s in ${STREAMS:-1 2 4 8 16}; do
     echo "folder run, --cuda 1 --streams $s:"
-    $B/lidarsgm_lidarsgm_fuse --kitti $TP --cuda 1 --streams $s --quiet 1 | grep -E "SDSGM|frames:" || true
+    $B/lidarsgm_fuse --kitti $TP --cuda 1 --streams $s --quiet 1 | grep -E "SDSGM|frames:" || true
   done
   for s in 1 16; do
     echo "folder run with outputs (--out, KITTI PNGs and pictures), --cuda 1 --streams $s:"
-    rm -rf /tmp/tp_out; $B/lidarsgm_lidarsgm_fuse --kitti $TP --cuda 1 --streams $s --quiet 1 --out /tmp/tp_out | grep -E "frames:" || true
+    rm -rf /tmp/tp_out; $B/lidarsgm_fuse --kitti $TP --cuda 1 --streams $s --quiet 1 --out /tmp/tp_out | grep -E "frames:" || true
   done
   echo "the same folder on the CPU, 16 threads, one worker:"
-  $B/lidarsgm_lidarsgm_fuse --kitti $TP --quiet 1 --threads 16 | grep -E "SDSGM|frames:" || true
+  $B/lidarsgm_fuse --kitti $TP --quiet 1 --threads 16 | grep -E "SDSGM|frames:" || true
 fi
 if [ "${RAW:-0}" = 1 ]; then
   # A KITTI raw drive (tools/make_raw_drive.sh) on the GPU with depth and PLY out; its disparity files against the
   # CPU's of the same drive.
   rm -rf /tmp/raw; D=$(tools/make_raw_drive.sh /tmp/raw)
-  $B/lidarsgm_lidarsgm_fuse --kitti-raw $D --out /tmp/raw/gpu --cuda 1 --streams 2 --modes sgm,sdsgm \
+  $B/lidarsgm_fuse --kitti-raw $D --out /tmp/raw/gpu --cuda 1 --streams 2 --modes sgm,sdsgm \
     --format kitti,depth,ply --quiet 1
-  $B/lidarsgm_lidarsgm_fuse --kitti-raw $D --out /tmp/raw/cpu --modes sgm,sdsgm --format kitti,depth,ply --quiet 1 \
+  $B/lidarsgm_fuse --kitti-raw $D --out /tmp/raw/cpu --modes sgm,sdsgm --format kitti,depth,ply --quiet 1 \
     > /dev/null
   for f in /tmp/raw/gpu/*/*.png /tmp/raw/gpu/*/*.ply; do
     cmp -s "$f" "/tmp/raw/cpu/${f#/tmp/raw/gpu/}" && echo "same as the CPU: ${f#/tmp/raw/gpu/}" \
@@ -191,7 +191,7 @@ if [ "${CPU_SCALING:-0}" = 1 ]; then
   for t in ${CPU_THREADS:-1 2 4 8 16}; do
     for b in $builds; do
       echo "== $t threads, $(head -c 12 $b/../COMMIT 2>/dev/null || echo built here)"
-      LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} $b/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti \
+      LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} $b/lidarsgm_fuse --kitti-frame testdata/kitti \
         --id 000002 --timing ${CPU_REPS:-5} --threads $t ${CPU_ARGS:-} | grep -E "lidarsgm SDSGM  |SGBM_3WAY" || true
     done
   done
@@ -200,13 +200,13 @@ if [ "${PROFILE_PATHS:-0}" = 1 ] && command -v ncu >/dev/null; then
   # The path kernel of one SDSGM call: time, registers per thread, achieved occupancy, issue activity.
   ncu --clock-control none -k regex:pathKernel --launch-skip 2 --launch-count 1 --metrics \
       gpu__time_duration.sum,launch__registers_per_thread,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed.avg.per_cycle_active,smsp__issue_active.avg.pct_of_peak_sustained_active \
-      $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "pathKernel|gpu__|launch__|sm__|smsp__" | sed -E 's/ +/ /g' | cut -c1-150
 fi
 if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
   # Per-kernel durations of one SDSGM call (the second: the first includes module loading).
   ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 6 --launch-count 7 \
-      $B/lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
 # The tool's arguments for one SDSGM call at a WxH:disparities:paths[:margin[:params file]] spec of DRAM_SIZES /
@@ -221,7 +221,7 @@ if [ -n "${DRAM_SIZES:-}" ] && command -v ncu >/dev/null; then
   for spec in $DRAM_SIZES; do
     args=$(spec_args "$spec"); sz=${spec%%:*}
     ncu --clock-control none --csv --print-units base --launch-count 40 \
-      --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum $B/lidarsgm_lidarsgm_fuse $args \
+      --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum $B/lidarsgm_fuse $args \
       > "$OUT/dram_$sz.csv" 2> "$OUT/dram_$sz.err"
     python3 tools/analysis/ncu_call.py "$OUT/dram_$sz.csv" "$spec" || tail -5 "$OUT/dram_$sz.err"
   done
@@ -241,12 +241,12 @@ if [ -n "${INSTRUCTIONS:-}" ] && command -v ncu >/dev/null; then
       echo "== $spec, $(head -c 12 $b/../COMMIT 2>/dev/null || echo 'built here')"
       label=$spec; [ "$b" = "$B" ] || label="base $spec"
       LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} ncu --clock-control none --csv --print-units base \
-        --launch-count 40 --metrics gpu__time_duration.sum,smsp__inst_executed.sum $b/lidarsgm_lidarsgm_fuse $args \
+        --launch-count 40 --metrics gpu__time_duration.sum,smsp__inst_executed.sum $b/lidarsgm_fuse $args \
         > "$OUT/instr_$sz.csv" 2> "$OUT/instr_$sz.err"
       python3 tools/analysis/ncu_call.py "$OUT/instr_$sz.csv" "$label" || tail -5 "$OUT/instr_$sz.err"
       LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} ncu --clock-control none -k regex:pathKernel \
         --launch-skip 1 --launch-count 1 --metrics smsp__issue_active.avg.pct_of_peak_sustained_active,sm__warps_active.avg.pct_of_peak_sustained_active,launch__registers_per_thread \
-        $b/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -E "^ +[a-z_]+__" | awk '{print "   ", $1, $NF}'
+        $b/lidarsgm_fuse $args 2>&1 | grep -E "^ +[a-z_]+__" | awk '{print "   ", $1, $NF}'
     done
   done
 fi
@@ -259,7 +259,7 @@ if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
     args=$(spec_args "$spec"); sz=${spec//:/_}
     echo "== $spec: kernels of one SDSGM call (the second), summed by name:"
     ncu --clock-control none --print-units base --metrics gpu__time_duration.sum --launch-count 80 \
-      $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(.*Context|gpu__time_duration" | paste - - \
+      $B/lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(.*Context|gpu__time_duration" | paste - - \
       | sed -E 's/^ +(void )?//; s/\(anonymous namespace\):: *//; s/[<(].*gpu__time_duration.sum/ /' | awk '{sub(/^.*::/, "", $1); gsub(/,/, "", $3); print $1, $3 / 1000}' \
       > "$OUT/kernels_$sz.txt"
     # The second call: from its first census kernel (with windows every call has two, the coarse pass's second).
@@ -269,11 +269,11 @@ if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
     if [ "${STALLS:-0}" = 1 ]; then
       ncu --clock-control none -k regex:${STALL_KERNEL:-pathKernel} --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
         --section SpeedOfLight --section Occupancy --section SchedulerStats --section WarpStateStats \
-        --section MemoryWorkloadAnalysis $B/lidarsgm_lidarsgm_fuse $args 2>&1 | grep -vE "^==PROF==|^ +-+$|^$" \
+        --section MemoryWorkloadAnalysis $B/lidarsgm_fuse $args 2>&1 | grep -vE "^==PROF==|^ +-+$|^$" \
         | grep -E "pathKernel|Duration|Throughput|Occupancy|Warp Cycles|Stall|Issue|Eligible|Active Warps|Registers|L2 Hit|L1/TEX Hit|Mem Busy|Max Bandwidth|No Eligible|Issued Warp" | head -45
       echo "  stall reasons (warps stalled per issued instruction), largest first:"
       ncu --clock-control none -k regex:${STALL_KERNEL:-pathKernel} --launch-skip $(( ${STALL_SKIP:-9} )) --launch-count 1 \
-        --metrics "regex:smsp__average_warps_issue_stalled_.*_per_issue_active\.ratio" $B/lidarsgm_lidarsgm_fuse $args 2>&1 \
+        --metrics "regex:smsp__average_warps_issue_stalled_.*_per_issue_active\.ratio" $B/lidarsgm_fuse $args 2>&1 \
         | grep "stalled" | awk '{gsub(/,/, "", $NF); sub(/smsp__average_warps_issue_stalled_/, "", $1); print $NF, $1}' \
         | sort -g -r | head -8 | sed 's/^/    /'
     fi

@@ -13,7 +13,7 @@
    given as --lidar-to-camera: sets fused as stereo alone, the switch to the recalibrated transform, and total D1
    over the last 20 sets against the exact calibration's.
 
-    PYTHONPATH=<build>/python_loader <ros2 venv python> tools/fail_safe_benchmark.py --tool <build>/bin/lidarsgm_lidarsgm_fuse
+    PYTHONPATH=<build>/python_loader <ros2 venv python> tools/fail_safe_benchmark.py --tool <build>/bin/lidarsgm_fuse
         --data ../shared/data/kitti2015_lidar [--threads 2]
 """
 import argparse

@@ -13,7 +13,7 @@ B=$CACHE/build-${2:-cuda90}
 [ -x "$B/bin/opencv_test_lidarsgm" ] || { echo "no CUDA build in $B (run the README's build first)"; exit 1; }
 tmp=$(mktemp -d)
 mkdir -p "$tmp/prebuilt/bin" "$tmp/prebuilt/lib" .device
-cp "$B/bin/opencv_test_lidarsgm" "$B/bin/opencv_perf_lidarsgm" "$B/bin/lidarsgm_lidarsgm_fuse" "$tmp/prebuilt/bin/"
+cp "$B/bin/opencv_test_lidarsgm" "$B/bin/opencv_perf_lidarsgm" "$B/bin/lidarsgm_fuse" "$tmp/prebuilt/bin/"
 cp -P "$B"/lib/libopencv_*.so* "$tmp/prebuilt/lib/"
 for l in libjpeg.so.62 libpng16.so.16; do
   p=$(ldd "$B/lib/libopencv_imgcodecs.so" | awk -v l=$l '$1 == l {print $3}')

@@ -8,11 +8,11 @@
 set -eo pipefail
 cd "$(dirname "$0")/.."
 N=${1:?number of processes}; THREADS=${2:?threads}; PATHS=${3:?4 or 8}
-T=${4:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
+T=${4:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_fuse
 RUNS=${5:-5}
 echo "# $(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD 2>/dev/null || echo "unknown (no git checkout)"), $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
 read -r -a extra <<< "${TOOL_ARGS:-}"
-echo "# Command: TOOL_ARGS=\"${TOOL_ARGS:-}\" tools/process_spread.sh $N $THREADS $PATHS, each process: lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --timing $RUNS --threads $THREADS --paths $PATHS ${TOOL_ARGS:-}"
+echo "# Command: TOOL_ARGS=\"${TOOL_ARGS:-}\" tools/process_spread.sh $N $THREADS $PATHS, each process: lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --timing $RUNS --threads $THREADS --paths $PATHS ${TOOL_ARGS:-}"
 times=()
 ratios=()
 for i in $(seq 1 "$N"); do

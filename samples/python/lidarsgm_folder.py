@@ -1,4 +1,4 @@
-"""The files and tables of a KITTI folder run, as the C++ tool writes them (lidarsgm_lidarsgm_fuse --kitti DIR --out
+"""The files and tables of a KITTI folder run, as the C++ tool writes them (lidarsgm_fuse --kitti DIR --out
 OUT): every file under a temporary name first, each frame's metrics.yml (the options key, the devkit's counts and the
 time per row), and the summary table. Used by lidarsgm_ray.py, so that the tool and the Ray sample resume each other's
 runs and print the same table.

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Stereo-LiDAR fusion of whole KITTI-layout folders on a Ray cluster: one actor per GPU (or per CPU worker where
 there is none), each holding its own matchers; the same per-frame outputs, metrics.yml and summary table as the C++
-tool's folder run (lidarsgm_lidarsgm_fuse --kitti DIR --out OUT), so the two can resume each other's runs.
+tool's folder run (lidarsgm_fuse --kitti DIR --out OUT), so the two can resume each other's runs.
 
   python3 lidarsgm_ray.py --kitti DIR [DIR ...] --out OUT [--modes sgm,dsgm,sdsgm] [--check C] [--params FILE]
                           [--resume] [--trust-lidar] [--address auto] [--cpu] [--num-cpus N]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The command-line tool (lidarsgm_lidarsgm_fuse) and the Python sample (samples/python/lidarsgm_fuse.py), run as a
+"""The command-line tool (lidarsgm_fuse) and the Python sample (samples/python/lidarsgm_fuse.py), run as a
 user runs them: outputs, formats, summary tables, progress, exit codes and messages on bad input.
 
 Environment (set by ctest): LIDARSGM_TOOL (the tool binary), LIDARSGM_TESTDATA (testdata/), PYTHONPATH with cv2.

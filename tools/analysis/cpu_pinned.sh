@@ -2,13 +2,13 @@
 # Single-thread processes pinned to CPU 0 and to CPU 1, and a 2-thread process, round after round for SECS seconds,
 # each with the cache-line round trip between the two CPUs (core_probe.cpp) before it: whether a slow process needs
 # two threads (data crossing between CPUs) or shows on one CPU alone, and whether MODE_SGBM_3WAY in the same process
-# shares it. Each process: lidarsgm_lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --timing 3 (SDSGM, 8 paths).
+# shares it. Each process: lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --timing 3 (SDSGM, 8 paths).
 #   tools/analysis/cpu_pinned.sh SECS [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90]
 # ASLR=off in the environment runs every process under `setarch -R` (no address-space randomisation).
 set -eo pipefail
 cd "$(dirname "$0")/../.."
 SECS=${1:?seconds}
-T=${2:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_lidarsgm_fuse
+T=${2:-$HOME/.cache/lidarsgm/build-cuda90}/bin/lidarsgm_fuse
 NORAND=; [ "${ASLR:-on}" = off ] && NORAND="setarch -R"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

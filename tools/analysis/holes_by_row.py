@@ -3,7 +3,7 @@
 band, the holes (ground-truth pixels without an estimate), the outliers among estimates and among the holes after
 the devkit's interpolation (doc/accuracy.md, "Fewer LiDAR lines").
 
-  lidarsgm_lidarsgm_fuse --kitti DATA/kitti2015_lidar --modes sdsgm [--lidar-lines 16] --out OUT [...]
+  lidarsgm_fuse --kitti DATA/kitti2015_lidar --modes sdsgm [--lidar-lines 16] --out OUT [...]
   PYTHONPATH=<opencv build>/python_loader python3 tools/analysis/holes_by_row.py OUT [DATA/kitti2015_lidar] [SUFFIX]
 
 SUFFIX is the tool's frame-folder suffix of line-count runs (e.g. _16lines).

@@ -2,8 +2,8 @@
 """How many of SDSGM's KITTI outliers lie where the right camera cannot see the surface (occluded in the ground
 truth), and which test of the consistency check kept them (doc/design.md, "An occlusion rule in the check").
 
-  lidarsgm_lidarsgm_fuse --kitti DATA/kitti2015_lidar --modes sdsgm --out BOTH [--params ...]
-  lidarsgm_lidarsgm_fuse --kitti DATA/kitti2015_lidar --modes sdsgm --out LR --check stereo [--params ...]
+  lidarsgm_fuse --kitti DATA/kitti2015_lidar --modes sdsgm --out BOTH [--params ...]
+  lidarsgm_fuse --kitti DATA/kitti2015_lidar --modes sdsgm --out LR --check stereo [--params ...]
   PYTHONPATH=<opencv build>/python_loader python3 tools/analysis/occlusions.py BOTH LR [DATA/kitti2015_lidar]
 
 A ground-truth pixel (x, d) is occluded when a pixel to its right with ground truth lands more than 1 px left of
