@@ -137,14 +137,14 @@ public:
     LidarCalibrationImpl(InputArray projection, double focalBaseline, int numDisparities, double scanRate)
         : fB_(focalBaseline), numDisparities_(numDisparities), scanRate_(scanRate)
     {
-        CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0,
-                     "lidarsgm: LidarCalibration: focalBaseline must be finite and > 0");
-        CV_CheckTrue(numDisparities >= 16 && numDisparities <= 512 && numDisparities % 16 == 0,
-                     "lidarsgm: LidarCalibration: numDisparities must be a multiple of 16 in [16, 512]");
-        CV_CheckTrue(std::isfinite(scanRate) && std::abs(scanRate) <= 100,
-                     "lidarsgm: LidarCalibration: scanRate must be finite, within [-100, 100] Hz (0: no sweep)");
+        LIDARSGM_Check(std::isfinite(focalBaseline) && focalBaseline > 0,
+                       "lidarsgm: LidarCalibration: focalBaseline must be finite and > 0");
+        LIDARSGM_Check(numDisparities >= 16 && numDisparities <= 512 && numDisparities % 16 == 0,
+                       "lidarsgm: LidarCalibration: numDisparities must be a multiple of 16 in [16, 512]");
+        LIDARSGM_Check(std::isfinite(scanRate) && std::abs(scanRate) <= 100,
+                       "lidarsgm: LidarCalibration: scanRate must be finite, within [-100, 100] Hz (0: no sweep)");
         if (projection.rows() != 3)
-            CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration: projection must be 3x4");
+            LIDARSGM_Error(Error::StsBadArg, "lidarsgm: LidarCalibration: projection must be 3x4");
         P_ = detail::toMatx34(projection, "projection");
         matcher_ = StereoLidarSGM::create(0, numDisparities, 10, 120, 5, 160, 0.7, StereoLidarSGM::MODE_SGM,
                                           StereoLidarSGM::CHECK_STEREO);
@@ -157,7 +157,7 @@ public:
         CV_INSTRUMENT_REGION();
         Mat pts = points.getMat();
         if (pts.empty())
-            CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: the scan has no points");
+            LIDARSGM_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: the scan has no points");
         int n = 0, stride = 0;
         detail::pointLayout(pts.rows, pts.cols, pts.channels(), pts.depth(), false, n, stride);
         if (!pts.isContinuous())
@@ -181,7 +181,7 @@ public:
             }
         }
         if (kept == 0)
-            CV_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: the scan has no finite point");
+            LIDARSGM_Error(Error::StsBadArg, "lidarsgm: LidarCalibration::addFrame: the scan has no finite point");
         f.points = f.points.rowRange(0, kept).clone();
         Mat disp;
         matcher_->compute(left, right, noArray(), disp);   // checks the images (sizes, types) itself
@@ -246,11 +246,11 @@ public:
                 std::vector<Sums> sums;
                 used = frameSums(levelPts, maps, p, speed, n, L.c, false, sums);
                 if (used * L.stride < detail::kMinCalibrationPoints)
-                    CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: only %d LiDAR points land on "
-                                                "a stereo disparity (at least %d needed): the data cannot tell the "
-                                                "calibration (textureless or dark images, an empty scan, or a "
-                                                "transform far off)", used * L.stride,
-                                                detail::kMinCalibrationPoints));
+                    LIDARSGM_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: only %d LiDAR points land on "
+                                                      "a stereo disparity (at least %d needed): the data cannot tell the "
+                                                      "calibration (textureless or dark images, an empty scan, or a "
+                                                      "transform far off)", used * L.stride,
+                                                      detail::kMinCalibrationPoints));
                 Matx44d A;
                 Vec4d g;
                 for (const Sums& s : sums)
@@ -263,8 +263,8 @@ public:
                 }
                 Vec4d step;
                 if (!solve(A, g, n, step))
-                    CV_Error(Error::StsError, "lidarsgm: LidarCalibration::refine: the points do not constrain every "
-                                              "parameter (degenerate scene)");
+                    LIDARSGM_Error(Error::StsError, "lidarsgm: LidarCalibration::refine: the points do not constrain every "
+                                                    "parameter (degenerate scene)");
                 double largest = 0;
                 for (int k = 0; k < n; k++)
                 {
@@ -275,9 +275,9 @@ public:
                     if (sums[fi].a > 0)   // the frame's speed given the global step
                         speed[fi] -= (sums[fi].h - sums[fi].b.dot(step)) / sums[fi].a;
                 if (std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) > kMaxCorrectionDeg * CV_PI / 180)
-                    CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: the correction grew beyond %g "
-                                                "degrees: the data do not agree with any nearby calibration",
-                                                kMaxCorrectionDeg));
+                    LIDARSGM_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: the correction grew beyond %g "
+                                                      "degrees: the data do not agree with any nearby calibration",
+                                                      kMaxCorrectionDeg));
                 if (largest < kStepTolerance)
                     break;
             }
@@ -306,11 +306,11 @@ public:
         c.residualAfter = medianResidual(pts, speed, p, n);
         for (int k = 0; k < 3; k++)
             if (!(sd[k] * 180 / CV_PI <= kMaxStdDeg))
-                CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: the data cannot tell the rotation: "
-                                            "standard errors %.3f / %.3f / %.3f degrees (pitch / yaw / roll; %g "
-                                            "allowed) from %d points in %d frame(s); add frames with more structure",
-                                            sd[0] * 180 / CV_PI, sd[1] * 180 / CV_PI, sd[2] * 180 / CV_PI,
-                                            kMaxStdDeg, used, c.frames));
+                LIDARSGM_Error_(Error::StsError, ("lidarsgm: LidarCalibration::refine: the data cannot tell the rotation: "
+                                                  "standard errors %.3f / %.3f / %.3f degrees (pitch / yaw / roll; %g "
+                                                  "allowed) from %d points in %d frame(s); add frames with more structure",
+                                                  sd[0] * 180 / CV_PI, sd[1] * 180 / CV_PI, sd[2] * 180 / CV_PI,
+                                                  kMaxStdDeg, used, c.frames));
         return c;
     }
 
@@ -318,7 +318,7 @@ private:
     void requireFrames(const char* what) const
     {
         if (frames_.empty())
-            CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration::%s: add frames first (addFrame)", what));
+            LIDARSGM_Error_(Error::StsError, ("lidarsgm: LidarCalibration::%s: add frames first (addFrame)", what));
     }
 
     //! lidarToCamera checked as projectPointsToDisparity checks it, as a 4x4 transform.
@@ -407,10 +407,10 @@ private:
             residuals(pts[fi], frames_[fi].disp, m, speed[fi],
                       [&](int, double e, double) { r.push_back((float)std::abs(e)); });
         if (r.size() < (size_t)detail::kMinCalibrationPoints)
-            CV_Error_(Error::StsError, ("lidarsgm: LidarCalibration: only %d LiDAR points land on a stereo "
-                                        "disparity (at least %d needed: textureless or dark images, an empty scan, "
-                                        "or a wrong transform or projection)", (int)r.size(),
-                                        detail::kMinCalibrationPoints));
+            LIDARSGM_Error_(Error::StsError, ("lidarsgm: LidarCalibration: only %d LiDAR points land on a stereo "
+                                              "disparity (at least %d needed: textureless or dark images, an empty scan, "
+                                              "or a wrong transform or projection)", (int)r.size(),
+                                              detail::kMinCalibrationPoints));
         std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
         return r[r.size() / 2];
     }

@@ -11,14 +11,15 @@
 namespace cv { namespace lidarsgm { namespace detail {
 
 void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p,
-                      bool semidenseOnly, OutputArray out, OutputArray confidence)
+                      bool semidenseOnly, OutputArray out, bool& warned, OutputArray confidence)
 {
-    censusTransform(left, censusL_);
-    censusTransform(right, censusR_);
     bool scan = false;   // the scan test, run once where a stage needs it (on the map as given)
     if (!sparse.empty())
     {
-        convertSparse(sparse, p.minDisparity, p.numDisparities, sparse16_);
+        // First, so that a map in the wrong units is refused before any other work.
+        SparseCounts counts;
+        convertSparse(sparse, p.minDisparity, p.numDisparities, sparse16_, &counts);
+        checkSparseUnits(counts, sparse.type(), p, warned);
         if (p.visibilityParallax256 > 0 || p.weighCopies)
             scan = isLidarScan(sparse16_);
         if (visibilityFilterOn(p))
@@ -29,6 +30,8 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
     }
     else
         sparse16_.release();
+    censusTransform(left, censusL_);
+    censusTransform(right, censusR_);
     if (!points_)
         points_ = makePtr<SparseColumns>();
     points_->build(sparse16_);

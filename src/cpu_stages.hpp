@@ -20,8 +20,12 @@ inline double rowStripes(int rows)
 }
 
 /** Sparse input (CV_16UC1 x256 or CV_32FC1 pixels) to the internal CV_16SC1 1/16-pixel map with NO_DISP for "none"
-(sparseFromKitti16, sparseFromFloat). */
-CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat& sparse16);
+(sparseFromKitti16, sparseFromFloat); counts, where given, receives the units check's counts. */
+CV_EXPORTS void convertSparse(const Mat& sparse, int minDisparity, int numDisparities, Mat& sparse16,
+                              SparseCounts* counts = nullptr);
+/** The units check on convertSparse's counts, for both paths: raises the refusal where unitsLookWrong, and warns once
+(warned: the matcher's flag) where a mode that needs priors got a map without a value in the range. */
+CV_EXPORTS void checkSparseUnits(const SparseCounts& counts, int sparseType, const PipelineParams& p, bool& warned);
 
 /** The visibility filter (hiddenBy): visible16 is sparse16 without the values that a value within the
 (2 visibilityRadiusX + 1) x (2 visibilityRadiusY + 1) window hides. scan: isLidarScan(sparse16); the window's parallax

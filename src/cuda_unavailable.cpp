@@ -13,7 +13,7 @@ namespace cv { namespace lidarsgm { namespace detail {
 
 static void noCuda()
 {
-    CV_Error(Error::GpuNotSupported, "lidarsgm: GpuMat input needs the CUDA path, but lidarsgm was built without CUDA");
+    LIDARSGM_Error(Error::GpuNotSupported, "lidarsgm: GpuMat input needs the CUDA path, but lidarsgm was built without CUDA");
 }
 
 struct CudaPipeline::Buffers {};
@@ -22,7 +22,7 @@ CudaPipeline::CudaPipeline() : b_(nullptr) {}
 CudaPipeline::~CudaPipeline() {}
 
 void CudaPipeline::run(const cuda::GpuMat&, const cuda::GpuMat&, const cuda::GpuMat&, const PipelineParams&, bool,
-                       OutputArray, cuda::Stream*, OutputArray)
+                       OutputArray, cuda::Stream*, bool&, OutputArray)
 {
     noCuda();
 }

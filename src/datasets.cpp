@@ -26,7 +26,7 @@ public:
     {
         std::ifstream f(path.c_str());
         if (!f)
-            CV_Error(Error::StsObjectNotFound, "cannot open calibration file " + path);
+            LIDARSGM_Error(Error::StsObjectNotFound, "cannot open calibration file " + path);
         std::string line;
         while (std::getline(f, line))
         {
@@ -41,15 +41,17 @@ public:
         }
     }
 
+    bool has(const std::string& name) const { return entries_.count(name) != 0; }
+
     //! Entry `name` as a rows x cols CV_64F matrix.
     Mat matrix(const std::string& name, int rows, int cols) const
     {
         auto it = entries_.find(name);
         if (it == entries_.end())
-            CV_Error(Error::StsParseError, "calibration file " + path_ + " has no key " + name);
+            LIDARSGM_Error(Error::StsParseError, "calibration file " + path_ + " has no key " + name);
         if ((int)it->second.size() != rows * cols)
-            CV_Error_(Error::StsParseError, ("calibration entry %s in %s has %d numbers, expected %d",
-                                             name.c_str(), path_.c_str(), (int)it->second.size(), rows * cols));
+            LIDARSGM_Error_(Error::StsParseError, ("calibration entry %s in %s has %d numbers, expected %d",
+                                                   name.c_str(), path_.c_str(), (int)it->second.size(), rows * cols));
         return Mat(rows, cols, CV_64F, (void*)it->second.data()).clone();
     }
 
@@ -68,11 +70,14 @@ Mat homogeneous(const Mat& R, const Mat& t = Mat())
     return T;
 }
 
-KittiCalibration calibrationOf(const Mat& P2, const Mat& P3, const Mat& lidarToCamera)
+KittiCalibration calibrationOf(const Mat& P2, const Mat& P3, const Mat& R0, const Mat& veloToCamera)
 {
     KittiCalibration k;
     k.projection = P2;
-    k.lidarToCamera = lidarToCamera;
+    k.rightProjection = P3;
+    k.rectification = R0;
+    k.veloToCamera = veloToCamera;
+    k.lidarToCamera = homogeneous(R0) * homogeneous(veloToCamera);
     k.focalBaseline = P2.at<double>(0, 3) - P3.at<double>(0, 3);
     return k;
 }
@@ -81,7 +86,7 @@ Mat readImage(const String& path)
 {
     Mat img = imread(path, IMREAD_UNCHANGED);
     if (img.empty())
-        CV_Error(Error::StsObjectNotFound, "cannot read image " + path);
+        LIDARSGM_Error(Error::StsObjectNotFound, "cannot read image " + path);
     return img;
 }
 
@@ -112,8 +117,9 @@ StereoLidarFrame loadFrame(const String& name, const String& leftPath, const Str
     f.left = toGrey(f.leftImage);
     f.right = toGrey(readImage(rightPath));
     if (f.right.size() != f.left.size())
-        CV_Error(Error::StsBadSize, "the images " + leftPath + " and " + rightPath + " differ in size");
+        LIDARSGM_Error(Error::StsBadSize, "the images " + leftPath + " and " + rightPath + " differ in size");
     f.calibration = given ? *given : readKittiCalibration(calibPath);
+    f.calibration.imageSize = f.left.size();
     const KittiCalibration& c = f.calibration;
     const Mat pts = selectLidarRings(readVelodyneScan(scanPath), lidarEvery, firstRing);
     projectPointsToDisparity(pts, c.projection, c.lidarToCamera, c.focalBaseline, f.left.size(), f.sparse);
@@ -123,8 +129,8 @@ StereoLidarFrame loadFrame(const String& name, const String& leftPath, const Str
 //! The start of each ring of a scan in the driver's order, and the end: ring r is rows [start[r], start[r + 1]).
 std::vector<int> ringStarts(const Mat& points)
 {
-    CV_CheckTypeEQ(points.type(), CV_32FC1, "lidarsgm: the scan must be CV_32FC1");
-    CV_CheckGE(points.cols, 3, "lidarsgm: the scan needs x, y, z columns");
+    LIDARSGM_Check(points.type() == CV_32FC1, "lidarsgm: the scan must be CV_32FC1");
+    LIDARSGM_Check(points.cols >= 3, "lidarsgm: the scan needs x, y, z columns");
     std::vector<int> start(1, 0);
     double prev = 0;
     for (int i = 0; i < points.rows; i++)
@@ -146,16 +152,23 @@ std::vector<int> ringStarts(const Mat& points)
 KittiCalibration readKittiCalibration(const String& path)
 {
     const CalibFile c(path);
-    return calibrationOf(c.matrix("P2", 3, 4), c.matrix("P3", 3, 4),
-                         homogeneous(c.matrix("R0_rect", 3, 3)) * homogeneous(c.matrix("Tr_velo_to_cam", 3, 4)));
+    return calibrationOf(c.matrix("P2", 3, 4), c.matrix("P3", 3, 4), c.matrix("R0_rect", 3, 3),
+                         c.matrix("Tr_velo_to_cam", 3, 4));
 }
 
 KittiCalibration readKittiRawCalibration(const String& camToCamPath, const String& veloToCamPath)
 {
     const CalibFile cam(camToCamPath), velo(veloToCamPath);
-    return calibrationOf(cam.matrix("P_rect_02", 3, 4), cam.matrix("P_rect_03", 3, 4),
-                         homogeneous(cam.matrix("R_rect_00", 3, 3)) *
-                             homogeneous(velo.matrix("R", 3, 3), velo.matrix("T", 3, 1)));
+    Mat veloToCamera;
+    hconcat(velo.matrix("R", 3, 3), velo.matrix("T", 3, 1), veloToCamera);
+    KittiCalibration k = calibrationOf(cam.matrix("P_rect_02", 3, 4), cam.matrix("P_rect_03", 3, 4),
+                                       cam.matrix("R_rect_00", 3, 3), veloToCamera);
+    if (cam.has("S_rect_02"))   // KITTI's raw files have it; a file without it leaves the size to the frames
+    {
+        const Mat size = cam.matrix("S_rect_02", 1, 2);
+        k.imageSize = Size(cvRound(size.at<double>(0)), cvRound(size.at<double>(1)));
+    }
+    return k;
 }
 
 KittiCalibration readKittiRawDriveCalibration(const String& drive)
@@ -172,15 +185,15 @@ Mat readVelodyneScan(const String& path)
 {
     std::ifstream f(path.c_str(), std::ios::binary | std::ios::ate);
     if (!f)
-        CV_Error(Error::StsObjectNotFound, "cannot open Velodyne scan " + path);
+        LIDARSGM_Error(Error::StsObjectNotFound, "cannot open Velodyne scan " + path);
     const std::streamsize bytes = f.tellg();
     if (bytes % 16 != 0)
-        CV_Error(Error::StsParseError, "Velodyne scan " + path + " is not a whole number of 16-byte points");
+        LIDARSGM_Error(Error::StsParseError, "Velodyne scan " + path + " is not a whole number of 16-byte points");
     Mat pts((int)(bytes / 16), 4, CV_32F);
     f.seekg(0);
     f.read((char*)pts.data, bytes);
     if (!f)
-        CV_Error(Error::StsParseError, "cannot read Velodyne scan " + path);
+        LIDARSGM_Error(Error::StsParseError, "cannot read Velodyne scan " + path);
     return pts;
 }
 
@@ -192,9 +205,9 @@ int countLidarRings(InputArray points_)
 Mat selectLidarRings(InputArray points_, int keepEvery, int firstRing)
 {
     const Mat points = points_.getMat();
-    CV_CheckGE(keepEvery, 1, "lidarsgm: keepEvery must be at least 1");
-    CV_CheckGE(firstRing, 0, "lidarsgm: firstRing must be in [0, keepEvery)");
-    CV_CheckLT(firstRing, keepEvery, "lidarsgm: firstRing must be in [0, keepEvery)");
+    LIDARSGM_Check(keepEvery >= 1, "lidarsgm: keepEvery must be at least 1");
+    LIDARSGM_Check(firstRing >= 0, "lidarsgm: firstRing must be in [0, keepEvery)");
+    LIDARSGM_Check(firstRing < keepEvery, "lidarsgm: firstRing must be in [0, keepEvery)");
     const std::vector<int> start = ringStarts(points);
     const int rings = (int)start.size() - 1;
     if (keepEvery == 1)
@@ -222,7 +235,7 @@ Mat readKittiDisparity(const String& path)
 {
     Mat raw = imread(path, IMREAD_UNCHANGED);
     if (raw.empty() || raw.type() != CV_16UC1)
-        CV_Error(Error::StsObjectNotFound, "cannot read KITTI disparity PNG " + path);
+        LIDARSGM_Error(Error::StsObjectNotFound, "cannot read KITTI disparity PNG " + path);
     Mat d;
     raw.convertTo(d, CV_32F, 1.0 / 256);
     d.setTo(-1.f, raw == 0);
@@ -233,7 +246,7 @@ Mat readKittiDepthAsDisparity(const String& path, double focalBaseline)
 {
     Mat raw = imread(path, IMREAD_UNCHANGED);
     if (raw.empty() || raw.type() != CV_16UC1)
-        CV_Error(Error::StsObjectNotFound, "cannot read KITTI depth PNG " + path);
+        LIDARSGM_Error(Error::StsObjectNotFound, "cannot read KITTI depth PNG " + path);
     Mat d(raw.size(), CV_32F);
     for (int y = 0; y < raw.rows; y++)
         for (int x = 0; x < raw.cols; x++)
@@ -248,7 +261,7 @@ std::vector<String> readKittiFrameIds(const String& dir)
 {
     std::ifstream list((dir + "/frames.txt").c_str());
     if (!list)
-        CV_Error(Error::StsObjectNotFound, "cannot open " + dir + "/frames.txt");
+        LIDARSGM_Error(Error::StsObjectNotFound, "cannot open " + dir + "/frames.txt");
     std::vector<String> ids;
     std::string id;
     while (list >> id)
@@ -296,7 +309,7 @@ std::vector<String> readKittiRawFrameNames(const String& drive)
     }
     std::sort(names.begin(), names.end());
     if (names.empty())
-        CV_Error(Error::StsObjectNotFound, "KITTI raw drive " + drive + " has no image_02/data/*.png");
+        LIDARSGM_Error(Error::StsObjectNotFound, "KITTI raw drive " + drive + " has no image_02/data/*.png");
     return names;
 }
 
@@ -323,8 +336,8 @@ void loadMiddleburyScene(const String& dir, OutputArray left, OutputArray right,
         imread(dir + "/" + layout.l, IMREAD_GRAYSCALE).copyTo(left);
         imread(dir + "/" + layout.r, IMREAD_GRAYSCALE).copyTo(right);
         if (left.empty() || right.empty())
-            CV_Error(Error::StsObjectNotFound, "lidarsgm: cannot read the images " + String(layout.l) + " and " +
-                                                   layout.r + " of the Middlebury scene " + dir);
+            LIDARSGM_Error(Error::StsObjectNotFound, "lidarsgm: cannot read the images " + String(layout.l) + " and " +
+                                                         layout.r + " of the Middlebury scene " + dir);
         Mat gt;
         raw.convertTo(gt, CV_32F, 1.0 / layout.scale);
         if (raw.depth() == CV_32F)
@@ -334,14 +347,14 @@ void loadMiddleburyScene(const String& dir, OutputArray left, OutputArray right,
         gt.copyTo(groundTruth);
         return;
     }
-    CV_Error(Error::StsObjectNotFound, "lidarsgm: " + dir + " is not a Middlebury scene (no disp2.png, disp1.png, "
-                                       "disp0.pfm or aloeGT.png)");
+    LIDARSGM_Error(Error::StsObjectNotFound, "lidarsgm: " + dir + " is not a Middlebury scene (no disp2.png, disp1.png, "
+                                             "disp0.pfm or aloeGT.png)");
 }
 
 Mat sampleGroundTruth(InputArray groundTruth, double fraction, int64 seed)
 {
     const Mat gt = groundTruth.getMat();
-    CV_CheckTypeEQ(gt.type(), CV_32FC1, "lidarsgm: the ground truth must be CV_32FC1");
+    LIDARSGM_Check(gt.type() == CV_32FC1, "lidarsgm: the ground truth must be CV_32FC1");
     RNG rng((uint64)seed);
     Mat sparse(gt.size(), CV_32F, Scalar::all(0));
     for (int y = 0; y < gt.rows; y++)
@@ -354,7 +367,7 @@ Mat sampleGroundTruth(InputArray groundTruth, double fraction, int64 seed)
 Mat encodeKittiDisparity(InputArray disparity)
 {
     const Mat d = disparity.getMat();
-    CV_CheckTypeEQ(d.type(), CV_32FC1, "lidarsgm: the disparity must be CV_32FC1 pixels");
+    LIDARSGM_Check(d.type() == CV_32FC1, "lidarsgm: the disparity must be CV_32FC1 pixels");
     Mat out(d.size(), CV_16UC1);
     for (int y = 0; y < d.rows; y++)
         for (int x = 0; x < d.cols; x++)
@@ -365,7 +378,7 @@ Mat encodeKittiDisparity(InputArray disparity)
 Mat encodeKittiDepth(InputArray depth_)
 {
     const Mat depth = depth_.getMat();
-    CV_CheckTypeEQ(depth.type(), CV_32FC1, "lidarsgm: the depth must be CV_32FC1 metres");
+    LIDARSGM_Check(depth.type() == CV_32FC1, "lidarsgm: the depth must be CV_32FC1 metres");
     Mat out(depth.size(), CV_16UC1, Scalar::all(0));
     for (int y = 0; y < depth.rows; y++)
         for (int x = 0; x < depth.cols; x++)
@@ -380,26 +393,26 @@ Mat encodeKittiDepth(InputArray depth_)
 void writePfm(const String& path, InputArray disparity)
 {
     const Mat src = disparity.getMat();
-    CV_CheckTypeEQ(src.type(), CV_32FC1, "lidarsgm: the disparity must be CV_32FC1 pixels");
+    LIDARSGM_Check(src.type() == CV_32FC1, "lidarsgm: the disparity must be CV_32FC1 pixels");
     Mat d = src.clone();
     d.setTo(std::numeric_limits<float>::infinity(), src < 0);
     if (!imwrite(path, d))
-        CV_Error(Error::StsError, "lidarsgm: cannot write " + path);
+        LIDARSGM_Error(Error::StsError, "lidarsgm: cannot write " + path);
 }
 
 void writePly(const String& path, InputArray points_, InputArray colors)
 {
     const Mat points = points_.getMat();
     Mat bgr = colors.getMat();
-    CV_CheckTypeEQ(points.type(), CV_32FC3, "lidarsgm: the points must be CV_32FC3 (disparityToPoints)");
-    CV_Check(bgr.size(), bgr.size() == points.size(), "lidarsgm: the colours must be an image of the points' size");
+    LIDARSGM_Check(points.type() == CV_32FC3, "lidarsgm: the points must be CV_32FC3 (disparityToPoints)");
+    LIDARSGM_Check(bgr.size() == points.size(), "lidarsgm: the colours must be an image of the points' size");
     if (bgr.depth() == CV_16U)
         bgr.convertTo(bgr, CV_8U, 1.0 / 256);
     if (bgr.channels() == 1)
         cvtColor(bgr, bgr, COLOR_GRAY2BGR);
     else if (bgr.channels() == 4)
         cvtColor(bgr, bgr, COLOR_BGRA2BGR);
-    CV_CheckTypeEQ(bgr.type(), CV_8UC3, "lidarsgm: the colours must be grey or BGR(A), 8 or 16 bits");
+    LIDARSGM_Check(bgr.type() == CV_8UC3, "lidarsgm: the colours must be grey or BGR(A), 8 or 16 bits");
     size_t n = 0;
     for (int y = 0; y < points.rows; y++)
         for (int x = 0; x < points.cols; x++)
@@ -432,7 +445,7 @@ void writePly(const String& path, InputArray points_, InputArray colors)
             out.write(rec, sizeof(rec));
         }
     if (!out)
-        CV_Error(Error::StsError, "lidarsgm: cannot write " + path);
+        LIDARSGM_Error(Error::StsError, "lidarsgm: cannot write " + path);
 }
 
 }} // namespace cv::lidarsgm

@@ -21,11 +21,11 @@ struct DisparityReader
     DisparityReader(InputArray d, int minDisparity, const char* fn) : m(d.getMat()), minD(minDisparity)
     {
         if (m.empty())
-            CV_Error_(Error::StsBadArg, ("lidarsgm::%s: the disparity map is empty", fn));
+            LIDARSGM_Error_(Error::StsBadArg, ("lidarsgm::%s: the disparity map is empty", fn));
         if (m.type() != CV_16SC1 && m.type() != CV_32FC1)
-            CV_Error_(Error::StsUnsupportedFormat,
-                      ("lidarsgm::%s: the disparity map must be CV_16SC1 (x16) or CV_32FC1 (pixels), got %s", fn,
-                       typeToString(m.type()).c_str()));
+            LIDARSGM_Error_(Error::StsUnsupportedFormat,
+                            ("lidarsgm::%s: the disparity map must be CV_16SC1 (x16) or CV_32FC1 (pixels), got %s", fn,
+                             typeToString(m.type()).c_str()));
     }
 
     double at(int y, int x) const
@@ -38,7 +38,7 @@ struct DisparityReader
 void checkFocalBaseline(double fb, const char* fn)
 {
     if (!(fb > 0) || !std::isfinite(fb))
-        CV_Error_(Error::StsOutOfRange, ("lidarsgm::%s: focalBaseline must be positive and finite, got %g", fn, fb));
+        LIDARSGM_Error_(Error::StsOutOfRange, ("lidarsgm::%s: focalBaseline must be positive and finite, got %g", fn, fb));
 }
 
 } // namespace
@@ -69,12 +69,12 @@ void disparityToPoints(InputArray disparity, InputArray _Q, OutputArray _points,
     const DisparityReader disp(disparity, minDisparity, "disparityToPoints");
     Mat q = _Q.getMat();
     if (q.rows != 4 || q.cols != 4 || q.channels() != 1 || (q.depth() != CV_32F && q.depth() != CV_64F))
-        CV_Error(Error::StsBadArg, "lidarsgm::disparityToPoints: Q must be a 4x4 CV_32F or CV_64F matrix");
+        LIDARSGM_Error(Error::StsBadArg, "lidarsgm::disparityToPoints: Q must be a 4x4 CV_32F or CV_64F matrix");
     Matx44d Q;
     q.convertTo(Mat(4, 4, CV_64F, Q.val), CV_64F);
     for (int i = 0; i < 16; i++)
         if (!std::isfinite(Q.val[i]))
-            CV_Error(Error::StsBadArg, "lidarsgm::disparityToPoints: Q has a NaN or infinite entry");
+            LIDARSGM_Error(Error::StsBadArg, "lidarsgm::disparityToPoints: Q has a NaN or infinite entry");
     _points.create(disp.m.size(), CV_32FC3);
     Mat points = _points.getMat();
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -99,14 +99,14 @@ Mat reprojectionMatrix(InputArray projection, double focalBaseline)
     Mat p = projection.getMat();
     if (p.rows != 3 || (p.cols != 3 && p.cols != 4) || p.channels() != 1 ||
         (p.depth() != CV_32F && p.depth() != CV_64F))
-        CV_Error(Error::StsBadArg, "lidarsgm::reprojectionMatrix: projection must be a 3x3 or 3x4 CV_32F or CV_64F "
-                                   "matrix");
+        LIDARSGM_Error(Error::StsBadArg, "lidarsgm::reprojectionMatrix: projection must be a 3x3 or 3x4 CV_32F or CV_64F "
+                                         "matrix");
     Mat pd;
     p.convertTo(pd, CV_64F);
     const double f = pd.at<double>(0, 0), cx = pd.at<double>(0, 2), cy = pd.at<double>(1, 2);
     if (!(f > 0) || !std::isfinite(f) || !std::isfinite(cx) || !std::isfinite(cy))
-        CV_Error(Error::StsBadArg, "lidarsgm::reprojectionMatrix: the projection's focal length must be positive and "
-                                   "its principal point finite");
+        LIDARSGM_Error(Error::StsBadArg, "lidarsgm::reprojectionMatrix: the projection's focal length must be positive and "
+                                         "its principal point finite");
     Mat Q = (Mat_<double>(4, 4) << 1, 0, 0, -cx,
                                    0, 1, 0, -cy,
                                    0, 0, 0, f,

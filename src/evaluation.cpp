@@ -38,8 +38,8 @@ namespace {
 Mat estimateToFloat(InputArray _disp, int minDisparity)
 {
     const Mat disp = _disp.getMat();
-    CV_CheckTrue(disp.type() == CV_32FC1 || disp.type() == CV_16SC1,
-                 "lidarsgm: the disparity to evaluate must be CV_32FC1 (pixels) or CV_16SC1 (x16)");
+    LIDARSGM_Check(disp.type() == CV_32FC1 || disp.type() == CV_16SC1,
+                   "lidarsgm: the disparity to evaluate must be CV_32FC1 (pixels) or CV_16SC1 (x16)");
     Mat d;
     disp.convertTo(d, CV_32F, disp.type() == CV_16SC1 ? 1.0 / 16 : 1.0);
     const float lo = (float)std::max(minDisparity, 0);
@@ -57,8 +57,8 @@ Mat estimateToFloat(InputArray _disp, int minDisparity)
 Mat groundTruthToFloat(InputArray _gt)
 {
     const Mat gt = _gt.getMat();
-    CV_CheckTrue(gt.type() == CV_32FC1 || gt.type() == CV_16UC1,
-                 "lidarsgm: the ground truth must be CV_32FC1 (pixels) or CV_16UC1 (KITTI, value / 256)");
+    LIDARSGM_Check(gt.type() == CV_32FC1 || gt.type() == CV_16UC1,
+                   "lidarsgm: the ground truth must be CV_32FC1 (pixels) or CV_16UC1 (KITTI, value / 256)");
     Mat g;
     gt.convertTo(g, CV_32F, gt.type() == CV_16UC1 ? 1.0 / 256 : 1.0);
     for (int y = 0; y < g.rows; y++)
@@ -91,8 +91,8 @@ void ConfidenceErrors::add(const ConfidenceErrors& o)
         pixels.assign(CONFIDENCE_LEVELS, 0.0);
         outliers.assign(CONFIDENCE_LEVELS, 0.0);
     }
-    CV_CheckEQ(o.pixels.size(), pixels.size(), "lidarsgm: ConfidenceErrors of another layout");
-    CV_CheckEQ(o.outliers.size(), outliers.size(), "lidarsgm: ConfidenceErrors of another layout");
+    LIDARSGM_Check(o.pixels.size() == pixels.size(), "lidarsgm: ConfidenceErrors of another layout");
+    LIDARSGM_Check(o.outliers.size() == outliers.size(), "lidarsgm: ConfidenceErrors of another layout");
     for (size_t i = 0; i < pixels.size(); i++)
     {
         pixels[i] += o.pixels[i];
@@ -170,10 +170,12 @@ double ConfidenceErrors::oracleAuc() const
 ConfidenceErrors evaluateConfidence(InputArray disparity, InputArray confidence, InputArray groundTruth, int metric,
                                     double badThreshold, int minDisparity)
 {
-    CV_CheckTrue(metric == METRIC_KITTI_D1 || metric == METRIC_BAD, "lidarsgm: metric must be METRIC_KITTI_D1 or METRIC_BAD");
-    CV_CheckTrue(disparity.size() == groundTruth.size(), "lidarsgm: the disparity and the ground truth differ in size");
-    CV_CheckTypeEQ(confidence.type(), CV_32FC1, "lidarsgm: the confidence must be CV_32FC1");
-    CV_CheckTrue(confidence.size() == disparity.size(), "lidarsgm: the confidence and the disparity differ in size");
+    LIDARSGM_Check(metric == METRIC_KITTI_D1 || metric == METRIC_BAD,
+                   "lidarsgm: metric must be METRIC_KITTI_D1 or METRIC_BAD");
+    LIDARSGM_Check(disparity.size() == groundTruth.size(),
+                   "lidarsgm: the disparity and the ground truth differ in size");
+    LIDARSGM_Check(confidence.type() == CV_32FC1, "lidarsgm: the confidence must be CV_32FC1");
+    LIDARSGM_Check(confidence.size() == disparity.size(), "lidarsgm: the confidence and the disparity differ in size");
     const Mat est = estimateToFloat(disparity, minDisparity), gt = groundTruthToFloat(groundTruth);
     const Mat conf = confidence.getMat();
     const float bad = (float)badThreshold;
@@ -199,7 +201,7 @@ ConfidenceErrors evaluateConfidence(InputArray disparity, InputArray confidence,
 
 void interpolateBackground(InputArray _disp, OutputArray _filled)
 {
-    CV_CheckTrue(_disp.type() == CV_32FC1, "lidarsgm: interpolateBackground takes CV_32FC1 pixels");
+    LIDARSGM_Check(_disp.type() == CV_32FC1, "lidarsgm: interpolateBackground takes CV_32FC1 pixels");
     _disp.copyTo(_filled);
     Mat d = _filled.getMat();
     const int W = d.cols, H = d.rows;
@@ -248,8 +250,10 @@ void interpolateBackground(InputArray _disp, OutputArray _filled)
 DisparityErrors evaluateDisparity(InputArray disparity, InputArray groundTruth, int metric, double badThreshold,
                                   int minDisparity)
 {
-    CV_CheckTrue(metric == METRIC_KITTI_D1 || metric == METRIC_BAD, "lidarsgm: metric must be METRIC_KITTI_D1 or METRIC_BAD");
-    CV_CheckTrue(disparity.size() == groundTruth.size(), "lidarsgm: the disparity and the ground truth differ in size");
+    LIDARSGM_Check(metric == METRIC_KITTI_D1 || metric == METRIC_BAD,
+                   "lidarsgm: metric must be METRIC_KITTI_D1 or METRIC_BAD");
+    LIDARSGM_Check(disparity.size() == groundTruth.size(),
+                   "lidarsgm: the disparity and the ground truth differ in size");
     const Mat est = estimateToFloat(disparity, minDisparity), gt = groundTruthToFloat(groundTruth);
     Mat ipol;
     interpolateBackground(est, ipol);
@@ -279,8 +283,8 @@ DisparityErrors evaluateDisparity(InputArray disparity, InputArray groundTruth, 
 
 void colorizeDisparity(InputArray _disp, OutputArray _color, double maxDisparity)
 {
-    CV_CheckTrue(_disp.type() == CV_32FC1, "lidarsgm: colorizeDisparity takes CV_32FC1 pixels");
-    CV_CheckTrue(maxDisparity > 0, "lidarsgm: colorizeDisparity: maxDisparity must be > 0");
+    LIDARSGM_Check(_disp.type() == CV_32FC1, "lidarsgm: colorizeDisparity takes CV_32FC1 pixels");
+    LIDARSGM_Check(maxDisparity > 0, "lidarsgm: colorizeDisparity: maxDisparity must be > 0");
     // The devkit's control colours (r, g, b) and the share of the ramp each segment takes.
     static const float ramp[8][4] = { {0, 0, 0, 114}, {0, 0, 1, 185}, {1, 0, 0, 114}, {1, 0, 1, 174},
                                       {0, 1, 0, 114}, {0, 1, 1, 185}, {1, 1, 0, 114}, {1, 1, 1, 0} };
@@ -314,8 +318,8 @@ void colorizeDisparity(InputArray _disp, OutputArray _color, double maxDisparity
 
 void colorizeDisparityError(InputArray _disp, InputArray _gt, OutputArray _color)
 {
-    CV_CheckTrue(_disp.type() == CV_32FC1 && _gt.type() == CV_32FC1 && _disp.size() == _gt.size(),
-                 "lidarsgm: colorizeDisparityError takes two CV_32FC1 maps of one size");
+    LIDARSGM_Check(_disp.type() == CV_32FC1 && _gt.type() == CV_32FC1 && _disp.size() == _gt.size(),
+                   "lidarsgm: colorizeDisparityError takes two CV_32FC1 maps of one size");
     // The devkit's scale: error / threshold bands and their colours (r, g, b).
     static const float scale[10][5] = {
         {0.f, 0.0625f, 49, 54, 149}, {0.0625f, 0.125f, 69, 117, 180}, {0.125f, 0.25f, 116, 173, 209},
@@ -345,14 +349,14 @@ void colorizeDisparityError(InputArray _disp, InputArray _gt, OutputArray _color
 void drawSparseDisparity(InputArray image_, InputArray sparse_, OutputArray dst, double maxDisparity)
 {
     const Mat image = image_.getMat(), sparse = sparse_.getMat();
-    CV_CheckTypeEQ(sparse.type(), CV_32FC1, "lidarsgm: the sparse disparities must be CV_32FC1 pixels");
-    CV_Check(sparse.size(), sparse.size() == image.size(), "lidarsgm: the sparse map must have the image's size");
+    LIDARSGM_Check(sparse.type() == CV_32FC1, "lidarsgm: the sparse disparities must be CV_32FC1 pixels");
+    LIDARSGM_Check(sparse.size() == image.size(), "lidarsgm: the sparse map must have the image's size");
     Mat grey8, out, colours;
     if (image.depth() == CV_16U)
         image.convertTo(grey8, CV_8U, 1.0 / 256);
     else
         grey8 = image;
-    CV_CheckDepthEQ(grey8.depth(), CV_8U, "lidarsgm: the image must have 8 or 16 bits");
+    LIDARSGM_Check(grey8.depth() == CV_8U, "lidarsgm: the image must have 8 or 16 bits");
     if (grey8.channels() == 1)
         cvtColor(grey8, out, COLOR_GRAY2BGR);
     else if (grey8.channels() == 4)

@@ -106,7 +106,7 @@ void residualInputs(InputArray left, InputArray right, InputArray sparseDisparit
 {
     if (left.kind() == _InputArray::CUDA_GPU_MAT || right.kind() == _InputArray::CUDA_GPU_MAT ||
         sparseDisparity.kind() == _InputArray::CUDA_GPU_MAT)
-        CV_Error_(Error::StsBadArg, ("lidarsgm: %s runs on the CPU: pass cv::Mat inputs", fn));
+        LIDARSGM_Error_(Error::StsBadArg, ("lidarsgm: %s runs on the CPU: pass cv::Mat inputs", fn));
     detail::checkInputs(left, right, sparseDisparity, noArray(), true, fn);
     l = left.getMat();
     r = right.getMat();
@@ -120,15 +120,15 @@ double matchingResidual(InputArray left, InputArray right, InputArray sparseDisp
     CV_INSTRUMENT_REGION();
     Mat l, r, sparse16;
     residualInputs(left, right, sparseDisparity, "matchingResidual", l, r, sparse16);
-    CV_CheckTrue(searchRadius >= 1 && searchRadius <= 64,
-                 "lidarsgm: matchingResidual: searchRadius must be in [1, 64]");
+    LIDARSGM_Check(searchRadius >= 1 && searchRadius <= 64,
+                   "lidarsgm: matchingResidual: searchRadius must be in [1, 64]");
     const SparsePoints sp(l, r, sparse16, 0);
     int count = 0;
     const int median16 = sp.medianOffset16(sp.points, Point(), searchRadius, count);
     if (median16 < 0)
-        CV_Error_(Error::StsError, ("lidarsgm: matchingResidual: only %d sparse pixels can be compared with the images "
-                                    "(at least %d needed): textureless images, an empty sparse map, or one outside "
-                                    "the images' overlap", count, detail::kMinCalibrationPoints));
+        LIDARSGM_Error_(Error::StsError, ("lidarsgm: matchingResidual: only %d sparse pixels can be compared with the images "
+                                          "(at least %d needed): textureless images, an empty sparse map, or one outside "
+                                          "the images' overlap", count, detail::kMinCalibrationPoints));
     return median16 / 16.0;
 }
 
@@ -137,8 +137,8 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
     CV_INSTRUMENT_REGION();
     Mat l, r, sparse16;
     residualInputs(left, right, sparseDisparity, "checkLidar", l, r, sparse16);
-    CV_CheckTrue(maxResidual > 0 && maxResidual < 64, "lidarsgm: checkLidar: maxResidual must be in (0, 64) pixels");
-    CV_CheckTrue(maxShift >= 0 && maxShift <= 1024, "lidarsgm: checkLidar: maxShift must be in [0, 1024] pixels");
+    LIDARSGM_Check(maxResidual > 0 && maxResidual < 64, "lidarsgm: checkLidar: maxResidual must be in (0, 64) pixels");
+    LIDARSGM_Check(maxShift >= 0 && maxShift <= 1024, "lidarsgm: checkLidar: maxShift must be in [0, 1024] pixels");
     if (maxShift == 0)
         maxShift = std::max(l.cols / detail::kLidarShiftFraction, 1);
     const int radius = 6;   // matchingResidual's default

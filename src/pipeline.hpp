@@ -183,6 +183,29 @@ static LIDARSGM_HD int sparseFromFloat(float v, int lo, int hi)
     return sparseInRange(d16, lo, hi) ? d16 : NO_DISP;
 }
 
+/* The units check. A sparse value the input convention counts as a measurement, in the search range or not (KITTI:
+nonzero; pixels: positive and finite); one at or beyond the image's width, where no point seen by both cameras can be
+(sparseBeyondImage); and the counts of a map. compute refuses a map most of whose measurements lie outside the search
+range and beyond the image (unitsLookWrong: KITTI's x256 PNG passed as float pixels puts them there, a range too
+small for the scene does not), and says once when a map that the mode needs has no value in the range
+(checkSparseUnits, src/sparse_input.cpp). */
+static LIDARSGM_HD bool sparseMeasured(unsigned short v) { return v != 0; }
+static LIDARSGM_HD bool sparseMeasured(float v) { return v > 0.f && v <= 3.402823466e+38f; }   // false for NaN, inf
+static LIDARSGM_HD bool sparseBeyondImage(unsigned short v, int width) { return (int)v >= width * 256; }
+static LIDARSGM_HD bool sparseBeyondImage(float v, int width) { return v >= (float)width; }
+struct SparseCounts
+{
+    int measured;   //!< values that are measurements (sparseMeasured)
+    int inRange;    //!< of them, the values kept (sparseFromKitti16 / sparseFromFloat != NO_DISP)
+    int beyond;     //!< of them, the values outside the range and beyond the image (sparseBeyondImage)
+};
+//! Fewer measurements than this say too little of the units to refuse a map.
+static const int UNITS_CHECK_MIN_MEASURED = 64;
+static inline bool unitsLookWrong(const SparseCounts& c)
+{
+    return c.measured >= UNITS_CHECK_MIN_MEASURED && 2 * (long long)c.beyond > c.measured;
+}
+
 /* Disparity windows (searchWindowOn): the aggregation searches each WINDOW_TILE x WINDOW_TILE tile of the image over
 [lo, hi) instead of [0, D): the prior indices (round(prior) - minD of the call's prior map: semidensified and
 ring-interpolated values in SDSGM, the LiDAR's elsewhere) of the tile dilated by one tile on every side, widened by
@@ -640,9 +663,10 @@ the front class. semidenseOnly stops after semidensification and writes the semi
 class CpuPipeline
 {
 public:
-    //! confidence: written where p.confidence (consistencyCheck).
+    /** confidence: written where p.confidence (consistencyCheck). warned: the matcher's flag of the units check's
+    warning (checkSparseUnits). */
     void run(const Mat& left, const Mat& right, const Mat& sparse, const PipelineParams& p, bool semidenseOnly,
-             OutputArray out, OutputArray confidence = noArray());
+             OutputArray out, bool& warned, OutputArray confidence = noArray());
     //! The share of the cells the last run searched (windowCells over W H D; 0 before any).
     double searchedFraction() const { return searched_; }
 private:
@@ -662,9 +686,11 @@ class CudaPipeline
 public:
     CudaPipeline();
     ~CudaPipeline();
-    //! stream == nullptr: the default stream.
+    /** stream == nullptr: the default stream. The units check's counts come from the device: outside a graph capture
+    the call waits at its end for the conversion's event (long done by then unless the stream had work queued). */
     void run(const cuda::GpuMat& left, const cuda::GpuMat& right, const cuda::GpuMat& sparse, const PipelineParams& p,
-             bool semidenseOnly, OutputArray out, cuda::Stream* stream, OutputArray confidence = noArray());
+             bool semidenseOnly, OutputArray out, cuda::Stream* stream, bool& warned,
+             OutputArray confidence = noArray());
     //! cv::cuda::projectPointsToDisparity's device work; PT = projection * lidarToCamera, row-major 3x4.
     static void projectPoints(const cuda::GpuMat& points, int n, int strideFloats, const double PT[12],
                               double focalBaseline, Size imageSize, int dtype, OutputArray out, cuda::Stream& stream);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <set>
 #include <fstream>
 #include <sstream>
 
@@ -18,19 +19,45 @@ namespace {
 
 [[noreturn]] void fail(const String& path, const std::string& what)
 {
-    CV_Error(Error::StsParseError, "lidarsgm: point cloud " + path + ": " + what);
+    LIDARSGM_Error(Error::StsParseError, "lidarsgm: point cloud " + path + ": " + what);
+}
+
+/* The fields a cloud has beyond x, y, z and intensity, which readPointCloud does not read (a ring or time field, say,
+where the intensity would be expected): said once per folder and list, so that a recording's frames say it once.
+PCL's padding fields ("_") are no news. */
+void noteUnreadFields(const String& path, const std::vector<std::string>& unread)
+{
+    std::string list;
+    int n = 0;
+    for (const std::string& f : unread)
+        if (f != "_")
+        {
+            list += (list.empty() ? "" : ", ") + f;
+            n++;
+        }
+    if (list.empty())
+        return;
+    static Mutex mutex;
+    static std::set<std::string> said;   // folder and list: a recording's frames share their folder
+    const size_t slash = path.find_last_of("/\\");
+    AutoLock lock(mutex);
+    if (!said.insert((slash == String::npos ? String() : path.substr(0, slash)) + "\n" + list).second)
+        return;
+    lidarsgmWarning("lidarsgm: point cloud " + path + (n == 1 ? ": the field " : ": the fields ") + list +
+                    (n == 1 ? " is" : " are") + " not read (readPointCloud takes x, y, z and intensity; the intensity is "
+                    "0 where the file has none)");
 }
 
 std::vector<char> readFile(const String& path)
 {
     std::ifstream f(path.c_str(), std::ios::binary | std::ios::ate);
     if (!f)
-        CV_Error(Error::StsObjectNotFound, "lidarsgm: cannot open point cloud " + path);
+        LIDARSGM_Error(Error::StsObjectNotFound, "lidarsgm: cannot open point cloud " + path);
     const std::streamsize bytes = f.tellg();
     std::vector<char> data((size_t)std::max<std::streamsize>(bytes, 0));
     f.seekg(0);
     if (bytes > 0 && !f.read(data.data(), bytes))
-        CV_Error(Error::StsParseError, "lidarsgm: cannot read point cloud " + path);
+        LIDARSGM_Error(Error::StsParseError, "lidarsgm: cannot read point cloud " + path);
     return data;
 }
 
@@ -221,6 +248,7 @@ Mat readPcd(const String& path, const std::vector<char>& file)
     std::vector<size_t> offset(nf), first(nf);
     size_t step = 0, values = 0;
     int ix = -1, iy = -1, iz = -1, ii = -1;
+    std::vector<std::string> unread;
     for (size_t i = 0; i < nf; i++)
     {
         offset[i] = step;
@@ -231,7 +259,10 @@ Mat readPcd(const String& path, const std::vector<char>& file)
                   : fields[i] == "intensity" ? &ii : nullptr;
         if (slot && *slot < 0 && counts[i] > 0)   // a field of count > 1 gives its first value
             *slot = (int)i;
+        else if (!slot)
+            unread.push_back(fields[i]);
     }
+    noteUnreadFields(path, unread);
     if (ix < 0 || iy < 0 || iz < 0)
         fail(path, "FIELDS has no " + std::string(ix < 0 ? "x" : iy < 0 ? "y" : "z"));
 
@@ -413,6 +444,7 @@ Mat readPly(const String& path, const std::vector<char>& file)
     {
         const bool vertex = e.name == "vertex";
         int ix = -1, iy = -1, iz = -1, ii = -1;
+        std::vector<std::string> unread;
         for (int i = 0; i < (int)e.props.size(); i++)
         {
             const std::string& nm = e.props[i].name;
@@ -420,7 +452,11 @@ Mat readPly(const String& path, const std::vector<char>& file)
                       : nm == "intensity" ? &ii : nullptr;
             if (slot)
                 *slot = i;
+            else if (vertex)
+                unread.push_back(nm);
         }
+        if (vertex)
+            noteUnreadFields(path, unread);
         if (vertex && (ix < 0 || iy < 0 || iz < 0))
             fail(path, "the vertex element has no " + std::string(ix < 0 ? "x" : iy < 0 ? "y" : "z"));
         std::vector<double> v(e.props.size());
@@ -509,7 +545,7 @@ Mat readPointCloud(const String& path)
         return toMat(out);
     }
     if (!endsWith(path, ".pcd") && !endsWith(path, ".ply"))
-        CV_Error(Error::StsBadArg, "lidarsgm: point cloud " + path + ": unknown file type (.pcd, .ply or .bin)");
+        LIDARSGM_Error(Error::StsBadArg, "lidarsgm: point cloud " + path + ": unknown file type (.pcd, .ply or .bin)");
     const std::vector<char> file = readFile(path);
     return endsWith(path, ".pcd") ? readPcd(path, file) : readPly(path, file);
 }

@@ -15,7 +15,7 @@ Matx34d toMatx34(InputArray m, const char* name)
 {
     Mat a = m.getMat();
     if (a.channels() != 1 || (a.depth() != CV_32F && a.depth() != CV_64F))
-        CV_Error_(Error::StsUnsupportedFormat, ("lidarsgm: %s must be a single-channel CV_32F or CV_64F matrix", name));
+        LIDARSGM_Error_(Error::StsUnsupportedFormat, ("lidarsgm: %s must be a single-channel CV_32F or CV_64F matrix", name));
     Mat d;
     a.convertTo(d, CV_64F);
     Matx34d r;
@@ -25,14 +25,14 @@ Matx34d toMatx34(InputArray m, const char* name)
     {
         const double* last = d.ptr<double>(3);
         if (!(last[0] == 0 && last[1] == 0 && last[2] == 0 && last[3] == 1))
-            CV_Error_(Error::StsBadArg, ("lidarsgm: the last row of the 4x4 %s must be [0 0 0 1]", name));
+            LIDARSGM_Error_(Error::StsBadArg, ("lidarsgm: the last row of the 4x4 %s must be [0 0 0 1]", name));
         r = Matx34d(d.ptr<double>());
     }
     else
-        CV_Error_(Error::StsBadSize, ("lidarsgm: %s must be 3x4 or 4x4, got %dx%d", name, d.rows, d.cols));
+        LIDARSGM_Error_(Error::StsBadSize, ("lidarsgm: %s must be 3x4 or 4x4, got %dx%d", name, d.rows, d.cols));
     for (int i = 0; i < 12; i++)
         if (!std::isfinite(r.val[i]))
-            CV_Error_(Error::StsBadArg, ("lidarsgm: %s has a NaN or infinite entry", name));
+            LIDARSGM_Error_(Error::StsBadArg, ("lidarsgm: %s has a NaN or infinite entry", name));
     return r;
 }
 
@@ -40,8 +40,8 @@ void checkRigidTransform(const Matx34d& T)
 {
     const Matx33d R = T.get_minor<3, 3>(0, 0);
     const double orthErr = norm(R * R.t() - Matx33d::eye(), NORM_INF);
-    CV_CheckTrue(orthErr < 1e-3 && std::abs(determinant(R) - 1.0) < 1e-3,
-                 "lidarsgm: lidarToCamera must be a rigid transform (its 3x3 block a rotation)");
+    LIDARSGM_Check(orthErr < 1e-3 && std::abs(determinant(R) - 1.0) < 1e-3,
+                   "lidarsgm: lidarToCamera must be a rigid transform (its 3x3 block a rotation)");
 }
 
 void pointLayout(int rows, int cols, int channels, int depth, bool empty, int& n, int& stride)
@@ -50,7 +50,7 @@ void pointLayout(int rows, int cols, int channels, int depth, bool empty, int& n
     stride = 0;
     if (empty)
         return;
-    CV_CheckTrue(depth == CV_32F, "lidarsgm: points must be CV_32F (N x 3, N x 4, or N x 1 with 3 or 4 channels)");
+    LIDARSGM_Check(depth == CV_32F, "lidarsgm: points must be CV_32F (N x 3, N x 4, or N x 1 with 3 or 4 channels)");
     if (channels == 1 && (cols == 3 || cols == 4))
     {
         n = rows;
@@ -62,8 +62,8 @@ void pointLayout(int rows, int cols, int channels, int depth, bool empty, int& n
         stride = channels;
     }
     else
-        CV_Error_(Error::StsBadSize, ("lidarsgm: points must be N x 3 or N x 4 (or N x 1 with 3 or 4 channels), got %dx%d with %d channels",
-                                      rows, cols, channels));
+        LIDARSGM_Error_(Error::StsBadSize, ("lidarsgm: points must be N x 3 or N x 4 (or N x 1 with 3 or 4 channels), got %dx%d with %d channels",
+                                            rows, cols, channels));
 }
 
 } // namespace detail
@@ -75,16 +75,19 @@ using detail::toMatx34;
 static Matx34d checkedProjection(InputArray _projection, InputArray _lidarToCamera, double focalBaseline, Size imageSize,
                                  int dtype)
 {
-    CV_CheckTrue(dtype == CV_32F || dtype == CV_16U, "lidarsgm: projectPointsToDisparity: dtype must be CV_32F or CV_16U");
-    CV_CheckTrue(imageSize.width > 0 && imageSize.height > 0, "lidarsgm: projectPointsToDisparity: imageSize must be positive");
-    CV_CheckTrue(std::isfinite(focalBaseline) && focalBaseline > 0, "lidarsgm: projectPointsToDisparity: focalBaseline must be finite and > 0");
+    LIDARSGM_Check(dtype == CV_32F || dtype == CV_16U,
+                   "lidarsgm: projectPointsToDisparity: dtype must be CV_32F or CV_16U");
+    LIDARSGM_Check(imageSize.width > 0 && imageSize.height > 0,
+                   "lidarsgm: projectPointsToDisparity: imageSize must be positive");
+    LIDARSGM_Check(std::isfinite(focalBaseline) && focalBaseline > 0,
+                   "lidarsgm: projectPointsToDisparity: focalBaseline must be finite and > 0");
     const Matx34d P = toMatx34(_projection, "projection");
     const Matx34d T = toMatx34(_lidarToCamera, "lidarToCamera");
     {
         Matx33d M(P(0, 0), P(0, 1), P(0, 2), P(1, 0), P(1, 1), P(1, 2), P(2, 0), P(2, 1), P(2, 2));
         const double scale = std::max(norm(M, NORM_INF), DBL_MIN);
-        CV_CheckTrue(std::abs(determinant(M)) > 1e-9 * scale * scale * scale,
-                     "lidarsgm: the projection's left 3x3 block is singular");
+        LIDARSGM_Check(std::abs(determinant(M)) > 1e-9 * scale * scale * scale,
+                       "lidarsgm: the projection's left 3x3 block is singular");
     }
     detail::checkRigidTransform(T);
     return Matx44d(P(0, 0), P(0, 1), P(0, 2), P(0, 3), P(1, 0), P(1, 1), P(1, 2), P(1, 3),
@@ -159,7 +162,7 @@ void projectPointsToDisparity(InputArray points, InputArray projection, InputArr
 {
     CV_INSTRUMENT_REGION();
     if (points.kind() != _InputArray::CUDA_GPU_MAT)
-        CV_Error(Error::StsBadArg, "lidarsgm: cv::cuda::projectPointsToDisparity needs the points in a cv::cuda::GpuMat");
+        LIDARSGM_Error(Error::StsBadArg, "lidarsgm: cv::cuda::projectPointsToDisparity needs the points in a cv::cuda::GpuMat");
     const Matx34d PT = cv::lidarsgm::checkedProjection(projection, lidarToCamera, focalBaseline, imageSize, dtype);
     const GpuMat pts = points.getGpuMat();
     int n = 0, stride = 0;

@@ -46,6 +46,15 @@ alike; needer names the call that needs the sparse map where needSparse. Returns
 bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArray out, bool needSparse,
                  const char* needer);
 
+/** What cv::FileStorage's parser said: its exceptions carry "file(line): what" in func and the parser's function in err
+(OpenCV 4 and 5 pass the two the other way round); other exceptions their err. */
+String parserMessage(const cv::Exception& e);
+//! The known name nearest to key (edit distance, case ignored): for "did you mean" in the messages.
+String nearestName(const String& key, const std::vector<String>& names);
+//! Raises cv::Exception for the first key of the map node that is not in known, naming what holds it and the
+//! nearest known key.
+void refuseUnknownKeys(const FileNode& node, const std::vector<String>& known, const String& what);
+
 }}} // namespace cv::lidarsgm::detail
 
 #endif

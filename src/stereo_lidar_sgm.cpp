@@ -7,6 +7,9 @@
 #include "precomp.hpp"
 #include "pipeline.hpp"
 #include "projection.hpp"
+#include "opencv2/core/utils/filesystem.hpp"
+#include <algorithm>
+#include <cctype>
 
 namespace cv { namespace lidarsgm {
 
@@ -62,7 +65,7 @@ namespace {
 
 void rejectValue(const char* key, const char* what, const char* range, double v)
 {
-    CV_Error_(Error::StsOutOfRange, ("lidarsgm: %s (%s) must be %s; got %g", key, what, range, v));
+    LIDARSGM_Error_(Error::StsOutOfRange, ("lidarsgm: %s (%s) must be %s; got %g", key, what, range, v));
 }
 
 void writeValue(FileStorage& fs, const char* key, int v) { fs << key << v; }
@@ -77,6 +80,81 @@ const char* modeName(int mode)
     return mode == StereoLidarSGM::MODE_SGM ? "MODE_SGM" : mode == StereoLidarSGM::MODE_DSGM ? "MODE_DSGM" : "MODE_SDSGM";
 }
 
+const char* checkName(int check)
+{
+    static const char* names[] = { "CHECK_NONE", "CHECK_STEREO", "CHECK_CAMERA_LIDAR", "CHECK_STEREO_LIDAR" };
+    return names[check];
+}
+
+//! The keys write() writes: read() refuses any other (a misspelt key would leave its parameter silently as it was).
+const std::vector<String>& knownKeys()
+{
+    static const std::vector<String> keys = {
+        "format", "name",
+#define LIDARSGM_KEY(type, Name, key, def, valid, range, what) #key,
+        LIDARSGM_PARAMETERS(LIDARSGM_KEY)
+#undef LIDARSGM_KEY
+    };
+    return keys;
+}
+
+} // namespace
+
+namespace detail {
+
+static int editDistance(const String& a, const String& b)
+{
+    std::vector<int> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); j++)
+        row[j] = (int)j;
+    for (size_t i = 1; i <= a.size(); i++)
+    {
+        int diag = row[0];
+        row[0] = (int)i;
+        for (size_t j = 1; j <= b.size(); j++)
+        {
+            const int up = row[j];
+            const bool same = std::tolower((unsigned char)a[i - 1]) == std::tolower((unsigned char)b[j - 1]);
+            row[j] = std::min(std::min(row[j] + 1, row[j - 1] + 1), diag + (same ? 0 : 1));
+            diag = up;
+        }
+    }
+    return row[b.size()];
+}
+
+String nearestName(const String& key, const std::vector<String>& names)
+{
+    String best;
+    int bestDistance = INT_MAX;
+    for (const String& n : names)
+    {
+        const int d = editDistance(key, n);
+        if (d < bestDistance)
+        {
+            bestDistance = d;
+            best = n;
+        }
+    }
+    return best;
+}
+
+String parserMessage(const cv::Exception& e)
+{
+    return e.code == Error::StsParseError && e.func.find("): ") != String::npos ? e.func : e.err;
+}
+
+void refuseUnknownKeys(const FileNode& node, const std::vector<String>& known, const String& what)
+{
+    for (const String& key : node.keys())
+        if (std::find(known.begin(), known.end(), key) == known.end())
+            LIDARSGM_Error(Error::StsBadArg, "lidarsgm: unknown key '" + key + "' in " + what + " (did you mean '" +
+                                                 nearestName(key, known) + "'?)");
+}
+
+} // namespace detail
+
+namespace {
+
 } // namespace
 
 namespace detail {
@@ -88,40 +166,42 @@ bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArr
                      sparse.kind() == _InputArray::CUDA_GPU_MAT;
     if (gpu && (left.kind() != _InputArray::CUDA_GPU_MAT || right.kind() != _InputArray::CUDA_GPU_MAT ||
                 (!sparse.empty() && sparse.kind() != _InputArray::CUDA_GPU_MAT)))
-        CV_Error(Error::StsBadArg, "lidarsgm: the CUDA path needs cv::cuda::GpuMat inputs (left, right and sparse)");
+        LIDARSGM_Error(Error::StsBadArg, "lidarsgm: the CUDA path needs cv::cuda::GpuMat inputs (left, right and sparse)");
     if (gpu && out.kind() != _InputArray::CUDA_GPU_MAT)
-        CV_Error(Error::StsBadArg, "lidarsgm: the CUDA path writes a cv::cuda::GpuMat; pass one as the output");
-    CV_CheckFalse(left.empty(), "lidarsgm: the left image is empty");
-    CV_CheckFalse(right.empty(), "lidarsgm: the right image is empty");
+        LIDARSGM_Error(Error::StsBadArg, "lidarsgm: the CUDA path writes a cv::cuda::GpuMat; pass one as the output");
+    LIDARSGM_Check(!left.empty(), "lidarsgm: the left image is empty");
+    LIDARSGM_Check(!right.empty(), "lidarsgm: the right image is empty");
     const int typeL = left.type(), typeR = right.type();
     if (CV_MAT_CN(typeL) != 1 || CV_MAT_CN(typeR) != 1)
-        CV_Error_(Error::BadNumChannels,
-                  ("lidarsgm: the images must be single-channel (grey); got %d and %d channels. "
-                   "Convert colour images with cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY)", CV_MAT_CN(typeL),
-                   CV_MAT_CN(typeR)));
+        LIDARSGM_Error_(Error::BadNumChannels,
+                        ("lidarsgm: the images must be single-channel (grey); got %d and %d channels. "
+                         "Convert colour images with cv::cvtColor(img, grey, cv::COLOR_BGR2GRAY)", CV_MAT_CN(typeL),
+                         CV_MAT_CN(typeR)));
     if (CV_MAT_DEPTH(typeL) != CV_8U && CV_MAT_DEPTH(typeL) != CV_16U)
-        CV_Error_(Error::BadDepth, ("lidarsgm: the images must be CV_8UC1 or CV_16UC1; the left image is %s",
-                                    typeToString(typeL).c_str()));
+        LIDARSGM_Error_(Error::BadDepth, ("lidarsgm: the images must be CV_8UC1 or CV_16UC1; the left image is %s",
+                                          typeToString(typeL).c_str()));
     if (typeL != typeR)
-        CV_Error_(Error::StsUnmatchedFormats, ("lidarsgm: left and right images differ in type (%s vs %s)",
-                                               typeToString(typeL).c_str(), typeToString(typeR).c_str()));
+        LIDARSGM_Error_(Error::StsUnmatchedFormats, ("lidarsgm: left and right images differ in type (%s vs %s)",
+                                                     typeToString(typeL).c_str(), typeToString(typeR).c_str()));
     const Size sz = left.size();
     if (sz != right.size())
-        CV_Error_(Error::StsUnmatchedSizes, ("lidarsgm: left and right images differ in size (%dx%d vs %dx%d)",
-                                             sz.width, sz.height, right.size().width, right.size().height));
+        LIDARSGM_Error_(Error::StsUnmatchedSizes, ("lidarsgm: left and right images differ in size (%dx%d vs %dx%d)",
+                                                   sz.width, sz.height, right.size().width, right.size().height));
     if (needSparse && sparse.empty())
-        CV_Error_(Error::StsBadArg, ("lidarsgm: the sparse disparity map is empty, but %s needs it", needer));
+        LIDARSGM_Error_(Error::StsBadArg, ("lidarsgm: %s needs the LiDAR's sparse disparity map, but it is empty: pass "
+                                           "the LiDAR's disparities (projectPointsToDisparity), or for stereo alone "
+                                           "use MODE_SGM with CHECK_STEREO", needer));
     if (!sparse.empty())
     {
         const int type = sparse.type();
         if (type != CV_16UC1 && type != CV_32FC1)
-            CV_Error_(Error::StsUnsupportedFormat,
-                      ("lidarsgm: the sparse disparity map must be CV_16UC1 (KITTI, value / 256) or CV_32FC1 (pixels); "
-                       "got %s: convert it first (C++: sparse.convertTo(sparse32f, CV_32F); numpy: "
-                       "sparse.astype(numpy.float32))", typeToString(type).c_str()));
+            LIDARSGM_Error_(Error::StsUnsupportedFormat,
+                            ("lidarsgm: the sparse disparity map must be CV_16UC1 (KITTI, value / 256) or CV_32FC1 (pixels); "
+                             "got %s: convert it first (C++: sparse.convertTo(sparse32f, CV_32F); numpy: "
+                             "sparse.astype(numpy.float32))", typeToString(type).c_str()));
         if (sparse.size() != sz)
-            CV_Error_(Error::StsUnmatchedSizes, ("lidarsgm: the sparse disparity map is %dx%d but the images are %dx%d",
-                                                 sparse.size().width, sparse.size().height, sz.width, sz.height));
+            LIDARSGM_Error_(Error::StsUnmatchedSizes, ("lidarsgm: the sparse disparity map is %dx%d but the images are %dx%d",
+                                                       sparse.size().width, sparse.size().height, sz.width, sz.height));
     }
     return gpu;
 }
@@ -131,15 +211,16 @@ bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArr
 class StereoLidarSGMImpl CV_FINAL : public StereoLidarSGM
 {
 public:
-    StereoLidarSGMImpl(int minDisparity, int numDisparities, int P1, int P2, int Q1, int Q2, double alpha,
-                       int mode, int check)
+    //! Every parameter, in the table's order: what create() takes.
+    StereoLidarSGMImpl(
+#define LIDARSGM_ARG(type, Name, key, def, valid, range, what) type key,
+        LIDARSGM_PARAMETERS(LIDARSGM_ARG)
+#undef LIDARSGM_ARG
+        bool /*end of the list*/)
     {
-        setMinDisparity(minDisparity);
-        setNumDisparities(numDisparities);
-        setP1(P1); setP2(P2); setQ1(Q1); setQ2(Q2);
-        setAlpha(alpha);
-        setMode(mode);
-        setConsistencyCheck(check);
+#define LIDARSGM_SET(type, Name, key, def, valid, range, what) set##Name(key);
+        LIDARSGM_PARAMETERS(LIDARSGM_SET)
+#undef LIDARSGM_SET
         checkRelations();
     }
 
@@ -201,12 +282,17 @@ public:
 #undef LIDARSGM_WRITE
     }
 
-    //! Keys missing from the node keep their values; every value read goes through its setter's check.
+    /** Keys missing from the node keep their values; every value read goes through its setter's check; a key that
+    write() does not write is refused, naming the nearest known one. */
     void read(const FileNode& fn) CV_OVERRIDE
     {
+        if (!fn.isMap())
+            LIDARSGM_Error(Error::StsBadArg, "lidarsgm: the parameters must be a map of keys and values (as save() "
+                                             "writes them)");
+        detail::refuseUnknownKeys(fn, knownKeys(), "the matcher's parameters");
         FileNode name = fn["name"];
-        CV_CheckTrue(name.empty() || (String)name == getDefaultName(),
-                     "lidarsgm: the file node does not hold a lidarsgm_StereoLidarSGM");
+        LIDARSGM_Check(name.empty() || (String)name == getDefaultName(),
+                       "lidarsgm: the file node does not hold a lidarsgm_StereoLidarSGM");
 #define LIDARSGM_READ(type, Name, key, def, valid, range, what) set##Name(readValue(fn, #key, key##_));
         LIDARSGM_PARAMETERS(LIDARSGM_READ)
 #undef LIDARSGM_READ
@@ -253,9 +339,9 @@ private:
     void checkRelations() const
     {
         if (P1_ > P2_)
-            CV_Error_(Error::StsOutOfRange, ("lidarsgm: P1 (%d) must not exceed P2 (%d)", P1_, P2_));
+            LIDARSGM_Error_(Error::StsOutOfRange, ("lidarsgm: P1 (%d) must not exceed P2 (%d)", P1_, P2_));
         if (Q1_ > Q2_)
-            CV_Error_(Error::StsOutOfRange, ("lidarsgm: Q1 (%d) must not exceed Q2 (%d)", Q1_, Q2_));
+            LIDARSGM_Error_(Error::StsOutOfRange, ("lidarsgm: Q1 (%d) must not exceed Q2 (%d)", Q1_, Q2_));
     }
 
     /* Every entry point: checks, then one backend. One call at a time per instance (the backends' work buffers are
@@ -268,22 +354,22 @@ private:
         p.confidence = confidence.needed();
         const bool needSparse = semidenseOnly || p.ddc || p.lidarCheck;
         const String needer = semidenseOnly ? String("semidensify")
-                                            : format("%s with consistency check %d", modeName(mode_), consistencyCheck_);
+                                            : format("%s with %s", modeName(mode_), checkName(consistencyCheck_));
         const bool gpu = detail::checkInputs(left, right, sparse, out, needSparse, needer.c_str());
         if (p.confidence && gpu != (confidence.kind() == _InputArray::CUDA_GPU_MAT))
-            CV_Error(Error::StsBadArg, gpu ? "lidarsgm: the CUDA path writes the confidence to a cv::cuda::GpuMat; "
-                                             "pass one"
-                                           : "lidarsgm: cv::Mat inputs give the confidence in a cv::Mat; pass one");
+            LIDARSGM_Error(Error::StsBadArg, gpu ? "lidarsgm: the CUDA path writes the confidence to a cv::cuda::GpuMat; "
+                                                   "pass one"
+                                                 : "lidarsgm: cv::Mat inputs give the confidence in a cv::Mat; pass one");
         if (!gpu && stream)
-            CV_Error(Error::StsBadArg, "lidarsgm: the Stream overloads take cv::cuda::GpuMat inputs");
+            LIDARSGM_Error(Error::StsBadArg, "lidarsgm: the Stream overloads take cv::cuda::GpuMat inputs");
         AutoLock lock(mutex_);
         if (!semidenseOnly)
             lastGpu_ = gpu;
         if (gpu)
             gpu_.run(left.getGpuMat(), right.getGpuMat(), sparse.empty() ? cuda::GpuMat() : sparse.getGpuMat(), p,
-                     semidenseOnly, out, stream, confidence);
+                     semidenseOnly, out, stream, unitsWarned_, confidence);
         else
-            cpu_.run(left.getMat(), right.getMat(), sparse.getMat(), p, semidenseOnly, out, confidence);
+            cpu_.run(left.getMat(), right.getMat(), sparse.getMat(), p, semidenseOnly, out, unitsWarned_, confidence);
     }
 
 #define LIDARSGM_MEMBER(type, Name, key, def, valid, range, what) type key##_ = def;
@@ -292,19 +378,60 @@ private:
 
     mutable Mutex mutex_;
     bool lastGpu_ = false;   //!< the last compute() ran on the CUDA path (getSearchedFraction)
+    bool unitsWarned_ = false;   //!< the units check has said that a map had no value in range (once per matcher)
     CpuPipeline cpu_;
     CudaPipeline gpu_;
 };
 
 Ptr<StereoLidarSGM> StereoLidarSGM::create(int minDisparity, int numDisparities, int P1, int P2, int Q1, int Q2,
-                                           double alpha, int mode, int check)
+                                           double alpha, int mode, int check, double uniquenessRatio, int LRMaxDiff,
+                                           int numPaths, bool subpixel, int semidenseRadius, int semidenseThreshold,
+                                           int checkRadius, double checkThreshold, int medianSize,
+                                           int visibilityRadiusX, int visibilityRadiusY, double visibilityParallax,
+                                           int edgeThreshold, double edgeP2Ratio, double ringGapFactor,
+                                           double semidenseWeight, int searchWindow, int outputType)
 {
-    return makePtr<StereoLidarSGMImpl>(minDisparity, numDisparities, P1, P2, Q1, Q2, alpha, mode, check);
+    // In the table's order (LIDARSGM_PARAMETERS).
+    return makePtr<StereoLidarSGMImpl>(minDisparity, numDisparities, P1, P2, Q1, Q2, alpha, uniquenessRatio, LRMaxDiff,
+                                       numPaths, subpixel, semidenseRadius, semidenseThreshold, checkRadius,
+                                       checkThreshold, medianSize, visibilityRadiusX, visibilityRadiusY,
+                                       visibilityParallax, edgeThreshold, edgeP2Ratio, ringGapFactor, semidenseWeight,
+                                       searchWindow, mode, check, outputType, true);
 }
 
 Ptr<StereoLidarSGM> StereoLidarSGM::load(const String& filename, const String& objname)
 {
-    return Algorithm::load<StereoLidarSGM>(filename, objname);
+    if (!utils::fs::exists(filename))
+        LIDARSGM_Error(Error::StsObjectNotFound, "lidarsgm: the parameter file " + filename + " does not exist");
+    FileStorage fs;
+    try
+    {
+        fs.open(filename, FileStorage::READ);
+    }
+    catch (const cv::Exception& e)   // the parser's message names the line
+    {
+        LIDARSGM_Error(Error::StsParseError, "lidarsgm: the parameter file " + filename + " cannot be parsed: " +
+                                             parserMessage(e));
+    }
+    if (!fs.isOpened())
+        LIDARSGM_Error(Error::StsParseError, "lidarsgm: the parameter file " + filename + " cannot be read as YAML, XML "
+                                             "or JSON (write it with StereoLidarSGM::save)");
+    const FileNode fn = objname.empty() ? fs.getFirstTopLevelNode() : fs[objname];
+    if (fn.empty())
+        LIDARSGM_Error(Error::StsParseError, "lidarsgm: the parameter file " + filename + " holds no " +
+                                             (objname.empty() ? String("parameters") : "node " + objname));
+    Ptr<StereoLidarSGM> m = create();
+    try
+    {
+        m->read(fn);
+    }
+    catch (const cv::Exception& e)
+    {
+        // The setters' and read()'s messages start with "lidarsgm: "; the file goes in front of what they say.
+        const String what = e.err.compare(0, 10, "lidarsgm: ") == 0 ? e.err.substr(10) : e.err;
+        LIDARSGM_Error(e.code, "lidarsgm: " + filename + ": " + what);
+    }
+    return m;
 }
 
 namespace detail {
@@ -325,7 +452,7 @@ namespace cv { namespace cuda {
 void computeStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left, InputArray right,
                            InputArray sparseDisparity, OutputArray disparity, Stream& stream)
 {
-    CV_CheckFalse(matcher.empty(), "lidarsgm: the matcher is empty");
+    LIDARSGM_Check(!matcher.empty(), "lidarsgm: the matcher is empty");
     matcher->compute(left, right, sparseDisparity, disparity, stream);
 }
 
@@ -333,14 +460,14 @@ void computeStereoLidarSGMWithConfidence(const Ptr<cv::lidarsgm::StereoLidarSGM>
                                          InputArray right, InputArray sparseDisparity, OutputArray disparity,
                                          OutputArray confidence, Stream& stream)
 {
-    CV_CheckFalse(matcher.empty(), "lidarsgm: the matcher is empty");
+    LIDARSGM_Check(!matcher.empty(), "lidarsgm: the matcher is empty");
     matcher->compute(left, right, sparseDisparity, disparity, confidence, stream);
 }
 
 void semidensifyStereoLidarSGM(const Ptr<cv::lidarsgm::StereoLidarSGM>& matcher, InputArray left, InputArray right,
                                InputArray sparseDisparity, OutputArray semidense, Stream& stream)
 {
-    CV_CheckFalse(matcher.empty(), "lidarsgm: the matcher is empty");
+    LIDARSGM_Check(!matcher.empty(), "lidarsgm: the matcher is empty");
     matcher->semidensify(left, right, sparseDisparity, semidense, stream);
 }
 

@@ -7,6 +7,8 @@
 // camera.
 
 #include "precomp.hpp"
+#include "projection.hpp"
+#include "opencv2/core/utils/filesystem.hpp"
 #include "opencv2/lidarsgm/rig.hpp"
 #include "opencv2/imgproc.hpp"
 #include <fstream>
@@ -29,7 +31,7 @@ const int ZERO_DISPARITY = CALIB_ZERO_DISPARITY;
 
 [[noreturn]] void fail(const String& file, const String& what)
 {
-    CV_Error_(Error::StsBadArg, ("lidarsgm: %s: %s", file.c_str(), what.c_str()));
+    LIDARSGM_Error_(Error::StsBadArg, ("lidarsgm: %s: %s", file.c_str(), what.c_str()));
 }
 
 //! A matrix of rows x cols (cols 0: a vector of 4, 5, 8, 12 or 14 values, as distortion coefficients), as CV_64F.
@@ -154,10 +156,10 @@ public:
                  OutputArray rightRectified) const CV_OVERRIDE
     {
         if (left.size() != size || right.size() != size)
-            CV_Error_(Error::StsUnmatchedSizes,
-                      ("lidarsgm: StereoRig::rectify: the images are %dx%d and %dx%d; the rig's size is %dx%d",
-                       left.size().width, left.size().height, right.size().width, right.size().height, size.width,
-                       size.height));
+            LIDARSGM_Error_(Error::StsUnmatchedSizes,
+                            ("lidarsgm: StereoRig::rectify: the images are %dx%d and %dx%d; the rig's size is %dx%d",
+                             left.size().width, left.size().height, right.size().width, right.size().height, size.width,
+                             size.height));
         if (M1.empty())
         {
             left.copyTo(leftRectified);
@@ -195,10 +197,10 @@ public:
     void rectifiedToLeftCamera(InputArray points, OutputArray pointsLeft) const CV_OVERRIDE
     {
         const Mat p = points.getMat();
-        CV_CheckTrue((p.channels() == 3 && (p.depth() == CV_32F || p.depth() == CV_64F)) ||
-                     (p.channels() == 1 && p.cols == 3 && (p.depth() == CV_32F || p.depth() == CV_64F)),
-                     "lidarsgm: StereoRig::rectifiedToLeftCamera takes 3-channel points or an N x 3 matrix, "
-                     "CV_32F or CV_64F");
+        LIDARSGM_Check((p.channels() == 3 || (p.channels() == 1 && p.cols == 3)) &&
+                           (p.depth() == CV_32F || p.depth() == CV_64F),
+                       "lidarsgm: StereoRig::rectifiedToLeftCamera takes 3-channel points or an N x 3 matrix, CV_32F "
+                       "or CV_64F");
         const Mat src = p.channels() == 3 ? p : p.reshape(3);
         Mat dst;
         transform(src, dst, R1.t());   // NaN stays NaN
@@ -235,12 +237,18 @@ Ptr<StereoRig> StereoRig::create(InputArray M1, InputArray D1, InputArray M2, In
 
 Ptr<StereoRig> StereoRig::fromFile(const String& path)
 {
+    if (!utils::fs::exists(path))
+        fail(path, "does not exist");
     FileStorage fs;
     try { fs.open(path, FileStorage::READ); }
-    catch (const cv::Exception& e) { fail(path, "cannot be parsed: " + e.msg); }
+    catch (const cv::Exception& e) { fail(path, "cannot be parsed: " + detail::parserMessage(e)); }
     if (!fs.isOpened())
-        fail(path, "cannot be opened");
+        fail(path, "cannot be read as YAML, XML or JSON");
     const FileNode root = fs.root();
+    // The rig's keys, and what OpenCV's calibration samples write beside them (kept, not read).
+    static const std::vector<String> known = { "image_width", "image_height", "M1", "D1", "M2", "D2", "R", "T", "R1",
+                                               "R2", "P1", "P2", "Q", "E", "F", "lidar_to_left", "calibration_time" };
+    detail::refuseUnknownKeys(root, known, path);
     const Size size(readInt(root, path, "image_width"), readInt(root, path, "image_height"));
     const Mat lidar = readMatrix(root, path, "lidar_to_left", 4, 4);
     if (root["M1"].empty())
@@ -264,7 +272,10 @@ Ptr<StereoRig> StereoRig::fromFile(const String& path)
     if (!any)
     {
         try { return create(M1, D1, M2, D2, R, T, size, lidar); }
-        catch (const cv::Exception& e) { fail(path, e.msg); }
+        catch (const cv::Exception& e)
+        {
+            fail(path, e.err.compare(0, 10, "lidarsgm: ") == 0 ? e.err.substr(10) : e.err);
+        }
     }
     Ptr<StereoRigImpl> rig = makePtr<StereoRigImpl>();
     rig->M1 = M1; rig->D1 = D1; rig->M2 = M2; rig->D2 = D2; rig->R = R; rig->T = T;
@@ -298,7 +309,7 @@ Ptr<StereoRig> StereoRig::fromRos(const String& leftYaml, const String& rightYam
             text = "%YAML:1.0\n---\n" + text;
         FileStorage fs;
         try { fs.open(text, FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_YAML); }
-        catch (const cv::Exception& e) { fail(files[i], "cannot be parsed: " + e.msg); }
+        catch (const cv::Exception& e) { fail(files[i], "cannot be parsed: " + detail::parserMessage(e)); }
         if (!fs.isOpened())
             fail(files[i], "cannot be parsed as YAML");
         const FileNode root = fs.root();

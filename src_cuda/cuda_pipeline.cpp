@@ -20,7 +20,7 @@ namespace {
 void cudaCheck(cudaError_t err)
 {
     if (err != cudaSuccess)
-        CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
+        LIDARSGM_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
 }
 
 /* A CV_16S map of size sz inside the memory of m (any type, wide enough), from 16-bit column c0 of each of its rows:
@@ -96,6 +96,9 @@ struct CudaPipeline::Buffers
     cuda::GpuMat scanStats;          //!< the visibility filter's scan test (gap histograms and result)
     ci::WindowBuffers windows;       //!< the disparity windows and their coarse pass
     int* windowUnits = nullptr;      //!< pinned host memory: the compact volume's size (windowLayout's total)
+    cuda::GpuMat unitsCounts;        //!< the units check's SparseCounts, on the device
+    SparseCounts* hostCounts = nullptr;   //!< pinned host memory: their copy
+    cudaEvent_t countsReady = nullptr;    //!< recorded after that copy
     bool windowed = false;           //!< the last call searched windows (windows.windows holds them)
     Size lastSize;
     int lastD = 0;
@@ -115,8 +118,8 @@ struct CudaPipeline::Buffers
         if (done && st != lastStream)
         {
             if (capturing)
-                CV_Error(Error::StsBadArg, "lidarsgm: a call captured into a CUDA graph must follow this instance's "
-                                           "previous call on the same stream (the work buffers are shared)");
+                LIDARSGM_Error(Error::StsBadArg, "lidarsgm: a call captured into a CUDA graph must follow this instance's "
+                                                 "previous call on the same stream (the work buffers are shared)");
             cudaCheck(cudaStreamWaitEvent(st, done, 0));
         }
         return capturing;
@@ -141,11 +144,16 @@ CudaPipeline::~CudaPipeline()
         cudaEventDestroy(b_->done);
     if (b_->windowUnits)
         cudaFreeHost(b_->windowUnits);
+    if (b_->hostCounts)
+        cudaFreeHost(b_->hostCounts);
+    if (b_->countsReady)
+        cudaEventDestroy(b_->countsReady);
     delete b_;
 }
 
 void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda::GpuMat& Sp, const PipelineParams& p,
-                       bool semidenseOnly, OutputArray out, cuda::Stream* stream, OutputArray confidence)
+                       bool semidenseOnly, OutputArray out, cuda::Stream* stream, bool& warned,
+                       OutputArray confidence)
 {
     // No stream given: the default stream (not cuda::Stream::Null() up front: that needs a working driver).
     cudaStream_t st = stream ? cuda::StreamAccessor::getStream(*stream) : 0;
@@ -162,10 +170,27 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         b.sparse16.create(sz, CV_16SC1);
         const bool filter = visibilityFilterOn(p);
         const cuda::GpuMat converted = filter ? shortMap(b.censusL, sz, 0) : b.sparse16;
+        // The units check's counts: read on the host at the end of the call (checkUnits), which a graph cannot do.
+        int* counts = nullptr;
+        if (!capturing)
+        {
+            b.unitsCounts.create(1, 3, CV_32SC1);
+            counts = b.unitsCounts.ptr<int>();
+            cudaCheck(cudaMemsetAsync(counts, 0, sizeof(SparseCounts), st));
+        }
         if (Sp.depth() == CV_16U)
-            ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, converted, st);
+            ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, converted, counts, st);
         else
-            ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, converted, st);
+            ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, converted, counts, st);
+        if (counts)
+        {
+            if (!b.hostCounts)
+                cudaCheck(cudaHostAlloc((void**)&b.hostCounts, sizeof(SparseCounts), cudaHostAllocDefault));
+            if (!b.countsReady)
+                cudaCheck(cudaEventCreateWithFlags(&b.countsReady, cudaEventDisableTiming));
+            cudaCheck(cudaMemcpyAsync(b.hostCounts, counts, sizeof(SparseCounts), cudaMemcpyDeviceToHost, st));
+            cudaCheck(cudaEventRecord(b.countsReady, st));
+        }
         // The scan test, once for the stages that need it (on the map as given), read by them on the device.
         if (p.visibilityParallax256 > 0 || p.weighCopies)
         {
@@ -182,6 +207,14 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     else
         ci::censusTransform(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), b.censusL, b.censusR, padBefore,
                             padAfter, st);
+    // At the end of the call, with the rest of its work queued: the counts are long copied by then.
+    const bool counted = !Sp.empty() && !capturing;
+    auto checkUnits = [&]() {
+        if (!counted)
+            return;
+        cudaCheck(cudaEventSynchronize(b.countsReady));
+        checkSparseUnits(*b.hostCounts, Sp.type(), p, warned);
+    };
     const bool rings = (semidenseOnly || p.semidense) && p.ringGapFactor16 > 0 && !Sp.empty();
     cuda::GpuMat ringAbove, ringBelow;
     if (semidenseOnly || p.semidense)
@@ -208,6 +241,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         else
             ci::encodeOutput(b.semidense16, p.minDisparity, cuda::PtrStepSz<short>(o), st);
         b.markCallEnd(st, capturing);
+        checkUnits();
         return;
     }
 
@@ -318,6 +352,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     if (graphVolume)
         cudaCheck(cudaFreeAsync(graphVolume, st));
     b.markCallEnd(st, capturing);
+    checkUnits();
 }
 
 double CudaPipeline::searchedFraction() const

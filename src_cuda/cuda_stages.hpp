@@ -19,10 +19,11 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 using cv::cuda::PtrStepSz;
 
+//! counts: 3 ints of device memory, zeroed, that receive SparseCounts (measured, inRange, beyond); nullptr: not counted.
 void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
-                   cudaStream_t stream);
+                   int* counts, cudaStream_t stream);
 void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
-                   cudaStream_t stream);
+                   int* counts, cudaStream_t stream);
 
 /** The scan test (visibilityGrowthApplies) on the sparse map: stats, 2 SCAN_GAP_BINS + 1 ints of device memory,
 receives the gap histograms and, at stats[2 SCAN_GAP_BINS], the result (1: a LiDAR scan). */

@@ -19,7 +19,7 @@ void finish()
     const cudaError_t err = cudaDeviceSynchronize();
     if (err == cudaSuccess)
         return;
-    CV_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
+    LIDARSGM_Error_(Error::GpuApiCallError, ("lidarsgm: %s", cudaGetErrorString(err)));
 }
 
 /* The windows' compact volume (WindowMap) against the full layout (rows of width * D sums) that the tests compare:
@@ -71,9 +71,9 @@ void convertSparse(const GpuMat& sparse, int minDisparity, int numDisparities, G
     CV_Assert(sparse.type() == CV_16UC1 || sparse.type() == CV_32FC1);
     sparse16.create(sparse.size(), CV_16SC1);
     if (sparse.type() == CV_16UC1)
-        ci::convertSparse(cuda::PtrStepSz<ushort>(sparse), minDisparity, numDisparities, sparse16, 0);
+        ci::convertSparse(cuda::PtrStepSz<ushort>(sparse), minDisparity, numDisparities, sparse16, nullptr, 0);
     else
-        ci::convertSparse(cuda::PtrStepSz<float>(sparse), minDisparity, numDisparities, sparse16, 0);
+        ci::convertSparse(cuda::PtrStepSz<float>(sparse), minDisparity, numDisparities, sparse16, nullptr, 0);
     finish();
 }
 

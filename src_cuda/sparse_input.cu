@@ -1,7 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// Sparse input to the internal 1/16-pixel map, CUDA twin of src/sparse_input.cpp (sparseFromKitti16, sparseFromFloat).
+// Sparse input to the internal 1/16-pixel map, CUDA twin of src/sparse_input.cpp (sparseFromKitti16, sparseFromFloat,
+// and the units check's counts).
 
 #include "cuda_stages.hpp"
 #include "opencv2/cudev/common.hpp"
@@ -12,34 +13,54 @@ __device__ __forceinline__ int sparseValue(ushort v, int lo, int hi) { return sp
 __device__ __forceinline__ int sparseValue(float v, int lo, int hi) { return sparseFromFloat(v, lo, hi); }
 
 template <typename T>
-__global__ void convertSparseKernel(PtrStepSz<T> sparse, int lo, int hi, PtrStepSz<short> out)
+__global__ void convertSparseKernel(PtrStepSz<T> sparse, int lo, int hi, PtrStepSz<short> out, int* counts)
 {
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    if (x < out.cols && y < out.rows)
-        out(y, x) = (short)sparseValue(sparse(y, x), lo, hi);
+    const bool inside = x < out.cols && y < out.rows;
+    bool measured = false, kept = false, beyond = false;
+    if (inside)
+    {
+        const T v = sparse(y, x);
+        const int d16 = sparseValue(v, lo, hi);
+        out(y, x) = (short)d16;
+        measured = sparseMeasured(v);
+        kept = d16 != NO_DISP;
+        beyond = measured && !kept && sparseBeyondImage(v, out.cols);
+    }
+    // The units check's counts (SparseCounts): one atomic per block and count.
+    const int m = __syncthreads_count(measured), k = __syncthreads_count(kept), b = __syncthreads_count(beyond);
+    if (counts && threadIdx.x == 0 && threadIdx.y == 0)
+    {
+        if (m)
+            atomicAdd(counts, m);
+        if (k)
+            atomicAdd(counts + 1, k);
+        if (b)
+            atomicAdd(counts + 2, b);
+    }
 }
 
 template <typename T>
-void runConvert(PtrStepSz<T> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
+void runConvert(PtrStepSz<T> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16, int* counts,
                 cudaStream_t stream)
 {
     const dim3 block(32, 8);
     const dim3 grid(cv::cudev::divUp(sparse16.cols, block.x), cv::cudev::divUp(sparse16.rows, block.y));
     convertSparseKernel<T><<<grid, block, 0, stream>>>(sparse, minDisparity, minDisparity + numDisparities - 1,
-                                                       sparse16);
+                                                       sparse16, counts);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
-                   cudaStream_t stream)
+                   int* counts, cudaStream_t stream)
 {
-    runConvert(sparse, minDisparity, numDisparities, sparse16, stream);
+    runConvert(sparse, minDisparity, numDisparities, sparse16, counts, stream);
 }
 
 void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
-                   cudaStream_t stream)
+                   int* counts, cudaStream_t stream)
 {
-    runConvert(sparse, minDisparity, numDisparities, sparse16, stream);
+    runConvert(sparse, minDisparity, numDisparities, sparse16, counts, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

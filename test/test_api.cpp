@@ -1,6 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 #include "test_precomp.hpp"
 #include "test_common.hpp"
+#include <fstream>
+#include <iterator>
 
 namespace opencv_test { namespace {
 
@@ -228,6 +230,165 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     FileStorage fs("{\"name\": \"lidarsgm_StereoLidarSGM\", \"numDisparities\": 100}",
                    FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_JSON);
     EXPECT_THROW(n->read(fs.root()), cv::Exception);
+}
+
+/* The newcomer's mistakes, each refused or told, with a message that says what was wrong and what to do (the table
+of doc/tutorial.md, "Mistakes and their messages"). No message carries the function that noticed it. */
+static void expectSentence(const std::string& msg, const char* what)
+{
+    EXPECT_FALSE(msg.empty()) << what << ": nothing was raised";
+    EXPECT_EQ(std::string::npos, msg.find("in function")) << what << ": " << msg;
+    EXPECT_EQ(std::string::npos, msg.find("cv::lidarsgm::")) << what << ": " << msg;
+}
+
+TEST(Lidarsgm_API, kitti_png_given_as_float_pixels_is_refused)
+{
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    const cv::lidarsgm::StereoLidarFrame f = cv::lidarsgm::loadKittiFrame(dir, "000002");
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+    Mat png = cv::lidarsgm::encodeKittiDisparity(f.sparse), asFloat, d;   // uint16, disparity x 256
+    png.convertTo(asFloat, CV_32F);                                           // the mistake: x256 as pixels
+    const std::string msg = messageOf([&] { m->compute(f.left, f.right, asFloat, d); });
+    expectSentence(msg, "x256 as float");
+    EXPECT_NE(std::string::npos, msg.find(" % of the ")) << msg;
+    EXPECT_NE(std::string::npos, msg.find("beyond the image's width")) << msg;
+    EXPECT_NE(std::string::npos, msg.find("x 256")) << msg;
+    EXPECT_NE(std::string::npos, msg.find("divide it by 256")) << msg;
+    EXPECT_EQ((int)cv::Error::StsOutOfRange, [&]() -> int {
+        try { m->compute(f.left, f.right, asFloat, d); }
+        catch (const cv::Exception& e) { return e.code; }
+        return 0;
+    }());
+    // Both fixes run and agree: the CV_16U map as it is, or divided by 256.
+    Mat a, b;
+    m->compute(f.left, f.right, png, a);
+    m->compute(f.left, f.right, Mat(asFloat / 256.0), b);
+    EXPECT_EQ(0, cvtest::norm(a, b, NORM_INF));
+    // A range too small for the scene is no unit mistake: 16 disparities on KITTI leave most points beyond it.
+    EXPECT_NO_THROW(StereoLidarSGM::create(0, 16)->compute(f.left, f.right, f.sparse, d));
+    // Nor are a few near points beyond the range: a map with a third of its values beyond it runs.
+    Mat some = f.sparse.clone();
+    int n = 0;
+    for (float* p = some.ptr<float>(); p != some.ptr<float>() + some.total(); p++)
+        if (*p > 0 && n++ % 3 == 0)
+            *p += 200.f;
+    EXPECT_NO_THROW(m->compute(f.left, f.right, some, d));
+}
+
+TEST(Lidarsgm_API, a_map_without_values_runs_and_warns)
+{
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 16);
+    Mat l, r, s, a, b;
+    randomPair(Size(80, 40), l, r, s);
+    const Mat nan(s.size(), CV_32F, Scalar::all(std::numeric_limits<float>::quiet_NaN()));
+    // Runs as the fusion with no LiDAR value at all, and says so in OpenCV's log once per matcher.
+    {
+        CapturedLog log;
+        EXPECT_NO_THROW(m->compute(l, r, nan, a));
+        EXPECT_NO_THROW(m->compute(l, r, nan, a));
+        const std::string said = log.str();
+        EXPECT_NE(std::string::npos, said.find("has no value in the search range [0, 16) px")) << said;
+        EXPECT_EQ(said.find("no value in"), said.rfind("no value in")) << "twice: " << said;
+        EXPECT_EQ(std::string::npos, said.find("sparse_input.cpp")) << said;
+    }
+    m->compute(l, r, Mat::zeros(s.size(), CV_32F), b);
+    EXPECT_EQ(0, cvtest::norm(a, b, NORM_INF));
+}
+
+TEST(Lidarsgm_API, messages_name_no_function)
+{
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(0, 16);
+    Mat l, r, s, d;
+    randomPair(Size(64, 32), l, r, s);
+    expectSentence(messageOf([&] { m->compute(Mat(), r, s, d); }), "empty image");
+    expectSentence(messageOf([&] { m->setP1(-1); }), "bad parameter");
+    expectSentence(messageOf([&] { m->compute(l, r, Mat(), d); }), "no sparse map");
+    const std::string none = messageOf([&] { m->compute(l, r, Mat(), d); });
+    EXPECT_NE(std::string::npos, none.find("MODE_SDSGM with CHECK_STEREO_LIDAR needs")) << none;
+    EXPECT_NE(std::string::npos, none.find("MODE_SGM with CHECK_STEREO")) << none;
+    expectSentence(messageOf([&] { cv::lidarsgm::projectPointsToDisparity(Mat(4, 3, CV_32F, Scalar::all(1)),
+                                   Matx34d::eye(), Matx34d::eye(), -1, Size(8, 8), d); }), "projection");
+    expectSentence(messageOf([&] { cv::lidarsgm::readKittiCalibration("/nonexistent/calib.txt"); }), "calibration");
+    expectSentence(messageOf([&] { cv::lidarsgm::selectLidarRings(Mat(4, 4, CV_32F), 0); }), "rings");
+}
+
+TEST(Lidarsgm_API, parameter_files_refuse_mistakes)
+{
+    const char* env = getenv("LIDARSGM_PARAMS");   // doc/params, set by ctest
+    if (!env)
+        throw SkipTestException("LIDARSGM_PARAMS does not name the folder of kitti_best.yml");
+    const std::string best = std::string(env) + "/kitti_best.yml";
+    std::string text;
+    {
+        std::ifstream in(best.c_str());
+        ASSERT_TRUE(in.good()) << best;
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const std::string file = cv::tempfile(".yml");
+    const auto write = [&](const std::string& t) { std::ofstream(file.c_str()) << t; };
+    // A misspelt key: the key, the file and the nearest known name.
+    std::string typo = text;
+    typo.replace(typo.find("edgeThreshold:"), 14, "edgeTreshold:");
+    write(typo);
+    std::string msg = messageOf([&] { StereoLidarSGM::load(file); });
+    expectSentence(msg, "misspelt key");
+    EXPECT_NE(std::string::npos, msg.find("'edgeTreshold'")) << msg;
+    EXPECT_NE(std::string::npos, msg.find(file)) << msg;
+    EXPECT_NE(std::string::npos, msg.find("did you mean 'edgeThreshold'")) << msg;
+    typo = text;
+    typo.replace(typo.find("searchWindow:"), 13, "serchWindow:");
+    write(typo);
+    msg = messageOf([&] { StereoLidarSGM::load(file); });
+    EXPECT_NE(std::string::npos, msg.find("did you mean 'searchWindow'")) << msg;
+    // A value out of range: the file and the parameter.
+    std::string bad = text;
+    bad.replace(bad.find("numPaths: 8"), 11, "numPaths: 6");
+    write(bad);
+    msg = messageOf([&] { StereoLidarSGM::load(file); });
+    expectSentence(msg, "bad value");
+    EXPECT_NE(std::string::npos, msg.find(file + ": numPaths")) << msg;
+    // A missing file: its path.
+    msg = messageOf([&] { StereoLidarSGM::load(file + ".missing"); });
+    expectSentence(msg, "missing file");
+    EXPECT_NE(std::string::npos, msg.find(file + ".missing does not exist")) << msg;
+    // A malformed file: its path and the parser's line.
+    write("%YAML:1.0\n---\nlidarsgm_StereoLidarSGM:\n   P1: 10\n   P2: [120\n   Q1: 5\n");
+    msg = messageOf([&] { StereoLidarSGM::load(file); });
+    expectSentence(msg, "malformed file");
+    EXPECT_NE(std::string::npos, msg.find(file + " cannot be parsed")) << msg;
+    EXPECT_NE(std::string::npos, msg.find(file + "(")) << msg;   // the parser's "file(line)"
+    // read() itself, on a node (the tool's and a user's own FileStorage).
+    FileStorage fs("{\"name\": \"lidarsgm_StereoLidarSGM\", \"P3\": 100}",
+                   FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_JSON);
+    msg = messageOf([&] { StereoLidarSGM::create()->read(fs.root()); });
+    EXPECT_NE(std::string::npos, msg.find("unknown key 'P3'")) << msg;
+    remove(file.c_str());
+}
+
+TEST(Lidarsgm_API, create_takes_every_parameter)
+{
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(-4, 64, 12, 150, 7, 140, 0.55, StereoLidarSGM::MODE_DSGM,
+                                                   StereoLidarSGM::CHECK_CAMERA_LIDAR, 0.9, 2, 4, false, 3, 5, 11, 1.5,
+                                                   1, 1, 3, 0.3, 20, 0.25, 1.5, 0.5, 6, CV_32F);
+    EXPECT_DOUBLE_EQ(0.9, m->getUniquenessRatio());
+    EXPECT_EQ(2, m->getLRMaxDiff());
+    EXPECT_EQ(4, m->getNumPaths());
+    EXPECT_FALSE(m->getSubpixel());
+    EXPECT_EQ(3, m->getSemidenseRadius());
+    EXPECT_EQ(5, m->getSemidenseThreshold());
+    EXPECT_EQ(11, m->getCheckRadius());
+    EXPECT_DOUBLE_EQ(1.5, m->getCheckThreshold());
+    EXPECT_EQ(1, m->getMedianSize());
+    EXPECT_EQ(1, m->getVisibilityRadiusX());
+    EXPECT_EQ(3, m->getVisibilityRadiusY());
+    EXPECT_DOUBLE_EQ(0.3, m->getVisibilityParallax());
+    EXPECT_EQ(20, m->getEdgeThreshold());
+    EXPECT_DOUBLE_EQ(0.25, m->getEdgeP2Ratio());
+    EXPECT_DOUBLE_EQ(1.5, m->getRingGapFactor());
+    EXPECT_DOUBLE_EQ(0.5, m->getSemidenseWeight());
+    EXPECT_EQ(6, m->getSearchWindow());
+    EXPECT_EQ(CV_32F, m->getOutputType());
+    EXPECT_THROW(StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, 2, 3, 0.95, 1, 6), cv::Exception);
 }
 
 /* Disparity windows on a shipped KITTI frame in every mode, with kitti_best.yml's steps: a margin of the whole range

@@ -5,6 +5,7 @@
 
 #include "test_precomp.hpp"
 #include "opencv2/core/cuda.hpp"
+#include "opencv2/core/utils/logger.hpp"
 #include "cpu_stages.hpp"
 #include "cuda_stages_host.hpp"
 
@@ -192,4 +193,17 @@ inline const std::vector<StageCase>& stageCases()
 
 } // namespace
 
-#endif
+#endif/* What the module writes to OpenCV's log while it lives (warnings and notices for people), for the tests that check
+what a user is told. One at a time. */
+class CapturedLog
+{
+public:
+    CapturedLog() { text().clear(); cv::utils::logging::internal::replaceWriteLogMessage(&CapturedLog::write); }
+    ~CapturedLog() { cv::utils::logging::internal::replaceWriteLogMessage(nullptr); }
+    std::string str() const { return text(); }
+private:
+    static std::string& text() { static std::string t; return t; }
+    static void write(cv::utils::logging::LogLevel, const char* message) { text() += std::string(message) + "\n"; }
+};
+
+

@@ -40,6 +40,17 @@ TEST(Lidarsgm_Datasets, kitti_calibration)
     const Mat R = c.lidarToCamera(Rect(0, 0, 3, 3));
     EXPECT_LT(cvtest::norm(R * R.t(), Mat::eye(3, 3, CV_64F), NORM_INF), 1e-4);
     EXPECT_EQ(1.0, c.lidarToCamera.at<double>(3, 3));
+    // The file's matrices as they are: P3, R0_rect and Tr_velo_to_cam, whose product is the transform.
+    ASSERT_EQ(Size(4, 3), c.rightProjection.size());
+    ASSERT_EQ(Size(3, 3), c.rectification.size());
+    ASSERT_EQ(Size(4, 3), c.veloToCamera.size());
+    EXPECT_NEAR(-3.395242e+02, c.rightProjection.at<double>(0, 3), 1e-3);
+    Mat R0 = Mat::eye(4, 4, CV_64F), Tr = Mat::eye(4, 4, CV_64F);
+    c.rectification.copyTo(R0(Rect(0, 0, 3, 3)));
+    c.veloToCamera.copyTo(Tr(Rect(0, 0, 4, 3)));
+    EXPECT_EQ(0, cvtest::norm(Mat(R0 * Tr), c.lidarToCamera, NORM_INF));
+    EXPECT_EQ(Size(), c.imageSize);   // calib.txt has no size; loadKittiFrame takes the images'
+    EXPECT_EQ(Size(1242, 375), loadKittiFrame(dir, "000002").calibration.imageSize);
 }
 
 TEST(Lidarsgm_Datasets, kitti_calibration_errors_name_the_file_and_key)
@@ -273,6 +284,17 @@ TEST(Lidarsgm_Datasets, point_cloud_pcd)
         "7 1.5 0 0 0 -2.25 3\n8 nan 0 0 0 nan nan\n9 4 1 2 3 5 6\n0 -1e3 0 0 0 0.5 1e-3\n");
     expectPoints(readPointCloud(ascii), { Vec4f(1.5f, -2.25f, 3.f, 7.f), Vec4f(4.f, 5.f, 6.f, 9.f),
                                           Vec4f(-1e3f, 0.5f, 1e-3f, 0.f) });
+    // A field the reader does not map (a ring number where the intensity would be expected) is named, once.
+    const std::string ring = tmp.file("ring.pcd", "VERSION 0.7\nFIELDS x y z ring_id\nSIZE 4 4 4 2\nTYPE F F F U\n"
+                                      "COUNT 1 1 1 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3 17\n");
+    {
+        CapturedLog log;
+        expectPoints(readPointCloud(ring), { Vec4f(1.f, 2.f, 3.f, 0.f) });
+        readPointCloud(ring);
+        const std::string said = log.str();
+        EXPECT_NE(std::string::npos, said.find(ring + ": the field ring_id is not read")) << said;
+        EXPECT_EQ(said.find("ring_id"), said.rfind("ring_id")) << "twice: " << said;
+    }
     // binary: x double, y float, z int16, a 2-byte pad, no intensity.
     const std::string header = "VERSION 0.7\nFIELDS x y z _\nSIZE 8 4 2 2\nTYPE F F I U\nCOUNT 1 1 1 1\nWIDTH 2\n"
                                "HEIGHT 1\nPOINTS 2\nDATA binary\n";

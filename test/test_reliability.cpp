@@ -242,10 +242,31 @@ TEST(Lidarsgm_Reliability, threads)
     }
 }
 
+/* The documented units rule, counted here on its own: of at least 64 measurements (nonzero CV_16U, positive finite
+ CV_32F), more than half lie outside the range once taken to 1/16 pixel (below minD, or at or above minD + numD - 1/2)
+ and at or beyond the image's width. */
+static bool mostlyOutOfRange(const Mat& s, int minD, int numD)
+{
+    int measured = 0, beyond = 0;
+    for (int y = 0; y < s.rows; y++)
+        for (int x = 0; x < s.cols; x++)
+        {
+            const double v = s.type() == CV_32F ? (double)s.at<float>(y, x) : s.at<ushort>(y, x) / 256.0;
+            if (!(v > 0) || std::isinf(v))
+                continue;
+            measured++;
+            const double d16 = std::floor(v * 16 + 0.5);
+            const bool inside = v < 1536 && d16 >= 16.0 * minD && d16 < 16.0 * (minD + numD) - 8;
+            beyond += !inside && v >= s.cols;
+        }
+    return measured >= 64 && 2 * beyond > measured;
+}
+
 /* Seeded random test with a time budget (LIDARSGM_FUZZ_SECONDS, default 20; LIDARSGM_FUZZ_SEED, default 1): random
  sizes (1x1 .. 300x200, strips), 8/16-bit images, random valid parameters, modes, checks, paths, output types, sparse
  maps of both types with NaN, infinities, negative, huge and out-of-range values, ROI views; sometimes a broken input
- (size or type mismatch, colour) that must raise cv::Exception. compute() and semidensify() must not crash and must
+ (size or type mismatch, colour) that must raise cv::Exception, and maps mostly out of range that the units check
+ must refuse. compute() and semidensify() must not crash and must
  give outputs of the right size and type whose values are invalid or within [minD, minD + numD). The projection gets
  random point clouds with non-finite coordinates. Prints how many cases ran. */
 TEST(Lidarsgm_Reliability, fuzz)
@@ -309,6 +330,14 @@ TEST(Lidarsgm_Reliability, fuzz)
                                    : Mat(sz, CV_MAKETYPE(depth, 3), Scalar::all(0));
             Mat d;
             EXPECT_THROW(m->compute(l, badR, s, d), cv::Exception) << what << " broken " << broken;
+            refused++;
+        }
+        else if (mostlyOutOfRange(s, minD, numD))
+        {
+            // The units check: a map whose measurements mostly miss the range is refused, not fused.
+            Mat d, semi;
+            EXPECT_THROW(m->compute(l, r, s, d), cv::Exception) << what << " (units)";
+            EXPECT_THROW(m->semidensify(l, r, s, semi), cv::Exception) << what << " (units)";
             refused++;
         }
         else

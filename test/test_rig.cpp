@@ -284,7 +284,13 @@ TEST(Lidarsgm_Rig, refusals_name_the_fault)
     m = rigError([&] { StereoRig::create(s.M1, s.D1, s.M2, s.D2, s.R, nanT, s.size, s.lidarToLeft); });
     EXPECT_NE(std::string::npos, m.find("T holds a NaN")) << m;
     m = rigError([&] { StereoRig::fromFile(file + ".missing"); });
-    EXPECT_NE(std::string::npos, m.find("cannot be opened")) << m;
+    EXPECT_NE(std::string::npos, m.find("does not exist")) << m;
+    // A misspelt key is refused (an optional one would otherwise pass unread), naming the nearest known key.
+    writeWith([&](FileStorage& fs) { fs << "M1" << s.M1 << "D1" << s.D1 << "M2" << s.M2 << "D2" << s.D2 << "R" << s.R
+                                        << "T" << s.T << "lidar_to_lft" << s.lidarToLeft; });
+    m = rigError([&] { StereoRig::fromFile(file); });
+    EXPECT_NE(std::string::npos, m.find("unknown key 'lidar_to_lft' in " + file + " (did you mean 'lidar_to_left'?)"))
+        << m;
     Ptr<StereoRig> rig = StereoRig::create(s.M1, s.D1, s.M2, s.D2, s.R, s.T, s.size, s.lidarToLeft);
     Mat small(100, 100, CV_8UC1, Scalar::all(0)), a, b;
     m = rigError([&] { rig->rectify(small, small, a, b); });

@@ -92,6 +92,15 @@ CV_32FC1 in pixels (0, negative, NaN and infinite values = no measurement); valu
 round out of the search range), are ignored as no measurement. The sparse disparity is left-view disparity: left
 pixel (x, y) matches right pixel (x - d, y).
 
+Units: a map whose measurements (nonzero CV_16U values, positive finite CV_32F ones) mostly lie outside the search
+range and at or beyond the image's width, where no point seen by both cameras can be (more than half of at least 64),
+is refused with cv::Error::StsOutOfRange naming the fraction and the likely cause (KITTI's x256 disparity PNG passed
+as CV_32F pixels, a wrong focalBaseline). A range too small for the scene is no such mistake: its values are dropped.
+A map that a mode needs (DSGM, SDSGM, the LiDAR check) but that has no value in the range (all zero, NaN or beyond it)
+runs as given, the fusion without the LiDAR, and the matcher logs one warning (CV_LOG_WARNING, once per matcher).
+On the CUDA path the counts come from the device: a call waits at its end for them (the first stage's, long done
+unless the stream holds earlier work), and a call captured into a CUDA graph is not checked.
+
 Borders and small images: any size from 1x1 up is accepted, including images narrower than the disparity range or
 smaller than the census window. Image coordinates outside the image are clamped (replicated border) for the census
 window, and a right pixel x - d left of (or right of) the image is taken from the nearest column, so every pixel gets
@@ -139,8 +148,9 @@ public:
         CHECK_STEREO_LIDAR = 3  //!< keep it if it passes the left-right check or the camera-LiDAR test
     };
 
-    /** @brief Creates the matcher with the paper's parameters.
-    @param minDisparity smallest disparity searched.
+    /** @brief Creates the matcher; the defaults are the paper's parameters (each one also has a setter, documented
+    there). Python takes every one as a keyword: `cv2.lidarsgm.StereoLidarSGM.create(numPaths=4, searchWindow=4)`.
+    @param minDisparity smallest disparity searched, in [-1024, 1024].
     @param numDisparities number of disparities searched: a multiple of 16 in [16, 512], on both paths.
     @param P1 penalty for a disparity change of 1 between neighbours (census-bit units), 0 <= P1 <= P2.
     @param P2 penalty for larger changes, P1 <= P2 <= 1000.
@@ -149,11 +159,39 @@ public:
     @param alpha blend between census cost and DDC, in [0, 1].
     @param mode one of StereoLidarSGM::FusionMode.
     @param check one of StereoLidarSGM::ConsistencyCheck.
+    @param uniquenessRatio see setUniquenessRatio, in (0, 1] (1: off).
+    @param LRMaxDiff the left-right check's tolerance in pixels, in [0, 16].
+    @param numPaths aggregation paths, 4 or 8.
+    @param subpixel the parabola fit.
+    @param semidenseRadius rs, in [0, 32].
+    @param semidenseThreshold Ts, in [0, 32].
+    @param checkRadius rc, in [0, 64].
+    @param checkThreshold Tc in pixels, in [0, 64].
+    @param medianSize 1 (off) or 3.
+    @param visibilityRadiusX see setVisibilityRadiusX, in [0, 16] (0 and 0: off).
+    @param visibilityRadiusY see setVisibilityRadiusY, in [0, 16].
+    @param visibilityParallax see setVisibilityParallax, in [0, 1] (0: off).
+    @param edgeThreshold see setEdgeThreshold, in [0, 65535] (0: off).
+    @param edgeP2Ratio see setEdgeP2Ratio, in (0, 1].
+    @param ringGapFactor see setRingGapFactor, in [0, 16] (0: off).
+    @param semidenseWeight see setSemidenseWeight, in (0, 1] (1: the paper's DDC).
+    @param searchWindow see setSearchWindow, in [0, 512] (0: off).
+    @param outputType CV_16S (disparity x 16) or CV_32F (pixels).
+    A value out of its range raises cv::Exception naming the parameter.
      */
     CV_WRAP static Ptr<StereoLidarSGM> create(int minDisparity = 0, int numDisparities = 128,
                                               int P1 = 10, int P2 = 120, int Q1 = 5, int Q2 = 160,
                                               double alpha = 0.7, int mode = StereoLidarSGM::MODE_SDSGM,
-                                              int check = StereoLidarSGM::CHECK_STEREO_LIDAR);
+                                              int check = StereoLidarSGM::CHECK_STEREO_LIDAR,
+                                              double uniquenessRatio = 0.95, int LRMaxDiff = 1, int numPaths = 8,
+                                              bool subpixel = true, int semidenseRadius = 6,
+                                              int semidenseThreshold = 2, int checkRadius = 20,
+                                              double checkThreshold = 2.0, int medianSize = 3,
+                                              int visibilityRadiusX = 0, int visibilityRadiusY = 0,
+                                              double visibilityParallax = 0.0, int edgeThreshold = 0,
+                                              double edgeP2Ratio = 0.5, double ringGapFactor = 0.0,
+                                              double semidenseWeight = 1.0, int searchWindow = 0,
+                                              int outputType = CV_16S);
 
     /** @brief Computes the fused disparity map of the left image.
     @param left left image, CV_8UC1 or CV_16UC1.
@@ -203,61 +241,81 @@ public:
     virtual void semidensify(InputArray left, InputArray right, InputArray sparseDisparity,
                              OutputArray semidense, cuda::Stream& stream) = 0;
 
-    //! Smallest disparity searched (any integer in [-1024, 1024]; default 0).
+    /** Smallest disparity searched (any integer in [-1024, 1024]; default 0). */
     CV_WRAP virtual int getMinDisparity() const = 0;
+    /** Sets the smallest disparity searched, in [-1024, 1024]. */
     CV_WRAP virtual void setMinDisparity(int minDisparity) = 0;
-    //! Number of disparities: a multiple of 16 in [16, 512] (default 128).
+    /** Number of disparities: a multiple of 16 in [16, 512] (default 128). */
     CV_WRAP virtual int getNumDisparities() const = 0;
+    /** Sets the number of disparities: a multiple of 16 in [16, 512]. */
     CV_WRAP virtual void setNumDisparities(int numDisparities) = 0;
-    //! SGM penalty for a disparity step of 1, in census-bit units: 0 <= P1 <= P2 (paper: 10).
+    /** SGM penalty for a disparity step of 1, in census-bit units: 0 <= P1 <= P2 (paper: 10). */
     CV_WRAP virtual int getP1() const = 0;
+    /** Sets the SGM penalty for a disparity step of 1: 0 <= P1 <= P2. */
     CV_WRAP virtual void setP1(int P1) = 0;
-    //! SGM penalty for larger steps: P1 <= P2 <= 1000 (paper: 120).
+    /** SGM penalty for larger steps: P1 <= P2 <= 1000 (paper: 120). */
     CV_WRAP virtual int getP2() const = 0;
+    /** Sets the SGM penalty for larger steps: P1 <= P2 <= 1000. */
     CV_WRAP virtual void setP2(int P2) = 0;
-    //! DDC penalty for |d - sparse| = 1: 0 <= Q1 <= Q2 (paper: 5).
+    /** DDC penalty for |d - sparse| = 1: 0 <= Q1 <= Q2 (paper: 5). */
     CV_WRAP virtual int getQ1() const = 0;
+    /** Sets the DDC penalty for |d - sparse| = 1: 0 <= Q1 <= Q2. */
     CV_WRAP virtual void setQ1(int Q1) = 0;
-    //! DDC penalty for |d - sparse| > 1: Q1 <= Q2 <= 1000 (paper: 160).
+    /** DDC penalty for |d - sparse| > 1: Q1 <= Q2 <= 1000 (paper: 160). */
     CV_WRAP virtual int getQ2() const = 0;
+    /** Sets the DDC penalty for |d - sparse| > 1: Q1 <= Q2 <= 1000. */
     CV_WRAP virtual void setQ2(int Q2) = 0;
-    //! Weight of DDC against census cost where a sparse disparity exists, in [0, 1] (paper: 0.7).
+    /** Weight of DDC against census cost where a sparse disparity exists, in [0, 1] (paper: 0.7). */
     CV_WRAP virtual double getAlpha() const = 0;
+    /** Sets the weight of DDC against the census cost, in [0, 1]. */
     CV_WRAP virtual void setAlpha(double alpha) = 0;
     /** Uniqueness: a disparity is kept only if its aggregated cost is at most ratio times the lowest cost at
     disparities more than 1 away from it; in (0, 1], 1 disables the check (default 0.95). */
     CV_WRAP virtual double getUniquenessRatio() const = 0;
+    /** Sets the uniqueness ratio, in (0, 1] (1: off); see getUniquenessRatio. */
     CV_WRAP virtual void setUniquenessRatio(double ratio) = 0;
-    //! Largest difference, in whole pixels, between left and right disparities in the left-right check, in [0, 16] (default 1).
+    /** Largest difference, in whole pixels, between left and right disparities in the left-right check, in [0, 16]
+    (default 1). */
     CV_WRAP virtual int getLRMaxDiff() const = 0;
+    /** Sets the left-right check's tolerance in whole pixels, in [0, 16]. */
     CV_WRAP virtual void setLRMaxDiff(int maxDiff) = 0;
-    //! Number of aggregation paths: 4 or 8 (default 8).
+    /** Number of aggregation paths: 4 or 8 (default 8). */
     CV_WRAP virtual int getNumPaths() const = 0;
+    /** Sets the number of aggregation paths: 4 or 8. */
     CV_WRAP virtual void setNumPaths(int numPaths) = 0;
-    //! Subpixel refinement by a parabola through the costs at d-1, d, d+1 (default on).
+    /** Subpixel refinement by a parabola through the costs at d-1, d, d+1 (default on). */
     CV_WRAP virtual bool getSubpixel() const = 0;
+    /** Switches the parabola fit for subpixel disparities on or off. */
     CV_WRAP virtual void setSubpixel(bool subpixel) = 0;
-    //! Semidensification window radius rs, in [0, 32] (paper: 6).
+    /** Semidensification window radius rs, in [0, 32] (paper: 6). */
     CV_WRAP virtual int getSemidenseRadius() const = 0;
+    /** Sets the semidensification window radius rs, in [0, 32]. */
     CV_WRAP virtual void setSemidenseRadius(int rs) = 0;
-    //! Semidensification threshold Ts on the census cost (a candidate is taken if its cost is below Ts), in [0, 32] (paper: 2).
+    /** Semidensification threshold Ts on the census cost (a candidate is taken if its cost is below Ts), in [0, 32]
+    (paper: 2). */
     CV_WRAP virtual int getSemidenseThreshold() const = 0;
+    /** Sets the semidensification threshold Ts, in [0, 32]. */
     CV_WRAP virtual void setSemidenseThreshold(int Ts) = 0;
-    //! Consistency-check window radius rc, in [0, 64] (paper: 20).
+    /** Consistency-check window radius rc, in [0, 64] (paper: 20). */
     CV_WRAP virtual int getCheckRadius() const = 0;
+    /** Sets the consistency-check window radius rc, in [0, 64]. */
     CV_WRAP virtual void setCheckRadius(int rc) = 0;
-    //! Consistency-check threshold Tc in pixels, in [0, 64] (paper: 2); compared at 1/16 pixel.
+    /** Consistency-check threshold Tc in pixels, in [0, 64] (paper: 2); compared at 1/16 pixel. */
     CV_WRAP virtual double getCheckThreshold() const = 0;
+    /** Sets the consistency-check threshold Tc in pixels, in [0, 64]. */
     CV_WRAP virtual void setCheckThreshold(double Tc) = 0;
-    //! Fusion mode, one of FusionMode (default MODE_SDSGM).
+    /** Fusion mode, one of FusionMode (default MODE_SDSGM). */
     CV_WRAP virtual int getMode() const = 0;
+    /** Sets the fusion mode, one of FusionMode. */
     CV_WRAP virtual void setMode(int mode) = 0;
-    //! Consistency check, one of ConsistencyCheck (default CHECK_STEREO_LIDAR).
+    /** Consistency check, one of ConsistencyCheck (default CHECK_STEREO_LIDAR). */
     CV_WRAP virtual int getConsistencyCheck() const = 0;
+    /** Sets the consistency check, one of ConsistencyCheck. */
     CV_WRAP virtual void setConsistencyCheck(int check) = 0;
     /** Median filter on the disparity maps of both views before the consistency check: 1 (off) or 3 (3x3, default).
     A pixel with 5 or more invalid neighbours stays invalid; the border is clamped. */
     CV_WRAP virtual int getMedianSize() const = 0;
+    /** Sets the median filter before the check: 1 (off) or 3. */
     CV_WRAP virtual void setMedianSize(int size) = 0;
     /** Visibility filter of the sparse input (off by default: the paper has none): a sparse disparity is dropped when
     another one within (2 radiusX + 1) x (2 radiusY + 1) pixels around it is larger (nearer) by more than the
@@ -267,9 +325,11 @@ public:
     rounded up, plus the half pixel of rounding. KITTI's HDL-64E (0.17 degrees between shots, 0.4-0.5 degrees
     between rings, f = 721 px): radiusX 2, radiusY 4 (doc/params/kitti_best.yml). Both in [0, 16]; 0 and 0: off. */
     CV_WRAP virtual int getVisibilityRadiusX() const = 0;
+    /** Sets the visibility filter's half width, in [0, 16]; see getVisibilityRadiusX. */
     CV_WRAP virtual void setVisibilityRadiusX(int radiusX) = 0;
-    //! See getVisibilityRadiusX.
+    /** See getVisibilityRadiusX. */
     CV_WRAP virtual int getVisibilityRadiusY() const = 0;
+    /** Sets the visibility filter's half height, in [0, 16]; see getVisibilityRadiusX. */
     CV_WRAP virtual void setVisibilityRadiusY(int radiusY) = 0;
     /** Parallax growth of the visibility window (off by default): on a LiDAR scan the window grows on every side by
     this many pixels per pixel by which the nearer value exceeds the farther one (at most 32 pixels). Beside a near
@@ -282,15 +342,18 @@ public:
     as ground-truth pixels drawn from the camera's own view, has no sensor apart from the camera. In [0, 1]; 0: the
     fixed window of visibilityRadiusX/Y. */
     CV_WRAP virtual double getVisibilityParallax() const = 0;
+    /** Sets the visibility window's growth per pixel of disparity step, in [0, 1]; see getVisibilityParallax. */
     CV_WRAP virtual void setVisibilityParallax(double ratio) = 0;
     /** Edge-aware jump penalty (off by default: the paper has none): on every aggregation path, a disparity jump between
     neighbours whose left-image intensities differ by more than this threshold (in the images' grey levels) costs
     edgeP2Ratio x P2 instead of P2 (at least P1), as intensity edges are likely depth edges (Hirschmueller's SGM
     adapts P2 to the intensity step likewise). In [0, 65535]; 0: off. doc/params/kitti_best.yml: 32 (8-bit). */
     CV_WRAP virtual int getEdgeThreshold() const = 0;
+    /** Sets the edge-aware jump penalty's threshold in grey levels, in [0, 65535] (0: off); see getEdgeThreshold. */
     CV_WRAP virtual void setEdgeThreshold(int threshold) = 0;
-    //! P2's factor across an intensity edge (see getEdgeThreshold), in (0, 1]; default 0.5.
+    /** P2's factor across an intensity edge (see getEdgeThreshold), in (0, 1]; default 0.5. */
     CV_WRAP virtual double getEdgeP2Ratio() const = 0;
+    /** Sets P2's factor across an intensity edge, in (0, 1]. */
     CV_WRAP virtual void setEdgeP2Ratio(double ratio) = 0;
     /** Ring interpolation (off by default: the paper has none; SDSGM and semidensify() only): a pixel that
     semidensification leaves without a value takes the disparity interpolated linearly between the nearest sparse
@@ -305,6 +368,7 @@ public:
     empty when it passes the same test: the ring check. In [0, 16]; 0: off. doc/params/kitti_best.yml: 2 (a ring's
     neighbours, one missing return bridged). */
     CV_WRAP virtual double getRingGapFactor() const = 0;
+    /** Sets the ring interpolation's longest gap in ring spacings, in [0, 16] (0: off); see getRingGapFactor. */
     CV_WRAP virtual void setRingGapFactor(double factor) = 0;
     /** The weight of copied priors (SDSGM only): at a pixel whose prior semidensification or ring interpolation
     brought from another pixel (it differs from the pixel's own sparse value), the DDC terms alpha Q1 and alpha Q2
@@ -315,6 +379,7 @@ public:
     truth (the Middlebury protocol) has copies as good as its values. In (0, 1]; 1: the paper's DDC everywhere.
     doc/params/kitti_best.yml: 0.5 (a copy counts half a measurement). */
     CV_WRAP virtual double getSemidenseWeight() const = 0;
+    /** Sets the DDC weight of copied priors on LiDAR scans, in (0, 1]; see getSemidenseWeight. */
     CV_WRAP virtual void setSemidenseWeight(double weight) = 0;
     /** The disparity windows' margin (beyond the paper): with searchWindow > 0 the aggregation searches each 32 x 32
     tile of the image only over the disparities of the priors (semidensified and ring-interpolated in SDSGM, the
@@ -325,12 +390,14 @@ public:
     doc/design.md). 0 (default): every pixel searches the whole range, as the paper. The CPU and CUDA paths give the
     same output bit for bit with windows too. In [0, 512]. */
     CV_WRAP virtual int getSearchWindow() const = 0;
+    /** Sets the disparity windows' margin, in [0, 512] (0: off); see getSearchWindow. */
     CV_WRAP virtual void setSearchWindow(int margin) = 0;
     /** The share of the width x height x numDisparities cells that the last compute() searched (1 without windows, 0
     before any call). After a call on the CUDA path it waits for that call to finish. */
     CV_WRAP virtual double getSearchedFraction() const = 0;
-    //! Output type: CV_16S (disparity x 16, default) or CV_32F (pixels).
+    /** Output type: CV_16S (disparity x 16, default) or CV_32F (pixels). */
     CV_WRAP virtual int getOutputType() const = 0;
+    /** Sets the output type: CV_16S (disparity x 16) or CV_32F (pixels). */
     CV_WRAP virtual void setOutputType(int type) = 0;
 
     /** @brief Loads a matcher saved with save() (cv::FileStorage, YAML/XML/JSON). */

@@ -84,9 +84,9 @@ public:
      */
     CV_WRAP virtual void addFrame(InputArray left, InputArray right, InputArray points) = 0;
 
-    //! Frames added since create() or clear().
+    /** Frames added since create() or clear(). */
     CV_WRAP virtual int getNumFrames() const = 0;
-    //! Forgets the frames.
+    /** Forgets the frames. */
     CV_WRAP virtual void clear() CV_OVERRIDE = 0;
 
     /** @brief How well the LiDAR agrees with the stereo pairs under a transform: the median of

@@ -12,17 +12,29 @@ namespace lidarsgm {
 //! @addtogroup lidarsgm
 //! @{
 
-/** @brief The calibration of a KITTI stereo pair with its Velodyne, as projectPointsToDisparity takes it.
+/** @brief The calibration of a KITTI stereo pair with its Velodyne: the file's matrices as they are, and what
+projectPointsToDisparity takes (projection, lidarToCamera, focalBaseline).
  */
 struct CV_EXPORTS_W_SIMPLE KittiCalibration
 {
     CV_WRAP KittiCalibration() : focalBaseline(0) {}
     //! The rectified left camera's 3x4 projection matrix, CV_64F (P2, or P_rect_02 in the raw data).
     CV_PROP_RW Mat projection;
-    //! The LiDAR-to-rectified-camera transform, 4x4 CV_64F: R0_rect * Tr_velo_to_cam (raw data: R_rect_00 [R | T]).
+    //! The rectified right camera's 3x4 projection matrix, CV_64F (P3, or P_rect_03 in the raw data).
+    CV_PROP_RW Mat rightProjection;
+    //! The rectifying rotation of the reference camera, 3x3 CV_64F (R0_rect, or R_rect_00 in the raw data).
+    CV_PROP_RW Mat rectification;
+    //! The LiDAR-to-camera transform before rectification, 3x4 CV_64F [R | t] (Tr_velo_to_cam, or R and T of
+    //! calib_velo_to_cam.txt in the raw data).
+    CV_PROP_RW Mat veloToCamera;
+    //! The LiDAR-to-rectified-camera transform, 4x4 CV_64F: rectification * veloToCamera.
     CV_PROP_RW Mat lidarToCamera;
     //! Focal length in pixels times the baseline in metres: P2[0,3] - P3[0,3].
     CV_PROP_RW double focalBaseline;
+    /** The rectified images' size: S_rect_02 of a raw drive's calib_cam_to_cam.txt; KITTI 2015's calib.txt does not
+    give it (0 x 0 from readKittiCalibration, and where a raw file lacks S_rect_02); loadKittiFrame and loadKittiRawFrame
+    take it from the images. */
+    CV_PROP_RW Size imageSize;
 };
 
 /** @brief A rectified stereo frame with its LiDAR scan projected to a sparse disparity map.

@@ -24,13 +24,13 @@ struct CV_EXPORTS_W_SIMPLE DisparityErrors
     CV_PROP_RW int64 estimatedOutliers = 0;   //!< of those, outliers
     CV_PROP_RW int64 totalOutliers = 0;       //!< outliers over all ground-truth pixels, missing estimates filled
 
-    //! Adds another frame's counts.
+    /** Adds another frame's counts. */
     CV_WRAP void add(const DisparityErrors& other);
-    //! estimatedPixels / groundTruthPixels, in percent.
+    /** estimatedPixels / groundTruthPixels, in percent. */
     CV_WRAP double coverage() const;
-    //! estimatedOutliers / estimatedPixels, in percent (the "covered error").
+    /** estimatedOutliers / estimatedPixels, in percent (the "covered error"). */
     CV_WRAP double coveredError() const;
-    //! totalOutliers / groundTruthPixels, in percent (the "total error").
+    /** totalOutliers / groundTruthPixels, in percent (the "total error"). */
     CV_WRAP double totalError() const;
 };
 
@@ -70,18 +70,18 @@ struct CV_EXPORTS_W_SIMPLE ConfidenceErrors
     CV_PROP_RW std::vector<double> pixels;     //!< covered pixels per level (65536 levels; empty: none yet)
     CV_PROP_RW std::vector<double> outliers;   //!< their outliers per level
 
-    //! Adds another frame's counts.
+    /** Adds another frame's counts. */
     CV_WRAP void add(const ConfidenceErrors& other);
-    //! Covered pixels and outliers in all.
+    /** Covered pixels and outliers in all. */
     CV_WRAP double total() const;
     CV_WRAP double totalOutliers() const;
-    //! The share of all outliers that the given fraction of least confident pixels holds, in percent.
+    /** The share of all outliers that the given fraction of least confident pixels holds, in percent. */
     CV_WRAP double leastConfidentShare(double fraction) const;
-    //! The covered error of the given fraction of most confident pixels, in percent.
+    /** The covered error of the given fraction of most confident pixels, in percent. */
     CV_WRAP double keptError(double fraction) const;
-    //! The area under the curve of keptError (as a fraction, not percent) over the fraction kept, in (0, 1].
+    /** The area under the curve of keptError (as a fraction, not percent) over the fraction kept, in (0, 1]. */
     CV_WRAP double auc() const;
-    //! The same area for the oracle order (the outliers removed first): e + (1 - e) ln(1 - e), e the error rate.
+    /** The same area for the oracle order (the outliers removed first): e + (1 - e) ln(1 - e), e the error rate. */
     CV_WRAP double oracleAuc() const;
 };
 

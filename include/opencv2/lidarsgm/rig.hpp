@@ -50,23 +50,23 @@ public:
     /** @brief Writes the rig as fromFile() reads it (with its rectification), to a FileStorage file. */
     CV_WRAP virtual void writeFile(const String& path) const = 0;
 
-    //! The images' size (raw and rectified alike).
+    /** The images' size (raw and rectified alike). */
     CV_WRAP virtual Size getImageSize() const = 0;
-    //! Whether the images are already rectified (rectify() copies them).
+    /** Whether the images are already rectified (rectify() copies them). */
     CV_WRAP virtual bool isRectified() const = 0;
     /** @brief The rectified pair: each image remapped (bilinear) through the rectification, in its own type. The
     images must have the rig's size. */
     CV_WRAP virtual void rectify(InputArray left, InputArray right, OutputArray leftRectified,
                                  OutputArray rightRectified) const = 0;
-    //! The rectified left camera's 3x4 projection matrix (CV_64F).
+    /** The rectified left camera's 3x4 projection matrix (CV_64F). */
     CV_WRAP virtual Mat getProjectionLeft() const = 0;
-    //! The rectified right camera's 3x4 projection matrix (CV_64F).
+    /** The rectified right camera's 3x4 projection matrix (CV_64F). */
     CV_WRAP virtual Mat getProjectionRight() const = 0;
-    //! Focal length in pixels times the baseline: P1(0, 3) - P2(0, 3), as disparityToDepth takes it.
+    /** Focal length in pixels times the baseline: P1(0, 3) - P2(0, 3), as disparityToDepth takes it. */
     CV_WRAP virtual double getFocalBaseline() const = 0;
-    //! The LiDAR to the rectified left camera, 4x4 CV_64F: [R1 0; 0 1] * lidar_to_left.
+    /** The LiDAR to the rectified left camera, 4x4 CV_64F: [R1 0; 0 1] * lidar_to_left. */
     CV_WRAP virtual Mat getLidarToRectified() const = 0;
-    //! The rectified left camera to the raw left camera, 4x4 CV_64F: [R1^T 0; 0 1].
+    /** The rectified left camera to the raw left camera, 4x4 CV_64F: [R1^T 0; 0 1]. */
     CV_WRAP virtual Mat getRectifiedToLeft() const = 0;
     /** @brief The calibration projectPointsToDisparity and loadKittiFrame take: P1, getLidarToRectified() and
     getFocalBaseline(). */

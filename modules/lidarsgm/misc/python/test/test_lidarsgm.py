@@ -3,6 +3,7 @@
 """cv2.lidarsgm from Python: create, parameters, compute on a shipped KITTI frame, projection, semidensify."""
 
 import os
+import sys
 import tempfile
 import unittest
 
@@ -288,6 +289,79 @@ class lidarsgm_test(NewOpenCVTests):
             m.compute(grey, grey, np.zeros((40, 60), np.float64))
         self.assertIn('CV_64FC1', str(ctx.exception))
         self.assertIn('sparse.astype(numpy.float32)', str(ctx.exception))
+
+    def test_units_and_messages(self):
+        left, right, sparse, _ = self.load_frame()
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        png = cv.lidarsgm.encodeKittiDisparity(sparse)        # uint16, disparity x 256
+        with self.assertRaises(cv.error) as ctx:
+            m.compute(left, right, png.astype(np.float32))    # the mistake: x256 as pixels
+        msg = str(ctx.exception)
+        self.assertIn('lie outside the search range [0, 128) px and beyond the image\'s width', msg)
+        self.assertIn('divide it by 256', msg)
+        self.assertNotIn('in function', msg)
+        np.testing.assert_array_equal(m.compute(left, right, png),
+                                      m.compute(left, right, png.astype(np.float32) / 256))
+        with self.assertRaises(cv.error) as ctx:
+            m.compute(left, right, None)
+        self.assertIn('MODE_SGM with CHECK_STEREO', str(ctx.exception))
+        self.assertNotIn('in function', str(ctx.exception))
+
+    def test_create_takes_every_parameter_as_keyword(self):
+        m = cv.lidarsgm.StereoLidarSGM.create(numPaths=4, medianSize=1, searchWindow=4, visibilityRadiusX=2,
+                                              ringGapFactor=2.0, semidenseWeight=0.5, outputType=cv.CV_32F)
+        self.assertEqual((m.getNumPaths(), m.getMedianSize(), m.getSearchWindow(), m.getVisibilityRadiusX()),
+                         (4, 1, 4, 2))
+        self.assertEqual((m.getRingGapFactor(), m.getSemidenseWeight(), m.getOutputType()), (2.0, 0.5, cv.CV_32F))
+        d = cv.lidarsgm.StereoLidarSGM.create()
+        self.assertEqual((d.getNumDisparities(), d.getP1(), d.getNumPaths(), d.getSearchWindow()), (128, 10, 8, 0))
+        with self.assertRaises(cv.error) as ctx:
+            cv.lidarsgm.StereoLidarSGM.create(numPaths=6)
+        self.assertIn('numPaths', str(ctx.exception))
+        # Every method says what it does beyond its signature (the header's doxygen, as OpenCV's generator
+        # carries it).
+        for name in dir(cv.lidarsgm.StereoLidarSGM):
+            if name.startswith(('get', 'set', 'compute', 'semidensify', 'create', 'load')):
+                doc = getattr(cv.lidarsgm.StereoLidarSGM, name).__doc__ or ''
+                text = ' '.join(line for line in doc.splitlines()[1:] if line.strip(' .'))
+                self.assertGreater(len(text), 10, '%s has no docstring: %r' % (name, doc))
+
+    def test_typing_stubs_beside_cv2(self):
+        # The stubs lie beside the cv2 that is imported (python_loader/ of the build, or an installed venv), where
+        # mypy and editors look; mypy checks a snippet against them.
+        stubs = os.path.join(os.path.dirname(cv.__file__), 'lidarsgm', '__init__.pyi')
+        self.assertTrue(os.path.isfile(stubs), stubs)
+        try:
+            from mypy import api
+        except ImportError:
+            raise unittest.SkipTest('mypy is not installed')
+        d = tempfile.mkdtemp()
+        snippet = os.path.join(d, 'snippet.py')
+        with open(snippet, 'w') as f:
+            f.write('import cv2\n'
+                    'm = cv2.lidarsgm.StereoLidarSGM.create(numPaths=4)\n'
+                    'n: int = m.getNumPaths()\n'
+                    'bad: str = m.getNumPaths()\n')
+        out, err, rc = api.run([snippet, '--no-incremental', '--cache-dir', os.path.join(d, 'cache'),
+                                '--python-executable', sys.executable])
+        self.assertNotIn('Cannot find implementation or library stub', out)
+        self.assertIn('snippet.py:4: error: Incompatible types in assignment', out)
+        self.assertNotIn('snippet.py:3', out)
+
+    def test_parameter_file_with_a_misspelt_key(self):
+        params = os.environ.get('LIDARSGM_PARAMS')
+        if not params:
+            raise unittest.SkipTest('LIDARSGM_PARAMS is not set')
+        with open(os.path.join(params, 'kitti_best.yml')) as f:
+            text = f.read().replace('edgeThreshold:', 'edgeTreshold:')
+        path = os.path.join(tempfile.mkdtemp(), 'typo.yml')
+        with open(path, 'w') as f:
+            f.write(text)
+        with self.assertRaises(cv.error) as ctx:
+            cv.lidarsgm.StereoLidarSGM.load(path)
+        self.assertIn("unknown key 'edgeTreshold'", str(ctx.exception))
+        self.assertIn("did you mean 'edgeThreshold'", str(ctx.exception))
+        self.assertIn(path, str(ctx.exception))
 
 
 if __name__ == '__main__':
