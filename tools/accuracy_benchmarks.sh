@@ -21,20 +21,20 @@ run() {  # output file, then the tool's arguments
 for cfg in defaults best; do
   [ -n "${FULL_RANGE_ONLY:-}" ] && break
   P=(); [ $cfg = best ] && P=(--params doc/params/kitti_best.yml)
-  run accuracy_kitti20_$cfg.txt --kitti "$DATA/kitti2015_lidar" --table5 --quiet 1 "${P[@]}"
+  run accuracy_kitti20_$cfg.txt --kitti "$DATA/kitti2015_lidar" --table5 --quiet "${P[@]}"
   run accuracy_kitti20_lines_$cfg.txt --kitti "$DATA/kitti2015_lidar" --modes dsgm,sdsgm --lidar-lines 64,32,16 \
-    --quiet 1 "${P[@]}"
+    --quiet "${P[@]}"
   run accuracy_middlebury_$cfg.txt --middlebury "$DATA/middlebury" "${P[@]}"
   # Which rings simulate the sparser sensors (the paper does not say): SDSGM with the other ring offsets.
   f=doc/benchmarks/accuracy_kitti20_ring_offsets_$cfg.txt
   { header
     for a in "32 1" "16 1" "16 2" "16 3"; do
       set -- $a
-      tool --kitti "$DATA/kitti2015_lidar" --modes sdsgm --lidar-lines $1 --lidar-ring-offset $2 --quiet 1 "${P[@]}"
+      tool --kitti "$DATA/kitti2015_lidar" --modes sdsgm --lidar-lines $1 --lidar-ring-offset $2 --quiet "${P[@]}"
     done; } > "$f" 2>&1
   echo "wrote $f"
 done
 P=(--params doc/params/kitti_best.yml --search-window 0)
 run accuracy_kitti20_lines_best_full_range.txt --kitti "$DATA/kitti2015_lidar" --modes dsgm,sdsgm \
-  --lidar-lines 64,32,16 --quiet 1 "${P[@]}"
+  --lidar-lines 64,32,16 --quiet "${P[@]}"
 run accuracy_middlebury_best_full_range.txt --middlebury "$DATA/middlebury" "${P[@]}"

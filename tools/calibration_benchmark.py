@@ -65,7 +65,7 @@ def calib_transform(entries):
 
 
 def run_tool(a, folder, refine, translation=False):
-    cmd = [a.tool, '--kitti', folder, '--modes', 'sdsgm', '--quiet', '1', '--threads', str(a.threads)]
+    cmd = [a.tool, '--kitti', folder, '--modes', 'sdsgm', '--quiet', '--threads', str(a.threads)]
     if a.params:
         cmd += ['--params', a.params]
     if refine:

@@ -55,21 +55,21 @@ if [ "${PY:-OFF}" = ON ]; then
 fi
 grep -E "^\[  FAILED|^\[  PASSED|^\[     SKIP|Failure" "$OUT/tests.log" | sort | uniq -c | head -40
 for id in 000002 000046; do
-  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda 1 --modes sgm,dsgm,sdsgm
+  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda --modes sgm,dsgm,sdsgm
 done
-[ "${TIMING:-1}" = 1 ] && $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 --rounds ${ROUNDS:-1}
+[ "${TIMING:-1}" = 1 ] && $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 50 --rounds ${ROUNDS:-1}
 if [ "${SIZES:-0}" = 1 ]; then
   for sz in 1920x1080 3840x2160; do
-    $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
+    $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"
   done
 fi
 if [ "${FAILSAFE:-0}" = 1 ]; then
   # The fail-safe on the GPU path: the test frames with a 2-degree rotation error, CUDA (2 streams) against the CPU.
   python3 tools/perturb_calibration.py testdata/kitti /tmp/wrong --pitch 1.2 --yaw -1.5 --roll 0.8
-  for dev in "--cuda 1 --streams 2" "--threads 16"; do
+  for dev in "--cuda --streams 2" "--threads 16"; do
     for dir in testdata/kitti /tmp/wrong; do
       echo "== $dir $dev"
-      $B/lidarsgm_fuse --kitti $dir $dev --quiet 1 --params doc/params/kitti_best.yml --modes sgm,sdsgm \
+      $B/lidarsgm_fuse --kitti $dir $dev --quiet --params doc/params/kitti_best.yml --modes sgm,sdsgm \
         --out /tmp/fs_$(basename $dir)_${dev%% *} | grep -E "^\| S|stereo alone|anyway"
     done
   done
@@ -92,7 +92,7 @@ if [ "${BASE:-0}" = 1 ] && [ -f .device/prebuilt_base.tar.xz ]; then
       LD_LIBRARY_PATH=/tmp/base/prebuilt/lib /tmp/base/prebuilt/bin/lidarsgm_fuse --kitti-frame testdata/kitti \
         --id 000002 --cuda 1 --timing 20 $a ${WINDOWS:+--search-window $WINDOWS} | grep -E "^device:|lidarsgm SDSGM " \
         | sed "s/^/base ${a:-KITTI}: /"
-      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 $a \
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 20 $a \
         ${WINDOWS:+--search-window $WINDOWS} | grep -E "lidarsgm SDSGM " | sed "s/^/this build ${a:-KITTI}: /"
     done
   done
@@ -122,7 +122,7 @@ if [ "${PERF:-0}" = 1 ]; then
 fi
 if [ "${PATHS4:-0}" = 1 ]; then
   # 4 paths at 1080p against cv::cuda::StereoSGM's 4 paths (MODE_HH4).
-  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 --resize 1920x1080 \
+  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 20 --resize 1920x1080 \
     --num-disparities 256 --paths 4 | grep -E "device:|lidarsgm SDSGM|StereoSGM 4"
 fi
 if [ -n "${WINDOWS:-}" ]; then
@@ -133,14 +133,14 @@ if [ -n "${WINDOWS:-}" ]; then
            "--resize 3840x2160 --num-disparities 256"; do
     for w in 0 $WINDOWS; do
       echo "== ${a:-KITTI defaults} --search-window $w"
-      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 20 $a --search-window $w \
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 20 $a --search-window $w \
         | grep -E "lidarsgm SDSGM |StereoSGM|cells searched" || true
     done
   done
 fi
 if [ "${BEST:-0}" = 1 ]; then
   echo "doc/params/kitti_best.yml at KITTI size (against the defaults above):"
-  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 50 \
+  $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 50 \
     --params doc/params/kitti_best.yml | grep "lidarsgm"
 fi
 if [ "${THROUGHPUT:-0}" = 1 ]; then
@@ -153,23 +153,23 @@ if [ "${THROUGHPUT:-0}" = 1 ]; then
     cp testdata/kitti/velodyne/$src.bin $TP/velodyne/$id.bin
   done
   for s in ${STREAMS:-1 2 4 8 16}; do
-    echo "folder run, --cuda 1 --streams $s:"
-    $B/lidarsgm_fuse --kitti $TP --cuda 1 --streams $s --quiet 1 | grep -E "SDSGM|frames:" || true
+    echo "folder run, --cuda --streams $s:"
+    $B/lidarsgm_fuse --kitti $TP --cuda --streams $s --quiet | grep -E "SDSGM|frames:" || true
   done
   for s in 1 16; do
-    echo "folder run with outputs (--out, KITTI PNGs and pictures), --cuda 1 --streams $s:"
-    rm -rf /tmp/tp_out; $B/lidarsgm_fuse --kitti $TP --cuda 1 --streams $s --quiet 1 --out /tmp/tp_out | grep -E "frames:" || true
+    echo "folder run with outputs (--out, KITTI PNGs and pictures), --cuda --streams $s:"
+    rm -rf /tmp/tp_out; $B/lidarsgm_fuse --kitti $TP --cuda --streams $s --quiet --out /tmp/tp_out | grep -E "frames:" || true
   done
   echo "the same folder on the CPU, 16 threads, one worker:"
-  $B/lidarsgm_fuse --kitti $TP --quiet 1 --threads 16 | grep -E "SDSGM|frames:" || true
+  $B/lidarsgm_fuse --kitti $TP --quiet --threads 16 | grep -E "SDSGM|frames:" || true
 fi
 if [ "${RAW:-0}" = 1 ]; then
   # A KITTI raw drive (tools/make_raw_drive.sh) on the GPU with depth and PLY out; its disparity files against the
   # CPU's of the same drive.
   rm -rf /tmp/raw; D=$(tools/make_raw_drive.sh /tmp/raw)
-  $B/lidarsgm_fuse --kitti-raw $D --out /tmp/raw/gpu --cuda 1 --streams 2 --modes sgm,sdsgm \
-    --format kitti,depth,ply --quiet 1
-  $B/lidarsgm_fuse --kitti-raw $D --out /tmp/raw/cpu --modes sgm,sdsgm --format kitti,depth,ply --quiet 1 \
+  $B/lidarsgm_fuse --kitti-raw $D --out /tmp/raw/gpu --cuda --streams 2 --modes sgm,sdsgm \
+    --format kitti,depth,ply --quiet
+  $B/lidarsgm_fuse --kitti-raw $D --out /tmp/raw/cpu --modes sgm,sdsgm --format kitti,depth,ply --quiet \
     > /dev/null
   for f in /tmp/raw/gpu/*/*.png /tmp/raw/gpu/*/*.ply; do
     cmp -s "$f" "/tmp/raw/cpu/${f#/tmp/raw/gpu/}" && echo "same as the CPU: ${f#/tmp/raw/gpu/}" \
@@ -200,18 +200,19 @@ if [ "${PROFILE_PATHS:-0}" = 1 ] && command -v ncu >/dev/null; then
   # The path kernel of one SDSGM call: time, registers per thread, achieved occupancy, issue activity.
   ncu --clock-control none -k regex:pathKernel --launch-skip 2 --launch-count 1 --metrics \
       gpu__time_duration.sum,launch__registers_per_thread,sm__warps_active.avg.pct_of_peak_sustained_active,sm__inst_executed.avg.per_cycle_active,smsp__issue_active.avg.pct_of_peak_sustained_active \
-      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 1 2>&1 \
     | grep -E "pathKernel|gpu__|launch__|sm__|smsp__" | sed -E 's/ +/ /g' | cut -c1-150
 fi
 if [ "${PROFILE:-0}" = 1 ] && command -v ncu >/dev/null; then
   # Per-kernel durations of one SDSGM call (the second: the first includes module loading).
   ncu --clock-control none --metrics gpu__time_duration.sum --launch-skip 6 --launch-count 7 \
-      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 2>&1 \
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 1 2>&1 \
     | grep -E "^  [a-zA-Z_].*\(|gpu__time_duration" | paste - - | awk '{print $1, $(NF-1), $NF}' | head -20
 fi
 # The tool's arguments for one SDSGM call at a WxH:disparities:paths[:margin[:params file]] spec of DRAM_SIZES /
 # PROFILE_SIZES / INSTRUCTIONS (margin: --search-window, the disparity windows; the file: --params, e.g.
-# doc/params/kitti_best.yml, whose own size, disparities and paths the spec's override).
+# doc/params/kitti_best.yml, whose own size, disparities and paths the spec's override); "--cuda 1", which a base
+# build's older tool also takes.
 spec_args() {
   IFS=: read -r sz nd np nw pf <<< "$1"
   echo "--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 ${pf:+--params $pf} --resize $sz --num-disparities $nd --paths $np --search-window ${nw:-0}"

@@ -44,7 +44,7 @@ ERRORS = [("none", {}), ("pitch 0.5", dict(pitch=0.5)), ("yaw 1", dict(yaw=1)), 
 
 
 def tool_row(args, folder, extra, label):
-    cmd = [args.tool, "--kitti", folder, "--params", PARAMS, "--quiet", "1", "--threads", str(args.threads)] + extra
+    cmd = [args.tool, "--kitti", folder, "--params", PARAMS, "--quiet", "--threads", str(args.threads)] + extra
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode:
         sys.exit("%s failed:\n%s%s" % (" ".join(cmd), p.stdout, p.stderr))

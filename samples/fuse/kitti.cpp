@@ -93,8 +93,7 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr, 
         all[i]->stats.estimatedPixels = (int64)(double)n["est"];
         all[i]->stats.estimatedOutliers = (int64)(double)n["estBad"];
         all[i]->stats.totalOutliers = (int64)(double)n["totalBad"];
-        if ((double)n["ms"] >= 0)
-            all[i]->ms.push_back((double)n["ms"]);
+        // Its time ("ms") stays out: the summary times only the frames this run computes.
     }
     if (!fs["matchingResidual"].empty())
     {
@@ -153,7 +152,7 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
 
     std::vector<FrameResult> results(ids.size());
     std::atomic<size_t> next(0);
-    size_t done = 0;
+    size_t done = 0, computedSoFar = 0;
     std::mutex progressLock;
     TickMeter total;
     total.start();
@@ -190,8 +189,10 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
         std::lock_guard<std::mutex> lock(progressLock);
         if (!res.failure.empty() && !o.has("quiet"))
             fprintf(stderr, "\nlidarsgm_fuse: frame %s skipped: %s\n", ids[n].c_str(), res.failure.c_str());
+        if (res.failure.empty() && !res.resumed)
+            computedSoFar++;
         total.stop();
-        progress(o, ++done, ids.size(), total.getTimeSec());
+        progress(o, ++done, computedSoFar, ids.size(), total.getTimeSec());
         total.start();
     };
     std::exception_ptr workerError;   // a worker that cannot start (no CUDA device, ...): the first one's reason
@@ -250,7 +251,9 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
                                                             o.i("streams", 1)).c_str()
                                                    : format("CPU, %d threads", getNumThreads()).c_str());
     std::vector<Row> table = sums.modes;
-    if (scored)
+    if (computed + resumed == 0)
+        printf("\n%s: no frame to sum, every frame failed (the reasons follow)\n", src.label.c_str());
+    else if (scored)
     {
         table.push_back(sums.lidar);
         printTable(title, "D1", table);
@@ -264,8 +267,9 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
     for (const Row& r : sums.modes)
         printConfidence(r, "D1", format("%zu computed frames", computed));
     printResiduals(residuals);
-    printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed; %.2f frames/s over the pass\n",
-           computed, resumed, failed, ids.size() / std::max(total.getTimeSec(), 1e-9));
+    // A rate only of frames computed here: frames taken from an earlier run cost nothing to read back.
+    printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed%s\n", computed, resumed, failed,
+           computed ? format("; %.2f frames/s computed", computed / std::max(total.getTimeSec(), 1e-9)).c_str() : "");
 }
 
 //! Every pass of a folder run (one per LiDAR line count), then the failed frames; 1 where a frame failed.

@@ -101,16 +101,10 @@ int main(int argc, char** argv)
         printHelp();
         return 0;
     }
-    const bool frame = o.has("kitti-frame") || (o.has("left") && o.has("right"));
-    if (!frame && !o.has("kitti") && !o.has("kitti-raw") && !o.has("rig-folder") && !o.has("middlebury"))
-    {
-        fprintf(stderr, "lidarsgm_fuse: give --kitti-frame, --left/--right, --kitti, --kitti-raw, --rig-folder or "
-                        "--middlebury (see --help)\n");
-        return 2;
-    }
+    if (const int rc = checkOptions(o))
+        return rc;
     try
     {
-        checkOptions(o);
         if (o.has("threads"))
             setNumThreads(o.i("threads", -1));
         if (o.has("kitti"))

@@ -113,7 +113,7 @@ int runMiddlebury(const Options& o)
             }
         }
         total.stop();
-        progress(o, s + 1, scenes.size(), total.getTimeSec());
+        progress(o, s + 1, s + 1, scenes.size(), total.getTimeSec());
         total.start();
     }
     printTable(format("Middlebury %s: %zu scenes, bad-%g (sums over scenes), %d threads", dir.c_str(), scenes.size(),

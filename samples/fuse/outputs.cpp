@@ -7,6 +7,7 @@
 #include "opencv2/core/utils/filesystem.hpp"
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <unistd.h>
 
@@ -53,6 +54,24 @@ static void writeImage(const std::string& path, const Mat& img)
     writeAtomically(path, [&](const std::string& tmp) { return imwrite(tmp, img); });
 }
 
+namespace {
+
+Mat withLegend(const Mat& picture, double maxDisparity, const std::string& title, bool none)
+{
+    Mat out;
+    lidarsgm::addDisparityLegend(picture, out, maxDisparity, title, none);
+    return out;
+}
+
+Mat withErrorLegend(const Mat& picture)
+{
+    Mat out;
+    lidarsgm::addErrorLegend(picture, out);
+    return out;
+}
+
+} // namespace
+
 void writeDisparity(const Options& o, const std::string& dir, const std::string& suffix, const Mat& disp16,
                     int minD, int numD, const Frame& f, const Mat& confidence)
 {
@@ -95,13 +114,13 @@ void writeDisparity(const Options& o, const std::string& dir, const std::string&
     }
     Mat colour;
     lidarsgm::colorizeDisparity(d, colour, minD + numD);
-    writeImage(base + "_color.png", colour);
+    writeImage(base + "_color.png", withLegend(colour, minD + numD, "disparity (px)", true));
     if (!gt.empty())
     {
         Mat filled;
         lidarsgm::interpolateBackground(d, filled);
         lidarsgm::colorizeDisparityError(filled, gt, colour);
-        writeImage(dir + "/error" + suffix + ".png", colour);
+        writeImage(dir + "/error" + suffix + ".png", withErrorLegend(colour));
     }
 }
 
@@ -115,14 +134,14 @@ void writeInputs(const std::string& dir, const Frame& f, int minD, int numD, con
     const float maxD = (float)(minD + numD);
     Mat overlay;
     lidarsgm::drawSparseDisparity(f.left, s, overlay, maxD);
-    writeImage(dir + "/lidar_points.png", overlay);
+    writeImage(dir + "/lidar_points.png", withLegend(overlay, maxD, "LiDAR disparity (px)", false));
     if (!semidense16.empty())
     {
         Mat colour;
         const Mat sf = disparityToFloat(semidense16, minD);
         writeImage(dir + "/semidense.png", lidarsgm::encodeKittiDisparity(sf));
         lidarsgm::colorizeDisparity(sf, colour, maxD);
-        writeImage(dir + "/semidense_color.png", colour);
+        writeImage(dir + "/semidense_color.png", withLegend(colour, maxD, "semidense disparity (px)", true));
     }
 }
 
@@ -165,15 +184,20 @@ void printTimes(const std::string& title, const std::vector<Row>& rows)
     printf("| %-28s | ms/frame |\n", "method");
     printf("|------------------------------|----------|\n");
     for (const Row& r : rows)
-        printf("| %-28s | %8.1f |\n", r.label.c_str(), medianMs(r.ms));
+        printf("| %-28s | %8s |\n", r.label.c_str(), r.ms.empty() ? "-" : format("%.1f", medianMs(r.ms)).c_str());
 }
 
-void progress(const Options& o, size_t done, size_t total, double seconds)
+void progress(const Options& o, size_t done, size_t computed, size_t total, double seconds)
 {
     if (o.has("quiet"))
         return;
-    const double fps = done / std::max(seconds, 1e-9);
-    fprintf(stderr, "\r[%zu/%zu] frames, %.2f frames/s, %.0f s left   ", done, total, fps, (total - done) / fps);
+    // The rate of the frames computed here; frames taken from an earlier run or failed cost next to nothing.
+    const double fps = computed / std::max(seconds, 1e-9);
+    if (computed > 0)
+        fprintf(stderr, "\r[%zu/%zu] frames, %.2f frames/s computed, %.0f s left   ", done, total, fps,
+                (total - done) / fps);
+    else
+        fprintf(stderr, "\r[%zu/%zu] frames, none computed   ", done, total);
     if (done == total)
         fprintf(stderr, "\n");
 }

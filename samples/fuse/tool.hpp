@@ -37,8 +37,10 @@ struct Options
 //! Parses argv; 0 when the command line is well formed, else prints why and returns 2. Sets help on --help.
 int parseCommandLine(int argc, char** argv, Options& o, bool& help);
 void printHelp();
-//! Checks every option's value (numbers, names, files, parameter ranges); raises cv::Exception naming the problem.
-void checkOptions(const Options& o);
+/** Checks the command line before any work: every value (numbers, names, parameter ranges), the input (exactly one),
+the options that conflict, do nothing with the input or lack their companion, and the --params file. Prints why and
+returns 2 for a bad command line, 1 for a --params file that cannot be read; 0 when all is well. */
+int checkOptions(const Options& o);
 
 int modeFromName(const std::string& s);
 int checkFromName(const std::string& s);
@@ -140,8 +142,9 @@ private:
     Gpu* gpu_;
     std::map<int, cv::Ptr<Matcher> > matchers_;
 };
-//! The progress line of folder runs (stderr): frames done, frames per second, time left.
-void progress(const Options& o, size_t done, size_t total, double seconds);
+//! The progress line of folder runs (stderr): frames done (computed, taken from an earlier run or failed), the rate
+//! of the computed ones, time left.
+void progress(const Options& o, size_t done, size_t computed, size_t total, double seconds);
 double medianMs(std::vector<double> v);
 
 // ---- the commands -----------------------------------------------------------------------------------------------

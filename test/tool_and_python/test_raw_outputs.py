@@ -192,11 +192,11 @@ class RawDriveTest(unittest.TestCase):
         self.assertEqual(rc, 1)
         self.assertIn("calibration file", se)
         rc, _, se = run([TOOL, "--middlebury", DATA, "--format", "ply"])
-        self.assertEqual(rc, 1)
+        self.assertEqual(rc, 2)   # a bad command line
         self.assertIn("--format ply needs a calibration", se)
         # The consistency-check table needs ground truth: refused before any frame without --gt-depth.
         rc, _, se = run([TOOL, "--kitti-raw", self.drive, "--table5"])
-        self.assertEqual(rc, 1)
+        self.assertEqual(rc, 2)
         self.assertIn("--table5 scores each check against ground truth: with --kitti-raw give --gt-depth", se)
 
 

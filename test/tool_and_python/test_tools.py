@@ -67,7 +67,7 @@ class ToolTest(unittest.TestCase):
         self.assertTrue(np.all(png[~valid] == 0))
         # The error picture is black exactly where there is no ground truth.
         gt = cv.imread(os.path.join(KITTI, "disp_occ_0", "000002_10.png"), cv.IMREAD_UNCHANGED)
-        err = cv.imread(os.path.join(out, "error.png"))
+        err = cv.imread(os.path.join(out, "error.png"))[:gt.shape[0]]   # the frame, above its legend
         self.assertTrue(np.all(err[gt == 0] == 0))
         self.assertTrue(np.all(err[gt > 0].max(axis=1) > 0))
 
@@ -111,7 +111,7 @@ class ToolTest(unittest.TestCase):
         # A one-frame folder gives the single-frame run's numbers (same matcher, same evaluator).
         with open(os.path.join(kitti, "frames.txt"), "w") as f:
             f.write("000046\n")
-        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1"])
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet"])
         self.assertEqual(rc, 0, se)
         row = re.search(r"\| SDSGM \(stereo-lidar\) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+) %", so)
         rc, so1, _ = run([TOOL, "--kitti-frame", KITTI, "--id", "000046"])
@@ -142,11 +142,11 @@ class ToolTest(unittest.TestCase):
                          open(os.path.join(outs[1], fid, name), "rb") as b:
                         self.assertEqual(a.read(), b.read(), fid + "/" + name)
         rc, _, se = run([TOOL, "--kitti", kitti, "--streams", "0"])
-        self.assertEqual(rc, 1)
+        self.assertEqual(rc, 2)
         self.assertIn("--streams takes 1 to 64 workers, got 0", se)
         # GPU workers: the same table where there is a CUDA device; without one, the reason and exit 1, no abort.
-        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sgm,sdsgm", "--table5", "--cuda", "1", "--streams", "2",
-                          "--quiet", "1"])
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sgm,sdsgm", "--table5", "--cuda", "--streams", "2",
+                          "--quiet"])
         if rc == 0:
             self.assertEqual(re.findall(rows, so), tables[0])
         else:
@@ -213,7 +213,7 @@ class ToolTest(unittest.TestCase):
                       "check (rerun without --resume", se)
 
     def test_middlebury_folder(self):
-        rc, so, se = run([TOOL, "--middlebury", os.path.join(DATA, "middlebury"), "--modes", "sgm,sdsgm", "--quiet", "1"])
+        rc, so, se = run([TOOL, "--middlebury", os.path.join(DATA, "middlebury"), "--modes", "sgm,sdsgm", "--quiet"])
         self.assertEqual(rc, 0, se)
         self.assertRegex(so, r"\| cone +\| +\d+ \| SDSGM ")
         self.assertRegex(so, r"\| SDSGM \(stereo-lidar\) +\| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ % \| +[\d.]+ \|")
@@ -246,7 +246,7 @@ class ToolTest(unittest.TestCase):
     def test_lidar_lines(self):
         # Fewer LiDAR lines: a table per line count, fewer LiDAR points, and the 64-line table as without the option.
         kitti = self.kitti_folder("000046\n")
-        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1", "--lidar-lines", "64,32,16"])
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "--lidar-lines", "64,32,16"])
         self.assertEqual(rc, 0, se)
         cov = [float(c) for c in re.findall(r"\| LiDAR points alone +\| +([\d.]+) %", so)]
         self.assertEqual(len(cov), 3, so)
@@ -254,11 +254,11 @@ class ToolTest(unittest.TestCase):
         self.assertGreater(cov[1], cov[2])
         for n in (64, 32, 16):
             self.assertIn("%d LiDAR lines" % n, so)
-        rc, so64, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1"])
+        rc, so64, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet"])
         row = r"\| SDSGM \(stereo-lidar\) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+) %"
         self.assertEqual(re.search(row, so64).groups(), re.search(row, so).groups())
         # Another ring offset keeps other rings at 16 lines (other LiDAR points); offset 4 is offset 0 again.
-        lines16 = [TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1", "--lidar-lines", "16"]
+        lines16 = [TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "--lidar-lines", "16"]
         lidar = r"\| LiDAR points alone +\| +([\d.]+) % \| +([\d.]+) %"
         outs = []
         for k in ("0", "3", "4"):
@@ -276,7 +276,7 @@ class ToolTest(unittest.TestCase):
         p = subprocess.run([sys.executable, split, "--data", KITTI, "--params", BEST, "--lidar-lines", "64,16"],
                            capture_output=True, text=True, timeout=600)
         self.assertEqual(p.returncode, 0, p.stderr)
-        rc, so, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--params", BEST, "--quiet", "1",
+        rc, so, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--params", BEST, "--quiet",
                           "--lidar-lines", "64,16"])
         self.assertEqual(rc, 0, se)
         tool = re.findall(r"\| SDSGM \(stereo-lidar\) +\| +[\d.]+ % \| +[\d.]+ % \| +([\d.]+) %", so)
@@ -295,7 +295,7 @@ class ToolTest(unittest.TestCase):
         self.assertIn("has no obj_map/ folder", p.stderr)
 
     def test_calibration_check_and_refinement(self):
-        rc, so, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--quiet", "1", "--refine-calibration"])
+        rc, so, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--quiet", "--refine-calibration"])
         self.assertEqual(rc, 0, se)
         self.assertRegex(so, r"calibration residual: [\d.]+ px \(median \|LiDAR - stereo disparity\|, 2 frames\)")
         m = re.search(r"pitch ([-+\d.]+) \+- ([\d.]+), yaw ([-+\d.]+) \+- ([\d.]+), roll ([-+\d.]+) \+- ([\d.]+)", so)
@@ -303,7 +303,7 @@ class ToolTest(unittest.TestCase):
         for k in (1, 3, 5):
             self.assertLessEqual(abs(float(m.group(k))), 0.2, so)   # calib.txt is close to right
         self.assertRegex(so, r"after the correction: [\d.]+ px \(\d+ points, 2 frames")
-        rc, so, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--quiet", "1", "--check-calibration"])
+        rc, so, se = run([TOOL, "--kitti", KITTI, "--modes", "sdsgm", "--quiet", "--check-calibration"])
         self.assertEqual(rc, 0, se)
         self.assertIn("calibration residual:", so)
         self.assertNotIn("calibration correction", so)
@@ -319,7 +319,7 @@ class ToolTest(unittest.TestCase):
         os.rename(os.path.join(scans, "000002.bin"), os.path.join(scans, "tmp.bin"))
         os.rename(os.path.join(scans, "000046.bin"), os.path.join(scans, "000002.bin"))
         os.rename(os.path.join(scans, "tmp.bin"), os.path.join(scans, "000046.bin"))
-        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "1", "--refine-calibration"])
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sdsgm", "--quiet", "--refine-calibration"])
         self.assertEqual(rc, 0, se)
         self.assertIn("the LiDAR is left out: stereo alone (SGM, left-right check)", so)
         self.assertRegex(so, r"above 1 px, where the LiDAR pulls the fusion off the images .*: 000002, 000046")
@@ -328,7 +328,7 @@ class ToolTest(unittest.TestCase):
         # Left out means left out: with kitti_best.yml the scans would still draw MODE_SGM's disparity windows. Each
         # map is cv2's plain SGM, left-right checked, given no sparse map.
         out = os.path.join(self.tmp, "left_out")
-        rc, so, se = run([TOOL, "--kitti", kitti, "--params", BEST, "--quiet", "1", "--refine-calibration", "--out",
+        rc, so, se = run([TOOL, "--kitti", kitti, "--params", BEST, "--quiet", "--refine-calibration", "--out",
                           out])
         self.assertEqual(rc, 0, se)
         self.assertIn("the LiDAR is left out", so)
@@ -341,10 +341,13 @@ class ToolTest(unittest.TestCase):
             self.assertFalse(np.array_equal(alone, stereo.compute(f.left, f.right, f.sparse)))   # the windows
             np.testing.assert_array_equal(cv.lidarsgm.encodeKittiDisparity(alone.astype(np.float32) / 16),
                                           cv.imread(os.path.join(out, fid, "disparity_sgm.png"), cv.IMREAD_UNCHANGED))
-        for args, message in ((["--kitti-frame", KITTI, "--refine-calibration"], "go with --kitti or --kitti-raw"),
-                              (["--kitti", KITTI, "--refine-translation"], "goes with --refine-calibration")):
+        for args, message in ((["--kitti-frame", KITTI, "--refine-calibration"],
+                               "--refine-calibration does nothing with --kitti-frame (it goes with --kitti or "
+                               "--kitti-raw)"),
+                              (["--kitti", KITTI, "--refine-translation"],
+                               "--refine-translation does nothing without --refine-calibration")):
             rc, so, se = run([TOOL] + args)
-            self.assertEqual(rc, 1, se)
+            self.assertEqual(rc, 2, se)
             self.assertIn(message, se)
 
     def test_fail_safe_for_a_wrong_calibration(self):
@@ -354,7 +357,7 @@ class ToolTest(unittest.TestCase):
         subprocess.run([sys.executable, os.path.join(ROOT, "tools", "perturb_calibration.py"), KITTI, wrong,
                         "--pitch", "1.2", "--yaw", "-1.5", "--roll", "0.8"], check=True)
         row = r"\| %s \(%s\)\s*\|\s*([\d.]+) %%\s*\|\s*([\d.]+) %%\s*\|\s*([\d.]+) %%"
-        base = [TOOL, "--kitti", wrong, "--quiet", "1", "--params", BEST]
+        base = [TOOL, "--kitti", wrong, "--quiet", "--params", BEST]
         rc, so, se = run(base + ["--modes", "sgm,sdsgm"])
         self.assertEqual(rc, 0, se)
         self.assertRegex(so, r"the LiDAR misplaced on the images .*, fused as stereo alone: 000002 \([\d.]+ px, "
@@ -379,7 +382,7 @@ class ToolTest(unittest.TestCase):
         self.assertEqual(rc, 0, se)
         self.assertEqual(alone, METRICS.search(so).groups())
         # The exact calibration: every frame fused with its LiDAR.
-        rc, so, se = run([TOOL, "--kitti", KITTI, "--quiet", "1", "--params", BEST, "--modes", "sdsgm"])
+        rc, so, se = run([TOOL, "--kitti", KITTI, "--quiet", "--params", BEST, "--modes", "sdsgm"])
         self.assertEqual(rc, 0, se)
         self.assertNotIn("misplaced", so)
 
@@ -409,26 +412,26 @@ class ToolTest(unittest.TestCase):
         self.assertEqual(METRICS.search(so).group(0), METRICS.search(so2).group(0))
         # The whole recording: --rig-folder as the KITTI folder run, resumable.
         table = re.compile(r"\| SDSGM \(stereo-lidar\) +\| +([\d.]+) % \| +([\d.]+) % \| +([\d.]+) %")
-        rc, so_k, se = run([TOOL, "--kitti", KITTI, "--params", BEST, "--modes", "sdsgm", "--quiet", "1"])
+        rc, so_k, se = run([TOOL, "--kitti", KITTI, "--params", BEST, "--modes", "sdsgm", "--quiet"])
         self.assertEqual(rc, 0, se)
         folder_out = os.path.join(self.tmp, "folder_out")
-        rc, so_r, se = run([TOOL, "--rig-folder", rig, "--params", BEST, "--modes", "sdsgm", "--quiet", "1",
+        rc, so_r, se = run([TOOL, "--rig-folder", rig, "--params", BEST, "--modes", "sdsgm", "--quiet",
                             "--out", folder_out])
         self.assertEqual(rc, 0, se)
         self.assertLess(abs(float(table.search(so_r).group(3)) - float(table.search(so_k).group(3))), 0.3, so_r)
         self.assertIn("2 computed", so_r)
-        rc, so_r2, se = run([TOOL, "--rig-folder", rig, "--params", BEST, "--modes", "sdsgm", "--quiet", "1",
+        rc, so_r2, se = run([TOOL, "--rig-folder", rig, "--params", BEST, "--modes", "sdsgm", "--quiet",
                              "--out", folder_out, "--resume"])
         self.assertEqual(rc, 0, se)
         self.assertIn("2 taken from earlier runs", so_r2)
         self.assertEqual(table.search(so_r).group(0), table.search(so_r2).group(0))
         rc, so, se = run(args)
-        self.assertEqual(rc, 1)
-        self.assertIn("--rig goes with --left, --right and --points", se)
+        self.assertEqual(rc, 2)
+        self.assertIn("--rig needs --points", se)
         rc, so, se = run(args + ["--points", os.path.join(rig, "points", "000002.pcd"), "--calib",
                                  os.path.join(KITTI, "calib.txt")])
-        self.assertEqual(rc, 1)
-        self.assertIn("--rig holds the calibration", se)
+        self.assertEqual(rc, 2)
+        self.assertIn("--calib does nothing with --rig (the rig file holds the calibration)", se)
 
     def test_exit_codes_and_messages(self):
         cases = [
@@ -438,21 +441,25 @@ class ToolTest(unittest.TestCase):
             (["--left", os.path.join(KITTI, "image_2", "000002_10.png"), "--right",
               os.path.join(KITTI, "image_3", "000002_10.png"), "--sparse", os.path.join(self.tmp, "none.png")],
              1, "cannot read sparse disparity"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--num-disparities", "100"], 1, "numDisparities"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--num-disparities", "abc"], 1, "takes an integer"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--alpha", "1.5"], 1, "alpha"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--modes", "fast"], 1, "unknown mode"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--out", self.tmp, "--format", "jpg"], 1, "unknown --format"),
-            (["--middlebury", self.tmp, "--out", self.tmp, "--format", "confidence"], 1,
+            (["--kitti-frame", KITTI, "--id", "000002", "--num-disparities", "100"], 2,
+             "--num-disparities 100 is refused: numDisparities"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--num-disparities", "abc"], 2, "takes an integer"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--alpha", "1.5"], 2, "--alpha 1.5 is refused: alpha"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--modes", "fast"], 2, "unknown mode"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--out", self.tmp, "--format", "jpg"], 2, "unknown --format"),
+            (["--middlebury", self.tmp, "--out", self.tmp, "--format", "confidence"], 2,
              "--format confidence is written for KITTI inputs"),
             (["--kitti-frame", KITTI, "--id", "000002", "--colour", "1"], 2, "unknown option --colour"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--lidar-lines", "48"], 1, "--lidar-lines takes 64, 32 or 16"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--lidar-ring-offset", "-1"], 1, "--lidar-ring-offset takes"),
+            (["--kitti-frame", KITTI, "--serch-window", "4"], 2,
+             "unknown option --serch-window (did you mean --search-window? see --help)"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--lidar-lines", "48"], 2, "--lidar-lines takes 64, 32 or 16"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--lidar-ring-offset", "-1"], 2, "--lidar-ring-offset takes"),
             (["--kitti-frame", KITTI, "--id", "000002", "--params", os.path.join(self.tmp, "none.yml")], 1,
              "cannot open --params"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--resize", "10x"], 1, "--resize takes"),
-            (["--kitti-frame", KITTI, "--id", "000002", "--resume"], 1,
-             "--resume needs --kitti, --kitti-raw or --rig-folder, and --out"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--resize", "10x"], 2, "--resize takes"),
+            (["--kitti-frame", KITTI, "--id", "000002", "--resume"], 2,
+             "--resume does nothing with --kitti-frame (it goes with --kitti, --kitti-raw or --rig-folder)"),
+            (["--kitti", KITTI, "--resume"], 2, "--resume needs --out"),
             (["--kitti-frame"], 2, "needs a value"),
             (["stray"], 2, "unexpected argument"),
             ([], 2, "give --kitti-frame"),
@@ -461,9 +468,240 @@ class ToolTest(unittest.TestCase):
             rc, so, se = run([TOOL] + args)
             self.assertEqual(rc, code, " ".join(args) + "\n" + se)
             self.assertIn(message, se, " ".join(args))
+
+    def test_conflicting_and_idle_options_exit_2_naming_both(self):
+        """Two inputs, an option that does nothing with the input, two LiDARs, an option without its companion: refused
+        before any work with 2 and a message that names both options."""
+        left, right = os.path.join(KITTI, "image_2", "000002_10.png"), os.path.join(KITTI, "image_3", "000002_10.png")
+        sparse = os.path.join(self.tmp, "sparse.png")
+        cv.imwrite(sparse, np.zeros((375, 1242), np.uint16))
+        calib, scan = os.path.join(KITTI, "calib.txt"), os.path.join(KITTI, "velodyne", "000002.bin")
+        frame, pair = ["--kitti-frame", KITTI], ["--left", left, "--right", right]
+        out = ["--out", self.tmp]
+        cases = [
+            (frame + ["--sparse", sparse], "--sparse does nothing with --kitti-frame (the frame's velodyne scan is "
+                                           "its LiDAR); drop one of them"),
+            (frame + ["--velodyne", scan], "--velodyne does nothing with --kitti-frame"),
+            (frame + ["--calib", calib], "--calib does nothing with --kitti-frame (calib.txt is the calibration)"),
+            (frame + ["--gt", left], "--gt does nothing with --kitti-frame (disp_occ_0/ is the ground truth)"),
+            (frame + pair, "--kitti-frame and --left/--right are two inputs: give one of them"),
+            (frame + ["--left", left], "--kitti-frame and --left/--right are two inputs"),
+            (["--kitti", KITTI, "--middlebury", DATA], "--kitti and --middlebury are two inputs"),
+            (frame + ["--table5"], "--table5 does nothing with --kitti-frame (it goes with --kitti, --kitti-raw or "
+                                   "--rig-folder)"),
+            (pair + ["--sparse", sparse, "--table5"], "--table5 does nothing with --left/--right"),
+            (frame + ["--streams", "2"], "--streams does nothing with --kitti-frame"),
+            (frame + ["--quiet"], "--quiet does nothing with --kitti-frame"),
+            (frame + ["--seed", "3"], "--seed does nothing with --kitti-frame (it goes with --middlebury)"),
+            (["--kitti", KITTI, "--id", "000002"], "--id does nothing with --kitti (it goes with --kitti-frame)"),
+            (["--kitti", KITTI, "--sparse", sparse], "--sparse does nothing with --kitti (each frame's velodyne scan"),
+            (["--kitti", KITTI, "--timing", "5"], "--timing does nothing with --kitti"),
+            (["--kitti", KITTI, "--gt-depth", self.tmp], "--gt-depth does nothing with --kitti"),
+            (["--middlebury", DATA, "--cuda"], "--cuda does nothing with --middlebury"),
+            (["--middlebury", DATA, "--trust-lidar"], "--trust-lidar does nothing with --middlebury"),
+            (["--middlebury", DATA, "--table5"], "--table5 does nothing with --middlebury"),
+            (pair + ["--sparse", sparse, "--resize", "621x188"], "--resize does nothing with --left/--right"),
+            (pair + ["--sparse", sparse, "--velodyne", scan, "--calib", calib],
+             "--sparse and --velodyne are two LiDAR inputs: give one of them"),
+            (pair + ["--velodyne", scan], "--velodyne needs the calibration that projects it: add --calib"),
+            (pair + ["--sparse", sparse, "--calib", calib], "--calib does nothing with --sparse"),
+            (pair + ["--sparse", sparse, "--lidar-lines", "16"], "--lidar-lines does nothing with --sparse"),
+            (["--left", left, "--sparse", sparse], "--left goes with --right"),
+            (["--right", right, "--sparse", sparse], "--right goes with --left"),
+            (frame + ["--lidar-lines", "64,16"], "one frame takes one --lidar-lines count, got 64,16"),
+            (frame + ["--lidar-ring-offset", "1"], "--lidar-ring-offset does nothing without --lidar-lines 32 or 16"),
+            (frame + ["--format", "pfm"], "--format does nothing without --out"),
+            (frame + ["--rounds", "3"], "--rounds does nothing without --timing and --cuda"),
+            (["--kitti", KITTI, "--scan-rate", "0"], "--scan-rate does nothing without --refine-calibration"),
+            (pair + ["--sparse", sparse, "--format", "depth"] + out, "--format depth needs the calibration: give "
+                                                                     "--calib or --rig"),
+            (["--middlebury", DATA, "--format", "ply"] + out, "--format ply needs a calibration"),
+        ]
+        for args, message in cases:   # each message names both options
+            rc, so, se = run([TOOL] + args)
+            self.assertEqual(rc, 2, " ".join(args) + "\n" + se)
+            self.assertIn("lidarsgm_fuse: " + message, se, " ".join(args))
+            self.assertEqual(so, "", " ".join(args))   # nothing was run
+
+    def test_a_pair_without_lidar_says_what_gives_one(self):
+        """--left/--right alone: refused before computing (2), with the options that give a LiDAR and the stereo-alone
+        command; which then runs."""
+        pair = [TOOL, "--left", os.path.join(KITTI, "image_2", "000002_10.png"), "--right",
+                os.path.join(KITTI, "image_3", "000002_10.png")]
+        for extra in ([], ["--modes", "sgm"], ["--check", "stereo"], ["--modes", "sgm", "--check", "camera-lidar"]):
+            rc, so, se = run(pair + extra)
+            self.assertEqual(rc, 2, se)
+            self.assertIn("--left/--right give no LiDAR", se)
+            for option in ("--sparse", "--points P with --calib C or --rig", "--velodyne V with --calib",
+                           "--modes sgm --check stereo"):
+                self.assertIn(option, se)
+            self.assertNotIn("sparse disparity map is empty", se)
+        rc, so, se = run(pair + ["--modes", "sgm", "--check", "stereo"])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("SGM    check stereo", so)
+
+    def test_help(self):
         rc, so, se = run([TOOL, "--help"])
         self.assertEqual(rc, 0)
-        self.assertIn("--format", so)
+        lines = so.splitlines()
+        self.assertRegex(lines[0], r"^Usage: lidarsgm_fuse INPUT \[OPTION\]")
+        examples = so.split("Examples:\n")[1].split("\n\n")[0]
+        self.assertEqual(len(re.findall(r"^  lidarsgm_fuse --", examples, re.M)), 3, examples)
+        for group in ("Input (give one):", "Output:", "Method:", "Matcher parameters"):
+            self.assertIn("\n" + group, so)
+        # One entry per option: "  --name VALUE  help", continued on lines indented further.
+        entries = {}
+        for line in lines:
+            if line.startswith("  --"):
+                name = line.split()[0]
+                entries[name] = line.strip()
+            elif line.startswith(" " * 24) and entries:
+                entries[name] += " " + line.strip()
+        entries = {k: " ".join(v.split()) for k, v in entries.items()}
+        self.assertGreater(len(entries), 60)
+        # The matcher's defaults are the library's (create()), the threads OpenCV's, the rest the tool's.
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        for option, value in (("--num-disparities", m.getNumDisparities()), ("--P1", m.getP1()), ("--P2", m.getP2()),
+                              ("--paths", m.getNumPaths()), ("--Q2", m.getQ2()), ("--alpha", "%g" % m.getAlpha()),
+                              ("--Tc", "%g" % m.getCheckThreshold()), ("--search-window", m.getSearchWindow()),
+                              ("--threads", "%d, OpenCV's" % cv.getNumThreads()), ("--streams", 1),
+                              ("--id", "000002"), ("--check", "stereo-lidar"), ("--format", "kitti")):
+            self.assertTrue(entries[option].endswith("(default %s)" % value), entries[option])
+        self.assertTrue(entries["--num-disparities"].startswith("--num-disparities N numDisparities"))
+        self.assertTrue(entries["--num-disparities"].endswith("(default 128)"))
+        self.assertTrue(entries["--P1"].endswith("(default 10)"))
+        for switch in ("--cuda", "--quiet", "--resume", "--table5"):   # no value
+            self.assertNotRegex(entries[switch].split()[1], r"^([A-Z]+|\d)$", entries[switch])
+
+    def test_switches_with_and_without_a_value(self):
+        kitti = self.kitti_folder("000046\n")
+        for args, progress in ((["--quiet"], False), (["--quiet", "1"], False), (["--quiet", "0"], True), ([], True)):
+            rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sgm"] + args)
+            self.assertEqual(rc, 0, se)
+            self.assertEqual("[1/1] frames" in se, progress, args)
+        # --cuda 0 is the CPU; --cuda and --cuda 1 the GPU (or, without a device, a failed run with the reason).
+        frame = [TOOL, "--kitti-frame", KITTI, "--id", "000046", "--modes", "sgm"]
+        rc, so, se = run(frame + ["--cuda", "0"])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("stereo-lidar CPU ", so)
+        results = [run(frame + a) for a in (["--cuda"], ["--cuda", "1"])]
+        self.assertEqual(results[0][0], results[1][0])
+        for rc, so, se in results:
+            if rc == 0:
+                self.assertIn("stereo-lidar CUDA", so)
+            else:
+                self.assertEqual(rc, 1, se)
+                self.assertIn("lidarsgm_fuse: error: ", se)
+        # A switch before another option, and the older value form of --resume.
+        out = os.path.join(self.tmp, "out")
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sgm", "--quiet", "--out", out])
+        self.assertEqual(rc, 0, se)
+        rc, so, se = run([TOOL, "--kitti", kitti, "--modes", "sgm", "--quiet", "--out", out, "--resume", "1"])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("frames: 0 computed, 1 taken from earlier runs (--resume), 0 failed", so)
+
+    def test_bad_values_exit_2(self):
+        frame = ["--kitti-frame", KITTI, "--id", "000002"]
+        cases = [
+            (["--num-disparities", "abc"], "--num-disparities takes an integer, got 'abc'"),
+            (["--num-disparities", "100"], "--num-disparities 100 is refused: numDisparities"),
+            (["--P1", "200"], "--P1 200 is refused: P1 (200) must not exceed P2"),
+            (["--alpha", "x"], "--alpha takes a number, got 'x'"),
+            (["--paths", "6"], "--paths 6 is refused: numPaths"),
+            (["--resize", "100"], "--resize takes WIDTHxHEIGHT"),
+            (["--timing", "0"], "--timing takes 1 or more runs"),
+            (["--threads", "0"], "--threads takes 1 or more"),
+            (["--check", "lidar"], "unknown check 'lidar'"),
+            (["--modes", "sgm,fast"], "unknown mode 'fast'"),
+            (["--lidar-lines", "8"], "--lidar-lines takes 64, 32 or 16"),
+            (["--id"], "option --id needs a value"),
+            (["--id", "--out", self.tmp], "option --id needs a value"),
+        ]
+        for args, message in cases:
+            rc, so, se = run([TOOL] + frame + args)
+            self.assertEqual(rc, 2, " ".join(args) + "\n" + se)
+            self.assertIn("lidarsgm_fuse: " + message, se, " ".join(args))
+        for args, message in ((["--middlebury", DATA, "--bad", "0"], "--bad takes a threshold above 0"),
+                              (["--kitti", KITTI, "--streams", "65"], "--streams takes 1 to 64 workers, got 65")):
+            rc, so, se = run([TOOL] + args)
+            self.assertEqual(rc, 2, se)
+            self.assertIn(message, se)
+        # A failed run is 1: a file that cannot be read, a --params file with a bad value.
+        rc, so, se = run([TOOL, "--kitti-frame", os.path.join(self.tmp, "none")])
+        self.assertEqual(rc, 1, se)
+
+    def test_resume_summaries_print_no_rate_for_frames_not_computed(self):
+        kitti = self.kitti_folder("000002\n000046\n")
+        out = os.path.join(self.tmp, "out")
+        cmd = [TOOL, "--kitti", kitti, "--out", out, "--modes", "sgm"]
+        rc, so, se = run(cmd)
+        self.assertEqual(rc, 0, se)
+        self.assertRegex(so, r"frames: 2 computed, 0 taken from earlier runs \(--resume\), 0 failed; [\d.]+ frames/s")
+        self.assertRegex(so, r"\| SGM \(stereo-lidar\) +\|.*\| +[\d.]+ \|")
+        # Everything taken: no rate, no times.
+        rc, so, se = run(cmd + ["--resume"])
+        self.assertEqual(rc, 0, se)
+        self.assertIn("frames: 0 computed, 2 taken from earlier runs (--resume), 0 failed\n", so)
+        self.assertNotIn("frames/s", so + se)
+        self.assertRegex(so, r"\| SGM \(stereo-lidar\) +\|.*\| +- \|")
+        self.assertIn("[2/2] frames, none computed", se)
+        # Refused for other options: every frame failed, no table, no rate.
+        rc, so, se = run(cmd[:-1] + ["dsgm", "--resume"])
+        self.assertEqual(rc, 1, se)
+        self.assertIn("no frame to sum, every frame failed", so)
+        self.assertIn("frames: 0 computed, 0 taken from earlier runs (--resume), 2 failed\n", so)
+        self.assertNotIn("frames/s", so + se)
+        self.assertNotIn("ms/frame", so)
+        self.assertNotIn(": 0 frames", so)
+        # One computed, one taken: the rate of the one.
+        shutil.rmtree(os.path.join(out, "000046"))
+        rc, so, se = run(cmd + ["--resume"])
+        self.assertEqual(rc, 0, se)
+        self.assertRegex(so, r"frames: 1 computed, 1 taken from earlier runs \(--resume\), 0 failed; [\d.]+ frames/s "
+                             r"computed")
+
+    def test_pictures_have_a_legend(self):
+        """Each picture is the library's drawing of the frame above a legend band: colour bar with disparity ticks, or
+        the ten D1 error bands in colorizeDisparityError's colours."""
+        out = os.path.join(self.tmp, "out")
+        rc, so, se = run([TOOL, "--kitti-frame", KITTI, "--id", "000002", "--out", out, "--format", "pfm"])
+        self.assertEqual(rc, 0, se)
+        f = cv.lidarsgm.loadKittiFrame(KITTI, "000002")
+        h, w = f.left.shape
+        m = cv.lidarsgm.StereoLidarSGM.create()
+        max_d = m.getMinDisparity() + m.getNumDisparities()
+        disp = cv.imread(os.path.join(out, "disparity.pfm"), cv.IMREAD_UNCHANGED)
+        disp[~np.isfinite(disp)] = -1
+        gt = f.groundTruth
+        if gt.dtype == np.uint16:
+            gt = np.where(gt > 0, gt / 256.0, -1).astype(np.float32)
+        expected = {"disparity_color.png": cv.lidarsgm.colorizeDisparity(disp, max_d),
+                    "error.png": cv.lidarsgm.colorizeDisparityError(cv.lidarsgm.interpolateBackground(disp), gt)}
+        # Every colour colorizeDisparity gives over [0, max_d]: the disparity legends' bars are drawn with it.
+        ramp = cv.lidarsgm.colorizeDisparity(np.linspace(0, max_d, 200000, dtype=np.float32).reshape(1, -1), max_d)
+        ramp_colours = {tuple(c) for c in ramp.reshape(-1, 3) if not c[0] == c[1] == c[2]}
+        for name in ("disparity_color.png", "error.png", "semidense_color.png", "lidar_points.png"):
+            img = cv.imread(os.path.join(out, name))
+            self.assertEqual(img.shape[1], w, name)
+            self.assertGreater(img.shape[0], h + 20, name)
+            band = img[h:]
+            self.assertGreater(np.mean(band == 255), 0.3, name)    # a white band ...
+            self.assertGreater(len(np.unique(band.reshape(-1, 3), axis=0)), 20, name)   # ... with a legend on it
+            if name in expected:
+                np.testing.assert_array_equal(img[:h], expected[name], name)
+            if name != "error.png":
+                drawn = [tuple(c) in ramp_colours for c in band.reshape(-1, 3)]
+                self.assertGreater(sum(drawn), w * 5, name)   # a bar of colorizeDisparity's ramp, 5 px at least
+                self.assertGreater(len({tuple(c) for c in band.reshape(-1, 3)} & ramp_colours), 300, name)
+        # The error legend shows the ten bands of colorizeDisparityError: errors of 1/32 .. 32 thresholds (5 px).
+        band = cv.imread(os.path.join(out, "error.png"))[h:]
+        colours = cv.lidarsgm.colorizeDisparityError(
+            (100 + 5 * 2.0 ** (np.arange(10) - 4.5)).astype(np.float32).reshape(1, 10),
+            np.full((1, 10), 100, np.float32))
+        present = {tuple(c) for c in band.reshape(-1, 3)}
+        self.assertEqual(len({tuple(c) for c in colours.reshape(-1, 3)}), 10)
+        for c in colours.reshape(-1, 3):
+            self.assertIn(tuple(c), present)
 
 
 class PythonSampleTest(unittest.TestCase):
@@ -485,9 +723,9 @@ class PythonSampleTest(unittest.TestCase):
                 a = cv.imread(os.path.join(tmp, "disparity.png"), cv.IMREAD_UNCHANGED)
                 b = cv.imread(os.path.join(out2, "disparity.png"), cv.IMREAD_UNCHANGED)
                 np.testing.assert_array_equal(a, b)
-                for name in ["disparity_color.png", "lidar_points.png"]:  # the same pictures, byte for byte
-                    with open(os.path.join(tmp, name), "rb") as fa, open(os.path.join(out2, name), "rb") as fb:
-                        self.assertEqual(fa.read(), fb.read(), name)
+                for name in ["disparity_color.png", "lidar_points.png"]:  # the same pictures, legends included
+                    pa, pb = cv.imread(os.path.join(tmp, name)), cv.imread(os.path.join(out2, name))
+                    np.testing.assert_array_equal(pa, pb, name)
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
 
