@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the pictures of doc/tutorial.md and the README from the shipped KITTI frame 000002 with the tool
-# (after the README's build command), at half size to keep the repository small.
+# (after the README's build command), at half size to keep the repository small; the legends below the frames are the
+# tool's, drawn large enough to stay readable at half size.
 #   doc/make_pictures.sh [OpenCV build dir, default ~/.cache/lidarsgm/build-cuda90]
 set -eo pipefail
 cd "$(dirname "$0")/.."

@@ -72,9 +72,12 @@ def main(argv):
     if args.out:
         os.makedirs(args.out, exist_ok=True)
         cv.imwrite(os.path.join(args.out, "disparity.png"), cv.lidarsgm.encodeKittiDisparity(disp))
+        max_d = sgm.getMinDisparity() + sgm.getNumDisparities()
         cv.imwrite(os.path.join(args.out, "disparity_color.png"),
-                   cv.lidarsgm.colorizeDisparity(disp, sgm.getNumDisparities()))
-        cv.imwrite(os.path.join(args.out, "lidar_points.png"), cv.lidarsgm.drawSparseDisparity(left, sparse, sgm.getNumDisparities()))
+                   cv.lidarsgm.addDisparityLegend(cv.lidarsgm.colorizeDisparity(disp, max_d), max_d))
+        points = cv.lidarsgm.drawSparseDisparity(left, sparse, max_d)
+        cv.imwrite(os.path.join(args.out, "lidar_points.png"),
+                   cv.lidarsgm.addDisparityLegend(points, max_d, title="LiDAR disparity (px)", showNone=False))
         print("wrote %s/disparity.png, disparity_color.png, lidar_points.png" % args.out)
     return 0
 

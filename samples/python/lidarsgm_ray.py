@@ -102,11 +102,15 @@ class FrameFuser:
 
         min_d = self.sdsgm.getMinDisparity()
         max_d = min_d + self.sdsgm.getNumDisparities()
-        lfo.imwrite_atomically(os.path.join(frame_out, "lidar_points.png"), cv.lidarsgm.drawSparseDisparity(left, sparse, max_d))
+        lidar_points = cv.lidarsgm.drawSparseDisparity(left, sparse, max_d)
+        lfo.imwrite_atomically(os.path.join(frame_out, "lidar_points.png"),
+                               cv.lidarsgm.addDisparityLegend(lidar_points, max_d, title="LiDAR disparity (px)",
+                                                              showNone=False))
         semi = lf.disparity_to_float(semi16, min_d)
         lfo.imwrite_atomically(os.path.join(frame_out, "semidense.png"), cv.lidarsgm.encodeKittiDisparity(semi))
         lfo.imwrite_atomically(os.path.join(frame_out, "semidense_color.png"),
-                               cv.lidarsgm.colorizeDisparity(semi, max_d))
+                               cv.lidarsgm.addDisparityLegend(cv.lidarsgm.colorizeDisparity(semi, max_d), max_d,
+                                                              title="semidense disparity (px)"))
         lfo.write_metrics(os.path.join(frame_out, "metrics.yml"), key, rows, check, alone)
         return rows, (fid if alone else None)
 
@@ -122,9 +126,11 @@ class FrameFuser:
         disp = lf.disparity_to_float(disp16, min_d)
         base = os.path.join(folder, "disparity" + suffix)
         lfo.imwrite_atomically(base + ".png", cv.lidarsgm.encodeKittiDisparity(disp))
-        lfo.imwrite_atomically(base + "_color.png", cv.lidarsgm.colorizeDisparity(disp, min_d + m.getNumDisparities()))
+        max_d = min_d + m.getNumDisparities()
+        lfo.imwrite_atomically(base + "_color.png",
+                               cv.lidarsgm.addDisparityLegend(cv.lidarsgm.colorizeDisparity(disp, max_d), max_d))
         err = cv.lidarsgm.colorizeDisparityError(cv.lidarsgm.interpolateBackground(disp), gt)
-        lfo.imwrite_atomically(os.path.join(folder, "error" + suffix + ".png"), err)
+        lfo.imwrite_atomically(os.path.join(folder, "error" + suffix + ".png"), cv.lidarsgm.addErrorLegend(err))
 
 
 def parse(argv):

@@ -131,6 +131,25 @@ top.
  */
 CV_EXPORTS_W void drawSparseDisparity(InputArray image, InputArray sparse, OutputArray dst, double maxDisparity);
 
+/** @brief The picture over a legend for people: a white band below its rows (which stay as they are) with the title, a
+colour bar of colorizeDisparity from 0 to maxDisparity with ticks in pixels and, with showNone, the black of pixels
+without a disparity. The tool and the Python samples put it under every disparity picture.
+@param picture CV_8UC3: colorizeDisparity's or drawSparseDisparity's output.
+@param withLegend output, CV_8UC3, the picture's width and more rows.
+@param maxDisparity the disparity the picture draws white.
+@param title what the colours show, for example "disparity (px)".
+@param showNone a swatch for "no disparity" (black).
+ */
+CV_EXPORTS_W void addDisparityLegend(InputArray picture, OutputArray withLegend, double maxDisparity,
+                                     const String& title = "disparity (px)", bool showNone = true);
+
+/** @brief The picture over colorizeDisparityError's legend: its ten bands of the error relative to the D1 threshold,
+max(3 px, 5 % of the true disparity), from below 1/16 to 16 and above (1 and above: D1 outliers), each in its colour.
+@param picture CV_8UC3: colorizeDisparityError's output.
+@param withLegend output, CV_8UC3, the picture's width and more rows.
+ */
+CV_EXPORTS_W void addErrorLegend(InputArray picture, OutputArray withLegend);
+
 //! @}
 
 }} // namespace cv::lidarsgm
