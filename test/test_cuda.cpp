@@ -89,6 +89,41 @@ TEST(Lidarsgm_CUDA, kitti_median_off_bit_exact)
     }
 }
 
+// The units check on the device counts what the CPU counts: the same refusal (the same message), the same warning once,
+// and a map whose values only partly miss the range runs, on the same bits as the CPU.
+TEST(Lidarsgm_CUDA, units_check_as_the_cpu)
+{
+    requireCudaDevice();
+    Mat l, r, s;
+    loadKittiTestFrame("000002", l, r, s);
+    Mat png = cv::lidarsgm::encodeKittiDisparity(s), asFloat;
+    png.convertTo(asFloat, CV_32F);
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create();
+    cv::cuda::GpuMat gl(l), gr(r), gs(asFloat), gd;
+    std::string cpu, gpu;
+    Mat d;
+    try { m->compute(l, r, asFloat, d); } catch (const cv::Exception& e) { cpu = e.err; }
+    try { m->compute(gl, gr, gs, gd); } catch (const cv::Exception& e) { gpu = e.err; }
+    EXPECT_NE(std::string::npos, cpu.find("divide it by 256")) << cpu;
+    EXPECT_EQ(cpu, gpu);
+    cv::cuda::Stream stream;
+    try { m->compute(gl, gr, gs, gd, stream); gpu.clear(); } catch (const cv::Exception& e) { gpu = e.err; }
+    EXPECT_EQ(cpu, gpu) << "on a stream";
+    // The 16-bit map as it is runs, bit for bit as on the CPU.
+    compareCpuGpu(m, l, r, png, "KITTI x256 map as CV_16U");
+    {
+        CapturedLog log;
+        const Mat nan(s.size(), CV_32F, Scalar::all(std::numeric_limits<float>::quiet_NaN()));
+        Ptr<StereoLidarSGM> n = StereoLidarSGM::create();
+        cv::cuda::GpuMat gnan(nan);
+        n->compute(gl, gr, gnan, gd);
+        n->compute(gl, gr, gnan, gd);
+        const std::string said = log.str();
+        EXPECT_NE(std::string::npos, said.find("has no value in the search range")) << said;
+        EXPECT_EQ(said.find("no value in"), said.rfind("no value in")) << "twice: " << said;
+    }
+}
+
 // The steps beyond the paper that doc/params/kitti_best.yml switches on (visibility filter, edge-aware P2, ring
 // interpolation, the copied priors' weight), both frames, every mode, 4 and 8 paths.
 TEST(Lidarsgm_CUDA, kitti_best_configuration_bit_exact)
