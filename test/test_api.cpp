@@ -180,20 +180,10 @@ TEST(Lidarsgm_API, sixteen_bit_input_and_kitti_sparse)
 
 TEST(Lidarsgm_API, filestorage_round_trip)
 {
-    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(-4, 64, 12, 150, 7, 140, 0.55,
-                                                   StereoLidarSGM::MODE_DSGM, StereoLidarSGM::CHECK_CAMERA_LIDAR);
-    m->setUniquenessRatio(0.9);
-    m->setLRMaxDiff(2);
-    m->setNumPaths(4);
-    m->setSubpixel(false);
-    m->setSemidenseRadius(3);
-    m->setSemidenseThreshold(5);
-    m->setCheckRadius(11);
-    m->setCheckThreshold(1.5);
-    m->setVisibilityRadiusY(3);
-    m->setVisibilityParallax(0.3);
-    m->setSearchWindow(6);
-    m->setOutputType(CV_32F);
+    // create() takes every parameter (the paper's nine first, then the header's order); all survive save() and load().
+    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(-4, 64, 12, 150, 7, 140, 0.55, StereoLidarSGM::MODE_DSGM,
+                                                   StereoLidarSGM::CHECK_CAMERA_LIDAR, 0.9, 2, 4, false, 3, 5, 11, 1.5,
+                                                   1, 1, 3, 0.3, 20, 0.25, 1.5, 0.5, 6, CV_32F);
     const std::string file = cv::tempfile(".yml");
     m->save(file);
     Ptr<StereoLidarSGM> n = StereoLidarSGM::load(file);
@@ -213,8 +203,14 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     EXPECT_EQ(5, n->getSemidenseThreshold());
     EXPECT_EQ(11, n->getCheckRadius());
     EXPECT_DOUBLE_EQ(1.5, n->getCheckThreshold());
+    EXPECT_EQ(1, n->getMedianSize());
+    EXPECT_EQ(1, n->getVisibilityRadiusX());
     EXPECT_EQ(3, n->getVisibilityRadiusY());
     EXPECT_DOUBLE_EQ(0.3, n->getVisibilityParallax());
+    EXPECT_EQ(20, n->getEdgeThreshold());
+    EXPECT_DOUBLE_EQ(0.25, n->getEdgeP2Ratio());
+    EXPECT_DOUBLE_EQ(1.5, n->getRingGapFactor());
+    EXPECT_DOUBLE_EQ(0.5, n->getSemidenseWeight());
     EXPECT_EQ(6, n->getSearchWindow());
     EXPECT_EQ((int)StereoLidarSGM::MODE_DSGM, n->getMode());
     EXPECT_EQ((int)StereoLidarSGM::CHECK_CAMERA_LIDAR, n->getConsistencyCheck());
@@ -226,6 +222,7 @@ TEST(Lidarsgm_API, filestorage_round_trip)
     EXPECT_EQ(0, cvtest::norm(a, b, NORM_INF));
     remove(file.c_str());
 
+    EXPECT_THROW(StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, 2, 3, 0.95, 1, 6), cv::Exception);   // 6 paths
     // A hand-edited file gets the setters' range checks.
     FileStorage fs("{\"name\": \"lidarsgm_StereoLidarSGM\", \"numDisparities\": 100}",
                    FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_JSON);
@@ -363,32 +360,6 @@ TEST(Lidarsgm_API, parameter_files_refuse_mistakes)
     msg = messageOf([&] { StereoLidarSGM::create()->read(fs.root()); });
     EXPECT_NE(std::string::npos, msg.find("unknown key 'P3'")) << msg;
     remove(file.c_str());
-}
-
-TEST(Lidarsgm_API, create_takes_every_parameter)
-{
-    Ptr<StereoLidarSGM> m = StereoLidarSGM::create(-4, 64, 12, 150, 7, 140, 0.55, StereoLidarSGM::MODE_DSGM,
-                                                   StereoLidarSGM::CHECK_CAMERA_LIDAR, 0.9, 2, 4, false, 3, 5, 11, 1.5,
-                                                   1, 1, 3, 0.3, 20, 0.25, 1.5, 0.5, 6, CV_32F);
-    EXPECT_DOUBLE_EQ(0.9, m->getUniquenessRatio());
-    EXPECT_EQ(2, m->getLRMaxDiff());
-    EXPECT_EQ(4, m->getNumPaths());
-    EXPECT_FALSE(m->getSubpixel());
-    EXPECT_EQ(3, m->getSemidenseRadius());
-    EXPECT_EQ(5, m->getSemidenseThreshold());
-    EXPECT_EQ(11, m->getCheckRadius());
-    EXPECT_DOUBLE_EQ(1.5, m->getCheckThreshold());
-    EXPECT_EQ(1, m->getMedianSize());
-    EXPECT_EQ(1, m->getVisibilityRadiusX());
-    EXPECT_EQ(3, m->getVisibilityRadiusY());
-    EXPECT_DOUBLE_EQ(0.3, m->getVisibilityParallax());
-    EXPECT_EQ(20, m->getEdgeThreshold());
-    EXPECT_DOUBLE_EQ(0.25, m->getEdgeP2Ratio());
-    EXPECT_DOUBLE_EQ(1.5, m->getRingGapFactor());
-    EXPECT_DOUBLE_EQ(0.5, m->getSemidenseWeight());
-    EXPECT_EQ(6, m->getSearchWindow());
-    EXPECT_EQ(CV_32F, m->getOutputType());
-    EXPECT_THROW(StereoLidarSGM::create(0, 128, 10, 120, 5, 160, 0.7, 2, 3, 0.95, 1, 6), cv::Exception);
 }
 
 /* Disparity windows on a shipped KITTI frame in every mode, with kitti_best.yml's steps: a margin of the whole range

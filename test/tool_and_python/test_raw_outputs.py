@@ -191,7 +191,7 @@ class RawDriveTest(unittest.TestCase):
         rc, _, se = run([TOOL, "--kitti-raw", os.path.join(self.tmp, "nothing")])
         self.assertEqual(rc, 1)
         self.assertIn("calibration file", se)
-        rc, _, se = run([TOOL, "--middlebury", DATA, "--format", "ply"])
+        rc, _, se = run([TOOL, "--middlebury", DATA, "--format", "ply", "--out", os.path.join(self.tmp, "mb")])
         self.assertEqual(rc, 2)   # a bad command line
         self.assertIn("--format ply needs a calibration", se)
         # The consistency-check table needs ground truth: refused before any frame without --gt-depth.

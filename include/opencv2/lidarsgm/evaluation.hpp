@@ -72,8 +72,9 @@ struct CV_EXPORTS_W_SIMPLE ConfidenceErrors
 
     /** Adds another frame's counts. */
     CV_WRAP void add(const ConfidenceErrors& other);
-    /** Covered pixels and outliers in all. */
+    /** Covered pixels in all. */
     CV_WRAP double total() const;
+    /** Outliers among the covered pixels in all. */
     CV_WRAP double totalOutliers() const;
     /** The share of all outliers that the given fraction of least confident pixels holds, in percent. */
     CV_WRAP double leastConfidentShare(double fraction) const;

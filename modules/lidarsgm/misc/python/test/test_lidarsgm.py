@@ -318,13 +318,24 @@ class lidarsgm_test(NewOpenCVTests):
         with self.assertRaises(cv.error) as ctx:
             cv.lidarsgm.StereoLidarSGM.create(numPaths=6)
         self.assertIn('numPaths', str(ctx.exception))
-        # Every method says what it does beyond its signature (the header's doxygen, as OpenCV's generator
-        # carries it).
-        for name in dir(cv.lidarsgm.StereoLidarSGM):
-            if name.startswith(('get', 'set', 'compute', 'semidensify', 'create', 'load')):
-                doc = getattr(cv.lidarsgm.StereoLidarSGM, name).__doc__ or ''
-                text = ' '.join(line for line in doc.splitlines()[1:] if line.strip(' .'))
-                self.assertGreater(len(text), 10, '%s has no docstring: %r' % (name, doc))
+        # Every function and method of the module says what it does beyond its signature (the header's doxygen, as
+        # OpenCV's generator carries it; Algorithm's own methods aside).
+        def described(f):
+            doc = f.__doc__ or ''
+            return len(' '.join(line for line in doc.splitlines()[1:] if line.strip(' .'))) > 10
+        inherited = set(dir(cv.Algorithm))
+        for name in dir(cv.lidarsgm):
+            o = getattr(cv.lidarsgm, name)
+            if name.startswith('_') or not callable(o):
+                continue
+            if not isinstance(o, type):
+                self.assertTrue(described(o), '%s has no docstring: %r' % (name, o.__doc__))
+                continue
+            for method in dir(o):
+                f = getattr(o, method)
+                if method.startswith('_') or method in inherited or isinstance(f, type) or not callable(f):
+                    continue
+                self.assertTrue(described(f), '%s.%s has no docstring: %r' % (name, method, f.__doc__))
 
     def test_typing_stubs_beside_cv2(self):
         # The stubs lie beside the cv2 that is imported (python_loader/ of the build, or an installed venv), where
