@@ -3,7 +3,7 @@
 # CUDA-event timings against cv::cuda::StereoSGM. The machine has no network, so what it needs travels in .device/
 # (carry it): either the CPU machine's CUDA build (tools/pack_device_build.sh: .device/prebuilt.tar.xz, used unless
 # PY=ON) or the trimmed OpenCV source (tools/make_opencv_trim.sh: .device/opencv-trim.tar.xz) to build there.
-#   tools/device_check.sh [extra gtest filter]
+#   tools/device_check.sh [extra gtest filter]        (SM_COUNTS="8 16": also time on that many SMs, --sm-count)
 set -eo pipefail
 cd "$(dirname "$0")/.."
 OUT=${OUT:-/tmp/lidarsgm-out}; mkdir -p "$OUT"
@@ -58,6 +58,16 @@ for id in 000002 000046; do
   $B/lidarsgm_fuse --kitti-frame testdata/kitti --id $id --cuda --modes sgm,dsgm,sdsgm
 done
 [ "${TIMING:-1}" = 1 ] && $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 50 --rounds ${ROUNDS:-1}
+# The same calls on a few of the GPU's SMs (a CUDA green context; SM_COUNTS, default 8 and 16: a Jetson Orin NX's and
+# an AGX Orin's count), with the create() defaults, kitti_best.yml, and kitti_best.yml at full range.
+if [ "${TIMING:-1}" = 1 ]; then
+  for n in ${SM_COUNTS:-8 16}; do
+    for p in "" "--params doc/params/kitti_best.yml" "--params doc/params/kitti_best.yml --search-window 0"; do
+      echo "== --sm-count $n ${p:-(create() defaults)}"
+      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 15 --sm-count $n $p | grep -E "SMs"
+    done
+  done
+fi
 if [ "${SIZES:-0}" = 1 ]; then
   for sz in 1920x1080 3840x2160; do
     $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 20 --resize $sz --num-disparities 256 | grep -v "^000002"

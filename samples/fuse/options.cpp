@@ -68,6 +68,8 @@ const OptionSpec kOptions[] = {
       "cv::StereoSGBM mode; with --cuda: cv::cuda::StereoSGM, CUDA events, device memory)", nullptr, nullptr },
     { "rounds", 'i', "N", "(--timing with --cuda) repeat the timing table N times, to show the spread", "1",
       nullptr },
+    { "sm-count", 'i', "N", "(--timing with --cuda) also time lidarsgm and cv::cuda::StereoSGM on N of the GPU's SMs "
+      "(a CUDA green context: a small GPU's parallelism on a big one)", nullptr, nullptr },
     { "resize", 's', "WxH", "(--kitti-frame) scale the frame to W x H first, for speed runs (no ground truth then)",
       "the frame's size", nullptr },
     { nullptr, 0, nullptr, "Folder runs (--kitti, --kitti-raw, --rig-folder, --middlebury):", nullptr, nullptr },
@@ -650,6 +652,8 @@ void checkCombination(const Options& o)
         refuse("--resume needs --out (the earlier run's outputs)");
     if (o.has("rounds") && !(o.has("timing") && o.has("cuda")))
         refuse("--rounds does nothing without --timing and --cuda (it repeats the GPU timing table)");
+    if (o.has("sm-count") && !(o.has("timing") && o.has("cuda")))
+        refuse("--sm-count does nothing without --timing and --cuda (it times the GPU on some of its SMs)");
     if (o.has("scan-rate") && !o.has("refine-calibration") && !o.has("check-calibration"))
         refuse("--scan-rate does nothing without --refine-calibration or --check-calibration");
     if (o.has("refine-translation") && !o.has("refine-calibration"))
@@ -704,6 +708,8 @@ void checkValues(const Options& o)
         refuse("--timing takes 1 or more runs, got " + o.str("timing"));
     if (o.i("rounds", 1) < 1)
         refuse("--rounds takes 1 or more, got " + o.str("rounds"));
+    if (o.has("sm-count") && o.i("sm-count", 1) < 1)
+        refuse("--sm-count takes 1 or more SMs, got " + o.str("sm-count"));
     if (!(o.d("bad", 2) > 0))
         refuse("--bad takes a threshold above 0 pixels, got " + o.str("bad"));
     if (!(o.d("scan-rate", 10) >= 0))

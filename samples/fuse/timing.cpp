@@ -14,10 +14,16 @@
 #ifdef LIDARSGM_HAVE_CUDASTEREO
 #include "opencv2/cudastereo.hpp"
 #endif
+#ifdef LIDARSGM_HAVE_CUDA_DRIVER_API
+#include "opencv2/core/cuda_stream_accessor.hpp"
+#include <cuda.h>
+#include <dlfcn.h>
+#endif
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <vector>
 
 using namespace cv;
@@ -118,6 +124,155 @@ double eventMedian(const std::function<void(cuda::Stream&)>& fn, int reps)
     return medianMs(t);
 }
 
+#ifdef LIDARSGM_HAVE_CUDA_DRIVER_API
+/* A stream whose kernels run on N of the device's SMs: a CUDA green context (driver API, CUDA 12.4 and later), for a
+small GPU's parallelism on a big one (the whole card's L2 and memory bandwidth stay). The driver is opened at run time,
+so that the tool also runs where there is none. The runtime's kernels and memory of the primary context work on such
+a stream; its timings use the driver's events, which any copy of the runtime can use on it. */
+class GreenStream
+{
+public:
+    //! Empty why() when the stream is made; else why it cannot be (no driver, no green contexts, too few SMs).
+    explicit GreenStream(int smCount)
+    {
+        lib_ = dlopen("libcuda.so.1", RTLD_NOW | RTLD_LOCAL);
+        if (!lib_)
+        {
+            why_ = "the CUDA driver (libcuda.so.1) cannot be opened";
+            return;
+        }
+#define LIDARSGM_STRING2(x) #x
+#define LIDARSGM_STRING(x) LIDARSGM_STRING2(x)   // the name cuda.h maps it to (cuEventElapsedTime_v2, ...)
+#define LIDARSGM_LOAD(fn) fn##_ = (decltype(&fn))dlsym(lib_, LIDARSGM_STRING(fn))
+        LIDARSGM_LOAD(cuInit); LIDARSGM_LOAD(cuDeviceGet); LIDARSGM_LOAD(cuDeviceGetDevResource);
+        LIDARSGM_LOAD(cuDevSmResourceSplitByCount); LIDARSGM_LOAD(cuDevResourceGenerateDesc);
+        LIDARSGM_LOAD(cuGreenCtxCreate); LIDARSGM_LOAD(cuGreenCtxStreamCreate); LIDARSGM_LOAD(cuGreenCtxDestroy);
+        LIDARSGM_LOAD(cuStreamDestroy); LIDARSGM_LOAD(cuEventCreate); LIDARSGM_LOAD(cuEventRecord);
+        LIDARSGM_LOAD(cuEventSynchronize); LIDARSGM_LOAD(cuEventElapsedTime); LIDARSGM_LOAD(cuEventDestroy);
+#undef LIDARSGM_LOAD
+        if (!cuGreenCtxCreate_ || !cuGreenCtxStreamCreate_ || !cuDevSmResourceSplitByCount_ || !cuEventElapsedTime_)
+        {
+            why_ = "this CUDA driver has no green contexts (they need driver 550 / CUDA 12.4 or later)";
+            return;
+        }
+        CUdevice dev;
+        CUdevResource all, part, rest;
+        CUdevResourceDesc desc;
+        unsigned groups = 1;
+        if (cuInit_(0) != CUDA_SUCCESS || cuDeviceGet_(&dev, cuda::getDevice()) != CUDA_SUCCESS ||
+            cuDeviceGetDevResource_(dev, &all, CU_DEV_RESOURCE_TYPE_SM) != CUDA_SUCCESS)
+        {
+            why_ = "the device's SMs cannot be queried (cuDeviceGetDevResource)";
+            return;
+        }
+        total_ = (int)all.sm.smCount;
+        if (smCount > total_ ||
+            cuDevSmResourceSplitByCount_(&part, &groups, &all, &rest, 0, (unsigned)smCount) != CUDA_SUCCESS ||
+            groups != 1 || cuDevResourceGenerateDesc_(&desc, &part, 1) != CUDA_SUCCESS ||
+            cuGreenCtxCreate_(&ctx_, desc, dev, CU_GREEN_CTX_DEFAULT_STREAM) != CUDA_SUCCESS ||
+            cuGreenCtxStreamCreate_(&stream_, ctx_, CU_STREAM_NON_BLOCKING, 0) != CUDA_SUCCESS)
+        {
+            why_ = format("the device's %d SMs give no green context of %d", total_, smCount);
+            return;
+        }
+        sms_ = (int)part.sm.smCount;
+    }
+    ~GreenStream()
+    {
+        if (stream_)
+            cuStreamDestroy_(stream_);
+        if (ctx_)
+            cuGreenCtxDestroy_(ctx_);
+        if (lib_)
+            dlclose(lib_);
+    }
+    const std::string& why() const { return why_; }
+    int sms() const { return sms_; }
+    int totalSms() const { return total_; }
+    cuda::Stream stream() const { return cuda::StreamAccessor::wrapStream((cudaStream_t)stream_); }
+
+    //! Driver-event median of fn on the green stream, after a warm-up.
+    double median(const std::function<void(cuda::Stream&)>& fn, int reps) const
+    {
+        cuda::Stream st = stream();
+        CUevent e0, e1;
+        cuEventCreate_(&e0, CU_EVENT_DEFAULT);
+        cuEventCreate_(&e1, CU_EVENT_DEFAULT);
+        for (int i = 0; i < 3; i++)
+            fn(st);
+        std::vector<double> t;
+        for (int i = 0; i < reps; i++)
+        {
+            cuEventRecord_(e0, stream_);
+            fn(st);
+            cuEventRecord_(e1, stream_);
+            cuEventSynchronize_(e1);
+            float ms = 0;
+            cuEventElapsedTime_(&ms, e0, e1);
+            t.push_back(ms);
+        }
+        cuEventDestroy_(e0);
+        cuEventDestroy_(e1);
+        return medianMs(t);
+    }
+
+private:
+    void* lib_ = nullptr;
+    CUgreenCtx ctx_ = nullptr;
+    CUstream stream_ = nullptr;
+    int sms_ = 0, total_ = 0;
+    std::string why_;
+#define LIDARSGM_POINTER(fn) decltype(&fn) fn##_ = nullptr;
+    LIDARSGM_POINTER(cuInit) LIDARSGM_POINTER(cuDeviceGet) LIDARSGM_POINTER(cuDeviceGetDevResource)
+    LIDARSGM_POINTER(cuDevSmResourceSplitByCount) LIDARSGM_POINTER(cuDevResourceGenerateDesc)
+    LIDARSGM_POINTER(cuGreenCtxCreate) LIDARSGM_POINTER(cuGreenCtxStreamCreate) LIDARSGM_POINTER(cuGreenCtxDestroy)
+    LIDARSGM_POINTER(cuStreamDestroy) LIDARSGM_POINTER(cuEventCreate) LIDARSGM_POINTER(cuEventRecord)
+    LIDARSGM_POINTER(cuEventSynchronize) LIDARSGM_POINTER(cuEventElapsedTime) LIDARSGM_POINTER(cuEventDestroy)
+#undef LIDARSGM_POINTER
+};
+#endif
+
+/* The SDSGM call and cv::cuda::StereoSGM (8 and 4 paths) on N SMs, as the whole card's table times them: the
+partition's figures beside the whole card's. Returns 2 where no such partition can be made. */
+int runSmCountTiming(const Options& o, const cuda::GpuMat& gl, const cuda::GpuMat& gr, const cuda::GpuMat& gs,
+                     int check, int numD, int reps)
+{
+#ifdef LIDARSGM_HAVE_CUDA_DRIVER_API
+    const int n = o.i("sm-count", 0);
+    GreenStream green(n);
+    if (!green.why().empty())
+    {
+        fprintf(stderr, "lidarsgm_fuse: --sm-count %d: %s\n", n, green.why().c_str());
+        return 2;
+    }
+    printf("on %d of the device's %d SMs (a CUDA green context), median of %d driver-event timings (ms)\n",
+           green.sms(), green.totalSms(), reps);
+    cuda::GpuMat gd;
+    const int modes[3] = { Matcher::MODE_SDSGM, Matcher::MODE_DSGM, Matcher::MODE_SGM };
+    for (int mode : modes)
+    {
+        Ptr<Matcher> m = makeMatcher(o, mode, check);
+        const double ms = green.median([&](cuda::Stream& st) { m->compute(gl, gr, gs, gd, st); }, reps);
+        printf("| %d SMs: lidarsgm %-5s | %8.3f ms |\n", green.sms(), modeLabel(mode), ms);
+    }
+#ifdef LIDARSGM_HAVE_CUDASTEREO
+    for (int p = 8; p >= 4; p -= 4)
+    {
+        Ptr<cuda::StereoSGM> sgm = cuda::createStereoSGM(0, numD, 10, 120, 5,
+                                                          p == 8 ? cuda::StereoSGM::MODE_HH : cuda::StereoSGM::MODE_HH4);
+        const double ms = green.median([&](cuda::Stream& st) { sgm->compute(gl, gr, gd, st); }, reps);
+        printf("| %d SMs: cv::cuda::StereoSGM %d paths | %8.3f ms |\n", green.sms(), p, ms);
+    }
+#endif
+    return 0;
+#else
+    CV_UNUSED(gl); CV_UNUSED(gr); CV_UNUSED(gs); CV_UNUSED(check); CV_UNUSED(numD); CV_UNUSED(reps);
+    fprintf(stderr, "lidarsgm_fuse: --sm-count %s: this tool was built without the CUDA driver's header (cuda.h)\n",
+            o.str("sm-count").c_str());
+    return 2;
+#endif
+}
+
 //! Device memory a freshly made matcher holds after its first call.
 template <class M, class Call>
 double heldMB(const M& matcher, const Call& firstCall)
@@ -214,6 +369,8 @@ int runCudaTiming(const Options& o, const Frame& f, int reps)
         }
     }
 #endif
+    if (o.has("sm-count"))
+        return runSmCountTiming(o, gl, gr, gs, check, numD, reps);
     return 0;
 }
 

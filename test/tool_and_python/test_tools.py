@@ -512,6 +512,8 @@ class ToolTest(unittest.TestCase):
             (frame + ["--lidar-ring-offset", "1"], "--lidar-ring-offset does nothing without --lidar-lines 32 or 16"),
             (frame + ["--format", "pfm"], "--format does nothing without --out"),
             (frame + ["--rounds", "3"], "--rounds does nothing without --timing and --cuda"),
+            (frame + ["--sm-count", "8"], "--sm-count does nothing without --timing and --cuda"),
+            (frame + ["--timing", "2", "--cuda", "--sm-count", "0"], "--sm-count takes 1 or more SMs"),
             (["--kitti", KITTI, "--scan-rate", "0"], "--scan-rate does nothing without --refine-calibration"),
             (pair + ["--sparse", sparse, "--format", "depth"] + out, "--format depth needs the calibration: give "
                                                                      "--calib or --rig"),
