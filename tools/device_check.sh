@@ -228,10 +228,11 @@ spec_args() {
   echo "--kitti-frame testdata/kitti --id 000002 --cuda 1 --timing 1 ${pf:+--params $pf} --resize $sz --num-disparities $nd --paths $np --search-window ${nw:-0}"
 }
 if [ -n "${DRAM_SIZES:-}" ] && command -v ncu >/dev/null; then
-  # DRAM bytes read and written by each kernel of one SDSGM call at each WxH:disparities:paths of DRAM_SIZES.
+  # DRAM bytes read and written by each kernel of one SDSGM call at each WxH:disparities:paths of DRAM_SIZES (the
+  # first DRAM_LAUNCHES kernel launches, default 40, must hold two calls: a windowed call has about 45).
   for spec in $DRAM_SIZES; do
     args=$(spec_args "$spec"); sz=${spec%%:*}
-    ncu --clock-control none --csv --print-units base --launch-count 40 \
+    ncu --clock-control none --csv --print-units base --launch-count ${DRAM_LAUNCHES:-40} \
       --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum $B/lidarsgm_fuse $args \
       > "$OUT/dram_$sz.csv" 2> "$OUT/dram_$sz.err"
     python3 tools/analysis/ncu_call.py "$OUT/dram_$sz.csv" "$spec" || tail -5 "$OUT/dram_$sz.err"
