@@ -199,6 +199,14 @@ struct SparseCounts
     int inRange;    //!< of them, the values kept (sparseFromKitti16 / sparseFromFloat != NO_DISP)
     int beyond;     //!< of them, the values outside the range and beyond the image (sparseBeyondImage)
 };
+//! One value's part of SparseCounts (d16: its converted value), in the order of the struct: measured, kept, beyond.
+template <typename T>
+static LIDARSGM_HD void countSparseValue(T v, int d16, int width, bool& measured, bool& kept, bool& beyond)
+{
+    measured = sparseMeasured(v);
+    kept = d16 != NO_DISP;
+    beyond = measured && !kept && sparseBeyondImage(v, width);
+}
 //! Fewer measurements than this say too little of the units to refuse a map.
 static const int UNITS_CHECK_MIN_MEASURED = 64;
 static inline bool unitsLookWrong(const SparseCounts& c)

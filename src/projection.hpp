@@ -46,6 +46,8 @@ alike; needer names the call that needs the sparse map where needSparse. Returns
 bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArray out, bool needSparse,
                  const char* needer);
 
+//! A module message without its "lidarsgm: " in front, to put a file's name there instead.
+String withoutModulePrefix(const String& message);
 /** What cv::FileStorage's parser said: its exceptions carry "file(line): what" in func and the parser's function in err
 (OpenCV 4 and 5 pass the two the other way round); other exceptions their err. */
 String parserMessage(const cv::Exception& e);

@@ -27,10 +27,11 @@ void convertRows(const Mat& sparse, int lo, int hi, Mat& sparse16, SparseCounts*
             {
                 const int d16 = convert(src[x], lo, hi);
                 dst[x] = (short)d16;
-                const bool measuredHere = sparseMeasured(src[x]);
+                bool measuredHere, kept, beyondHere;
+                countSparseValue(src[x], d16, width, measuredHere, kept, beyondHere);
                 m += measuredHere;
-                k += d16 != NO_DISP;
-                b += measuredHere && d16 == NO_DISP && sparseBeyondImage(src[x], width);
+                k += kept;
+                b += beyondHere;
             }
         }
         measured += m;

@@ -138,6 +138,12 @@ String nearestName(const String& key, const std::vector<String>& names)
     return best;
 }
 
+String withoutModulePrefix(const String& message)
+{
+    static const String prefix = "lidarsgm: ";
+    return message.compare(0, prefix.size(), prefix) == 0 ? message.substr(prefix.size()) : message;
+}
+
 String parserMessage(const cv::Exception& e)
 {
     return e.code == Error::StsParseError && e.func.find("): ") != String::npos ? e.func : e.err;
@@ -151,13 +157,6 @@ void refuseUnknownKeys(const FileNode& node, const std::vector<String>& known, c
                                                  nearestName(key, known) + "'?)");
 }
 
-} // namespace detail
-
-namespace {
-
-} // namespace
-
-namespace detail {
 
 bool checkInputs(InputArray left, InputArray right, InputArray sparse, OutputArray out, bool needSparse,
                  const char* needer)
@@ -427,9 +426,8 @@ Ptr<StereoLidarSGM> StereoLidarSGM::load(const String& filename, const String& o
     }
     catch (const cv::Exception& e)
     {
-        // The setters' and read()'s messages start with "lidarsgm: "; the file goes in front of what they say.
-        const String what = e.err.compare(0, 10, "lidarsgm: ") == 0 ? e.err.substr(10) : e.err;
-        LIDARSGM_Error(e.code, "lidarsgm: " + filename + ": " + what);
+        // The file goes in front of what the setters and read() say.
+        LIDARSGM_Error(e.code, "lidarsgm: " + filename + ": " + withoutModulePrefix(e.err));
     }
     return m;
 }

@@ -272,10 +272,7 @@ Ptr<StereoRig> StereoRig::fromFile(const String& path)
     if (!any)
     {
         try { return create(M1, D1, M2, D2, R, T, size, lidar); }
-        catch (const cv::Exception& e)
-        {
-            fail(path, e.err.compare(0, 10, "lidarsgm: ") == 0 ? e.err.substr(10) : e.err);
-        }
+        catch (const cv::Exception& e) { fail(path, detail::withoutModulePrefix(e.err)); }
     }
     Ptr<StereoRigImpl> rig = makePtr<StereoRigImpl>();
     rig->M1 = M1; rig->D1 = D1; rig->M2 = M2; rig->D2 = D2; rig->R = R; rig->T = T;

@@ -174,7 +174,7 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
         int* counts = nullptr;
         if (!capturing)
         {
-            b.unitsCounts.create(1, 3, CV_32SC1);
+            b.unitsCounts.create(1, (int)(sizeof(SparseCounts) / sizeof(int)), CV_32SC1);
             counts = b.unitsCounts.ptr<int>();
             cudaCheck(cudaMemsetAsync(counts, 0, sizeof(SparseCounts), st));
         }

@@ -23,9 +23,7 @@ __global__ void convertSparseKernel(PtrStepSz<T> sparse, int lo, int hi, PtrStep
         const T v = sparse(y, x);
         const int d16 = sparseValue(v, lo, hi);
         out(y, x) = (short)d16;
-        measured = sparseMeasured(v);
-        kept = d16 != NO_DISP;
-        beyond = measured && !kept && sparseBeyondImage(v, out.cols);
+        countSparseValue(v, d16, out.cols, measured, kept, beyond);
     }
     // The units check's counts (SparseCounts): one atomic per block and count.
     const int m = __syncthreads_count(measured), k = __syncthreads_count(kept), b = __syncthreads_count(beyond);
