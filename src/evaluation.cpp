@@ -5,6 +5,7 @@
 // bad-N, as public functions: the tool, the tests, the perf tests and the Python sample score with this one copy.
 
 #include "precomp.hpp"
+#include "error_bands.hpp"
 #include "opencv2/imgproc.hpp"
 
 namespace cv { namespace lidarsgm {
@@ -320,11 +321,6 @@ void colorizeDisparityError(InputArray _disp, InputArray _gt, OutputArray _color
 {
     LIDARSGM_Check(_disp.type() == CV_32FC1 && _gt.type() == CV_32FC1 && _disp.size() == _gt.size(),
                    "lidarsgm: colorizeDisparityError takes two CV_32FC1 maps of one size");
-    // The devkit's scale: error / threshold bands and their colours (r, g, b).
-    static const float scale[10][5] = {
-        {0.f, 0.0625f, 49, 54, 149}, {0.0625f, 0.125f, 69, 117, 180}, {0.125f, 0.25f, 116, 173, 209},
-        {0.25f, 0.5f, 171, 217, 233}, {0.5f, 1.f, 224, 243, 248}, {1.f, 2.f, 254, 224, 144},
-        {2.f, 4.f, 253, 174, 97}, {4.f, 8.f, 244, 109, 67}, {8.f, 16.f, 215, 48, 39}, {16.f, 1e30f, 165, 0, 38} };
     const Mat est = _disp.getMat(), gt = _gt.getMat();
     _color.create(est.size(), CV_8UC3);
     Mat out = _color.getMat();
@@ -337,10 +333,10 @@ void colorizeDisparityError(InputArray _disp, InputArray _gt, OutputArray _color
                 continue;
             const float e = std::abs((d >= 0 ? d : 0.f) - g);
             const float v = std::min(e / 3.f, g > 0 ? e / g / 0.05f : e / 3.f);
-            for (int i = 0; i < 10; i++)
-                if (v >= scale[i][0] && v < scale[i][1])
+            for (const detail::ErrorBand& band : detail::ERROR_BANDS)
+                if (v >= band.lo && v < band.hi)
                 {
-                    out.at<Vec3b>(y, x) = Vec3b((uchar)scale[i][4], (uchar)scale[i][3], (uchar)scale[i][2]);
+                    out.at<Vec3b>(y, x) = Vec3b(band.b, band.g, band.r);
                     break;
                 }
         }

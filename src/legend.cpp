@@ -5,6 +5,7 @@
 // with these, so a picture reads the same from every front end.
 
 #include "precomp.hpp"
+#include "error_bands.hpp"
 #include "opencv2/imgproc.hpp"
 
 namespace cv { namespace lidarsgm {
@@ -127,28 +128,30 @@ void addErrorLegend(InputArray _picture, OutputArray withLegend)
     const Mat picture = checkedPicture(_picture);
     Band b = addBand(picture, 2.4);
     const int pad = b.pad, W = picture.cols;
-    // The bands of colorizeDisparityError (src/evaluation.cpp): the error over the D1 threshold, max(3 px, 5 % of the
-    // true disparity), in doublings from 1/16 to 16; 1 and above are D1 outliers.
-    static const char* const labels[10] = { "< 1/16", "1/16 - 1/8", "1/8 - 1/4", "1/4 - 1/2", "1/2 - 1", "1 - 2",
-                                            "2 - 4", "4 - 8", "8 - 16", ">= 16" };
+    // The bands of colorizeDisparityError (error_bands.hpp): the error over the D1 threshold, max(3 px, 5 % of the
+    // true disparity), labelled by their edges ("1/16 - 1/8"), the first and the last by their one edge.
+    const int n = (int)(sizeof(detail::ERROR_BANDS) / sizeof(detail::ERROR_BANDS[0]));
+    const auto edge = [](float e) { return e < 1 ? format("1/%d", cvRound(1 / e)) : format("%g", e); };
+    std::vector<std::string> labels;
+    for (int k = 0; k < n; k++)
+    {
+        const detail::ErrorBand& band = detail::ERROR_BANDS[k];
+        labels.push_back(k == 0 ? "< " + edge(band.hi) : k == n - 1 ? ">= " + edge(band.lo)
+                                                                    : edge(band.lo) + " - " + edge(band.hi));
+    }
     const std::string title = "error / max(3 px, 5 % of the true disparity), the D1 threshold: 1 and above are D1 "
                               "outliers; black: no ground truth";
     const double titleScale = fitScale(title, b.scale, W - 2 * pad);
     text(b.band, title, Point(pad, pad + b.text), titleScale);
-    // Each band's colour from colorizeDisparityError itself: a true disparity of 100 px (threshold 5 px) and an error
-    // in the middle of the band (its doubling's geometric mean).
-    Mat d(1, 10, CV_32F), gt(1, 10, CV_32F, Scalar(100.f)), colours;
-    for (int k = 0; k < 10; k++)
-        d.at<float>(k) = 100.f + 5.f * (float)std::pow(2.0, k - 4.5);
-    colorizeDisparityError(d, gt, colours);
-    const int y0 = pad + b.text + b.pad, h = b.band.rows - y0 - pad, cellW = (W - 2 * pad) / 10;
+    const int y0 = pad + b.text + b.pad, h = b.band.rows - y0 - pad, cellW = (W - 2 * pad) / n;
     double labelScale = b.scale;
-    for (const char* l : labels)
+    for (const std::string& l : labels)
         labelScale = std::min(labelScale, fitScale(l, b.scale, cellW - 2 * pad));
-    for (int k = 0; k < 10; k++)
+    for (int k = 0; k < n; k++)
     {
         const Rect cell(pad + k * cellW, y0, cellW, h);
-        const Vec3b c = colours.at<Vec3b>(k);
+        const detail::ErrorBand& band = detail::ERROR_BANDS[k];
+        const Vec3b c(band.b, band.g, band.r);
         b.band(cell).setTo(Scalar(c[0], c[1], c[2]));
         const bool dark = 0.114 * c[0] + 0.587 * c[1] + 0.299 * c[2] < 128;
         const Size ts = getTextSize(labels[k], kFont, labelScale, 1, nullptr);
