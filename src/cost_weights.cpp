@@ -33,8 +33,8 @@ CostWeights computeCostWeights(int P1, int P2, int Q1, int Q2, double alpha, int
     CV_Assert(edgeP2Ratio > 0 && edgeP2Ratio <= 1);
     CV_Assert(alpha >= 0.0 && alpha <= 1.0 && P1 >= 0 && P2 >= 0 && Q1 >= 0 && Q2 >= 0);
     // Paper Eq. 4 taken as written: with DDC on, the census term is (1 - alpha) H at every pixel, and the DDC term
-    // is added where a prior exists. (Weighting H by 1 where no prior exists was measured too, see doc/decisions.md:
-    // it makes SDSGM clearly worse on KITTI.) Plain SGM has no alpha: weight 1.
+    // is added where a prior exists. (Weighting H by 1 where no prior exists makes SDSGM clearly worse on KITTI:
+    // doc/decisions.md, "DDC weighting".) Plain SGM has no alpha: weight 1.
     const double censusW = ddc ? 1.0 - alpha : 1.0;
     const double aQ1 = ddc ? alpha * Q1 : 0.0, aQ2 = ddc ? alpha * Q2 : 0.0;
     // + 1 leaves room for the rounding of each term.

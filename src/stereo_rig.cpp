@@ -14,7 +14,7 @@
 #include <fstream>
 #include <iterator>
 #if CV_VERSION_MAJOR >= 5
-#include "opencv2/stereo.hpp"     // stereoRectify moved from calib3d to stereo in OpenCV 5
+#include "opencv2/stereo.hpp"     // stereoRectify is in stereo in OpenCV 5, calib3d in 4
 #else
 #include "opencv2/calib3d.hpp"
 #endif

@@ -3,11 +3,11 @@
 
 // The CPU aggregation's sweeps as a wavefront: a sweep is rows x strips of work items, and a strip takes its next row
 // as soon as what that row reads is there, instead of every strip waiting for the whole row before (one barrier per
-// row: 2 x 375 at KITTI size, what kept 16 threads at 5 x one thread). A strip's items touch its own columns only,
-// apart from a pixel's path costs at each edge, so a thread that keeps to its own strips keeps their data in its
+// row: 2 x 375 at KITTI size, which would hold 16 threads to 5 x one thread). A strip's items touch its own columns
+// only, apart from a pixel's path costs at each edge, so a thread that keeps to its own strips keeps their data in its
 // own core's cache: when the two CPUs of a virtual machine sit far apart (a cache line takes 330 instead of 55 ns
-// there and back on the 2-core EPYC, tools/analysis/cpu_drift.py), every row that passes between threads pays for
-// it. What a strip's row reads:
+// there and back on the 2-core EPYC; doc/design.md, section 3), every row that passes between threads pays for it.
+// What a strip's row reads:
 //  - its own row before (the strip runs its rows in order, one thread at a time);
 //  - with diagonal paths, the last pixel of each neighbouring strip's row before: strips beside each other are at
 //    most one row apart, so the path records that a row overwrites in place (AggregationState) are never
@@ -16,8 +16,8 @@
 //    left-right path, from strip s - 1; up: the right-left path, from strip s + 1), kept in a ring of `ring` rows:
 //    a strip starts a row only when the strip that reads its hand-off has taken the one `ring` rows before.
 // A task keeps to its own strips while the task they belong to runs: taking a running task's strip when one's own
-// are not ready moves that strip's rows to the other core and back (on the 2-core EPYC that stealing made the calls
-// 2.5 x slower while the two CPUs sat far apart). The strips of a task that has not started are anyone's, and an
+// are not ready moves that strip's rows to the other core and back (on the 2-core EPYC stealing makes the calls
+// 2.5 x slower while the two CPUs sit far apart). The strips of a task that has not started are anyone's, and an
 // item never waits inside, so the sweep ends however many of the parallel_for_ tasks run at once (one task alone
 // does everything, as in a nested parallel region).
 

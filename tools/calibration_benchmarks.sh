@@ -2,8 +2,7 @@
 # Rewrites the calibration outputs in doc/benchmarks/ (the figures of doc/accuracy.md's "Calibration errors", the
 # README and doc/design.md section 7): tools/calibration_benchmark.py on the 20 shared KITTI frames with kitti_best.yml,
 # with the LiDAR's sweep modelled (calibration_kitti20.txt, 10 Hz) and without it (calibration_kitti20_scan_rate_0.txt);
-# then where the images alone put the transform (tools/analysis/calibration_image_judge.py,
-# calibration_image_judge_kitti20.txt); then the fail-safe for a transform that is off (tools/fail_safe_benchmark.py,
+# then the fail-safe for a transform that is off (tools/fail_safe_benchmark.py,
 # fail_safe_kitti20.txt: its bag part runs in the ROS 2 environment the README's test command makes, or the Python of
 # LIDARSGM_ROS2_PYTHON). FAIL_SAFE_ONLY=1 runs the last alone.
 # Needs the OpenCV build made by the README's commands (its tool and its cv2) and a Python with numpy: the one of
@@ -30,12 +29,6 @@ for rate in 10 0; do
     PYTHONPATH="$B/python_loader" "$PY" tools/calibration_benchmark.py "${args[@]}"; } > "$f" 2>&1
   echo "wrote $f"
 done
-f=doc/benchmarks/calibration_image_judge_kitti20.txt
-{ echo "# $(date -u +%Y-%m-%d), commit $C, $(nproc) CPU cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs))"
-  echo "# Command: tools/analysis/calibration_image_judge.py $DATA/kitti2015_lidar"
-  echo
-  PYTHONPATH="$B/python_loader" "$PY" tools/analysis/calibration_image_judge.py "$DATA/kitti2015_lidar"; } > "$f" 2>&1
-echo "wrote $f"
 fi
 f=doc/benchmarks/fail_safe_kitti20.txt
 args=(--tool "$B/bin/lidarsgm_fuse" --data "$DATA/kitti2015_lidar")

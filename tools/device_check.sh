@@ -235,16 +235,12 @@ if [ -n "${DRAM_SIZES:-}" ] && command -v ncu >/dev/null; then
     ncu --clock-control none --csv --print-units base --launch-count ${DRAM_LAUNCHES:-40} \
       --metrics dram__bytes_read.sum,dram__bytes_write.sum,gpu__time_duration.sum $B/lidarsgm_fuse $args \
       > "$OUT/dram_$sz.csv" 2> "$OUT/dram_$sz.err"
-    python3 tools/analysis/ncu_call.py "$OUT/dram_$sz.csv" "$spec" || tail -5 "$OUT/dram_$sz.err"
+    python3 tools/ncu_call.py "$OUT/dram_$sz.csv" "$spec" || tail -5 "$OUT/dram_$sz.err"
   done
-fi
-if [ -n "${HANDOFF:-}" ] && command -v nvcc >/dev/null; then
-  # The row hand-off of a strip-wise sweep alone (tools/analysis/wavefront_handoff.cu).
-  nvcc -O3 -arch=sm_90 tools/analysis/wavefront_handoff.cu -o /tmp/wavefront_handoff && /tmp/wavefront_handoff
 fi
 if [ -n "${INSTRUCTIONS:-}" ] && command -v ncu >/dev/null; then
   # Time and warp instructions executed by each kernel of one SDSGM call at each WxH:disparities:paths of
-  # INSTRUCTIONS, ending with the aggregation's sum (tools/analysis/ncu_call.py); then the path kernel's issue
+  # INSTRUCTIONS, ending with the aggregation's sum (tools/ncu_call.py); then the path kernel's issue
   # activity, occupancy and registers (this build, then the base build where BASE=1).
   bins=$B; [ "${BASE:-0}" = 1 ] && [ -d /tmp/base/prebuilt/bin ] && bins="$B /tmp/base/prebuilt/bin"
   for spec in $INSTRUCTIONS; do
@@ -255,7 +251,7 @@ if [ -n "${INSTRUCTIONS:-}" ] && command -v ncu >/dev/null; then
       LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} ncu --clock-control none --csv --print-units base \
         --launch-count 40 --metrics gpu__time_duration.sum,smsp__inst_executed.sum $b/lidarsgm_fuse $args \
         > "$OUT/instr_$sz.csv" 2> "$OUT/instr_$sz.err"
-      python3 tools/analysis/ncu_call.py "$OUT/instr_$sz.csv" "$label" || tail -5 "$OUT/instr_$sz.err"
+      python3 tools/ncu_call.py "$OUT/instr_$sz.csv" "$label" || tail -5 "$OUT/instr_$sz.err"
       LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} ncu --clock-control none -k regex:pathKernel \
         --launch-skip 1 --launch-count 1 --metrics smsp__issue_active.avg.pct_of_peak_sustained_active,sm__warps_active.avg.pct_of_peak_sustained_active,launch__registers_per_thread \
         $b/lidarsgm_fuse $args 2>&1 | grep -E "^ +[a-z_]+__" | awk '{print "   ", $1, $NF}'

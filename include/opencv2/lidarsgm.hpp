@@ -374,8 +374,8 @@ public:
     brought from another pixel (it differs from the pixel's own sparse value), the DDC terms alpha Q1 and alpha Q2
     are scaled by semidenseWeight; the LiDAR's own values keep them. A copy is an inference from the census test, a
     LiDAR value a measurement: on KITTI with doc/params/kitti_best.yml 1.95 % of the copies are wrong against 0.44 %
-    of the own values (tools/analysis/semidense_priors.py). It applies to LiDAR scans only, by the scan test of
-    visibilityParallax (points closer along the rows than across them): a sample drawn from the camera's own ground
+    of the own values (doc/decisions.md, "Wrong priors at 64 lines"). It applies to LiDAR scans only, by the scan test
+    of visibilityParallax (points closer along the rows than across them): a sample drawn from the camera's own ground
     truth (the Middlebury protocol) has copies as good as its values. In (0, 1]; 1: the paper's DDC everywhere.
     doc/params/kitti_best.yml: 0.5 (a copy counts half a measurement). */
     CV_WRAP virtual double getSemidenseWeight() const = 0;

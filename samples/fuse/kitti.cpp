@@ -100,13 +100,13 @@ bool readMetrics(const std::string& path, const std::string& key, PassRows& fr, 
         fr.residual = (double)fs["matchingResidual"];
         fr.residualFailure = (std::string)fs["residualFailure"];
     }
-    // A frame of a run before the fail-safe has no verdict.
+    // The summary needs the frame's LiDAR check verdict (misplaced): a file without one cannot be taken.
     why = " was written by an earlier version of the tool, without the frame's LiDAR check";
     if (fs["misplaced"].empty())
         return false;
     fr.shiftedResidual = (double)fs["shiftedResidual"];
     fs["shift"] >> fr.shift;
-    fr.turn = fs["turn"].empty() ? 0.0 : (double)fs["turn"];   // none searched before turns were
+    fr.turn = fs["turn"].empty() ? 0.0 : (double)fs["turn"];   // absent: no turn searched
     fr.misplaced = (int)fs["misplaced"] != 0;
     fr.stereoAlone = (int)fs["stereoAlone"] != 0;
     return true;

@@ -262,7 +262,8 @@ int parseCommandLine(int argc, char** argv, Options& o, bool& help)
         }
         if (s->type == 'f')
         {
-            // A switch; the older form with a value (--cuda 1, --quiet 0) still works: 0 turns it off.
+            // A switch; it also takes 0 or 1 after it (--cuda 1, --quiet 0), the form a base build's tool needs, so
+            // that one command line of tools/device_check.sh runs both: 0 turns it off.
             const bool value = i + 1 < argc && (std::string(argv[i + 1]) == "0" || std::string(argv[i + 1]) == "1");
             if (value && std::string(argv[++i]) == "0")
                 o.kv.erase(a);

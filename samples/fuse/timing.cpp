@@ -6,7 +6,7 @@
 
 #include "tool.hpp"
 #if CV_VERSION_MAJOR >= 5
-#include "opencv2/stereo.hpp"     // cv::StereoSGBM moved from calib3d to stereo in OpenCV 5
+#include "opencv2/stereo.hpp"     // cv::StereoSGBM is in stereo in OpenCV 5, calib3d in 4
 #else
 #include "opencv2/calib3d.hpp"
 #endif

@@ -5,7 +5,7 @@ from the second censusKernel up to the next (with disparity windows, every call 
 read and written, time and warp instructions executed, and their sums; with instructions, last, the line
 `LABEL aggregation warp instructions per call: N`, N summed over the aggregation's kernels (src_cuda/aggregation.cu;
 with windows, the coarse pass's path kernel included).
-Usage: ncu_call.py FILE.csv LABEL"""
+Usage: tools/ncu_call.py FILE.csv LABEL"""
 import csv
 import sys
 
