@@ -115,20 +115,11 @@ static void createVolume(AggregationState& a, int rows, int cols)
     a.sum.create(rows, cols, CV_16UC1);
 }
 
-void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
-                    const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight, Mat& nonUnique16,
-                    OutputArray finalSum,
-                    Ptr<AggregationState>* work, const Mat& own16, const Mat& windows)
+/* The windows (the full range without them) and where each tile row's pixels keep their sums in the volume
+(AggregationState::rowBase, tileBase); returns the cells the volume needs. */
+static size_t volumeLayout(AggregationState& a, const Mat& windows)
 {
-    CV_Assert(p.edgeThreshold == 0 || !left.empty());
-    Ptr<AggregationState> temporary;
-    Ptr<AggregationState>& held = work ? *work : temporary;
-    if (!held)
-        held = makePtr<AggregationState>();
-    AggregationState& a = *held;
-    initState(a, censusL, censusR, prior16, left, p, own16);
     const int W = a.W, H = a.H, D = a.D, T = WINDOW_TILE;
-    // The windows (the full range without them) and where each tile row's pixels keep their sums in the volume.
     const Size tiles((W + T - 1) / T, (H + T - 1) / T);
     if (!windows.empty())
     {
@@ -158,50 +149,60 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         for (int y = ty * T; y < std::min(H, ty * T + T); y++, total += rowCells)
             a.rowBase[y] = total;
     }
-    // At least the rows that hold them (W D cells a row: the full range's layout where no window is narrower).
-    createVolume(a, std::max((int)((total + (size_t)W * D - 1) / ((size_t)W * D)), 1), W * D);
-    disp16.create(H, W, CV_16SC1);
-    dispInt.create(H, W, CV_16SC1);
-    dispRight.create(H, W, CV_16SC1);
-    a.disp16 = disp16;
-    a.dispInt = dispInt;
-    if (ringCheckOn(p))
+    return total;
+}
+
+//! The winner-takes-all's maps (and the tests' complete sums), which the up sweep writes through the state.
+static void winnerOutputs(AggregationState& a, WinnerMaps& out, Mat* finalSum)
+{
+    const int W = a.W, H = a.H;
+    out.disp16.create(H, W, CV_16SC1);
+    out.dispInt.create(H, W, CV_16SC1);
+    out.dispRight.create(H, W, CV_16SC1);
+    a.disp16 = out.disp16;
+    a.dispInt = out.dispInt;
+    if (ringCheckOn(a.p))
     {
-        nonUnique16.create(H, W, CV_16SC1);
-        a.nonUnique16 = nonUnique16;
+        out.nonUnique16.create(H, W, CV_16SC1);
+        a.nonUnique16 = out.nonUnique16;
     }
     else
         a.nonUnique16.release();
-    if (finalSum.needed())
+    if (finalSum)
     {
-        finalSum.create(H, W * D, CV_16UC1);
-        a.finalSum = finalSum.getMat();
+        finalSum->create(H, W * a.D, CV_16UC1);
+        a.finalSum = *finalSum;
     }
+}
 
-    // The vertical directions of each sweep (with 4 paths only the straight one): predecessor at x - dx in the row
-    // before. Each keeps a record per slot (sweepRow).
-    a.ndirs = p.numPaths == 8 ? 3 : 1;
+/* The vertical directions of each sweep (with 4 paths only the straight one): predecessor at x - dx in the row
+before. Each keeps a record per slot (sweepRow). */
+static void pathRecords(AggregationState& a)
+{
+    a.ndirs = a.p.numPaths == 8 ? 3 : 1;
     a.dx[0] = 0; a.dx[1] = 1; a.dx[2] = -1;
-    a.stride = D + RECORD_PAD;
+    a.stride = a.D + RECORD_PAD;
     const size_t st = a.stride;
     for (int k = 0; k < a.ndirs; k++)
     {
-        const int slots = W + 2 * H;
+        const int slots = a.W + 2 * a.H;
         a.records[k].assign((size_t)(slots + 1) * st + 2 * RECORD_PAD, PATH_SENTINEL);
     }
-    // Strips of at least 32 pixels, up to four per thread and the same number for every thread where the width
-    // allows (each thread keeps to its own strips: Wavefront).
-    const int threads = std::max(1, getNumThreads());
+}
+
+/* The strips: at least 32 pixels, up to four per thread and the same number for every thread where the width allows
+(each thread keeps to its own strips: Wavefront); and the horizontal paths' hand-offs: with diagonal paths the strips
+stay within a row of each other (two rows do), else a few rows per thread let a strip run ahead. Where the strips
+start: equal widths over the full range; with windows, equal shares of the work, a pixel counting its set-up (as much
+as about STRIP_PIXEL_CELLS of its disparities) and its window's width. The strips run a row at a time each
+(Wavefront), so a strip with more work holds up the others. Returns the widest strip. */
+static int stripLayout(AggregationState& a, int threads)
+{
+    const int W = a.W, H = a.H, T = WINDOW_TILE;
     const int strips = threads == 1 ? 1 : W / 32 < threads ? std::max(1, W / 32)
                                                             : threads * std::min(4, W / 32 / threads);
-    // The horizontal paths' hand-offs: with diagonal paths the strips stay within a row of each other (two rows
-    // do); else a few rows per thread let a strip run ahead.
-    const int ring = a.ndirs > 1 ? 2 : std::min(H, 2 * threads + 4);
     a.strips = strips;
-    a.ring = ring;
-    // Where the strips start: equal widths over the full range; with windows, equal shares of the work, a pixel
-    // counting its set-up (as much as about STRIP_PIXEL_CELLS of its disparities) and its window's width. The
-    // strips run a row at a time each (Wavefront), so a strip with more work holds up the others.
+    a.ring = a.ndirs > 1 ? 2 : std::min(H, 2 * threads + 4);
     a.stripX.resize(strips + 1);
     for (int s = 0; s <= strips; s++)
         a.stripX[s] = W * s / strips;
@@ -212,7 +213,7 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         for (int x = 0; x < W; x++)
         {
             double w = 0;
-            for (int ty = 0; ty < tiles.height; ty++)
+            for (int ty = 0; ty < a.windows.rows; ty++)
             {
                 const Vec2s win = a.windows.at<Vec2s>(ty, x / T);
                 w += std::min(T, H - ty * T) * (double)(STRIP_PIXEL_CELLS + win[1] - win[0]);
@@ -230,10 +231,17 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     int widest = 0;
     for (int s = 0; s < strips; s++)
         widest = std::max(widest, a.stripX[s + 1] - a.stripX[s]);
-    a.edge.create(ring, (strips + 1) * a.stride + 2 * RECORD_PAD, CV_16UC1);
+    return widest;
+}
+
+/* The hand-off records and, per strip (AggregationState::scratch), first the buffers at fixed addresses, each after
+the one before (4 KB of them hold the lot at 128 disparities), then the copies and jump rows. */
+static void stripScratch(AggregationState& a, int widest)
+{
+    const int D = a.D, strips = a.strips;
+    const size_t st = a.stride;
+    a.edge.create(a.ring, (strips + 1) * a.stride + 2 * RECORD_PAD, CV_16UC1);
     a.edge.setTo(Scalar::all(PATH_SENTINEL));
-    // Per strip (AggregationState::scratch): first the buffers at fixed addresses, each after the one before
-    // (4 KB of them hold the lot at 128 disparities), then the copies and jump rows.
     const size_t page = 2048;   // 4 KB in elements
     a.scratchSums = st + RECORD_PAD;
     a.scratchIota = a.scratchSums + D + 2 * RECORD_PAD;
@@ -253,10 +261,15 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
         std::copy(a.ddcTable.begin(), a.ddcTable.end(), block + a.scratchDdc);
     }
     a.noPath.assign(st + 2 * RECORD_PAD, PATH_SENTINEL);
-    // Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
-    // [W - x1 + minD, W - x0 + minD + D - 1): room for every row (those outside the right image are dropped when the
-    // strips are joined). Each strip marks its row empty before the row (sweepRow), so that nothing here runs alone
-    // over the whole.
+}
+
+/* Strip s offers right-view candidates to right pixels [x0 - minD - D + 1, x1 - minD), i.e. u = W - 1 - xr in
+[W - x1 + minD, W - x0 + minD + D - 1): room for every row (those outside the right image are dropped when the strips
+are joined). Each strip marks its row empty before the row (sweepRow), so that nothing here runs alone over the
+whole. */
+static void rightViewLayout(AggregationState& a)
+{
+    const int W = a.W, strips = a.strips;
     a.rightAt.resize(strips);
     a.rightLo.resize(strips);
     a.rightWidth.resize(strips);
@@ -264,25 +277,59 @@ void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, 
     for (int s = 0; s < strips; s++)
     {
         const int x0 = a.stripX[s], x1 = a.stripX[s + 1];
-        a.rightLo[s] = W - x1 + p.minDisparity;
-        a.rightWidth[s] = x1 - x0 + D - 1;
+        a.rightLo[s] = W - x1 + a.p.minDisparity;
+        a.rightWidth[s] = x1 - x0 + a.D - 1;
         a.rightAt[s] = (int)rightTotal;
-        rightTotal += (size_t)a.rightWidth[s] * H;
+        rightTotal += (size_t)a.rightWidth[s] * a.H;
     }
     a.rightCost.resize(rightTotal + 64);
     a.rightIndex.resize(rightTotal + 64);
+}
+
+//! aggregateCosts' two forms, finalSum null where the sums are not asked for.
+static void aggregate(const AggregationInputs& in, const PipelineParams& p, WinnerMaps& out,
+                      Ptr<AggregationState>* work, Mat* finalSum)
+{
+    CV_Assert(p.edgeThreshold == 0 || !in.left.empty());
+    Ptr<AggregationState> temporary;
+    Ptr<AggregationState>& held = work ? *work : temporary;
+    if (!held)
+        held = makePtr<AggregationState>();
+    AggregationState& a = *held;
+    initState(a, in.censusL, in.censusR, in.prior16, in.left, p, in.own16);
+    const int W = a.W, H = a.H, D = a.D;
+    const size_t total = volumeLayout(a, in.windows);
+    // At least the rows that hold them (W D cells a row: the full range's layout where no window is narrower).
+    createVolume(a, std::max((int)((total + (size_t)W * D - 1) / ((size_t)W * D)), 1), W * D);
+    winnerOutputs(a, out, finalSum);
+    pathRecords(a);
+    const int threads = std::max(1, getNumThreads());
+    stripScratch(a, stripLayout(a, threads));
+    rightViewLayout(a);
 
     const auto sweep = [&](bool down) {
         // Down: the left-right path enters from the strip on the left; up: the right-left path from the right.
-        Wavefront(strips, H, a.ndirs > 1, down ? -1 : 1, ring).run(threads, [&](int s, int i) {
+        Wavefront(a.strips, H, a.ndirs > 1, down ? -1 : 1, a.ring).run(threads, [&](int s, int i) {
             runSweepRow(a, i, a.stripX[s], a.stripX[s + 1], s, down);
         });
     };
     sweep(true);
     sweep(false);
 
-    parallel_for_(Range(0, H), [&](const Range& r) { runRightViewRows(a, r.start, r.end, dispRight); },
+    parallel_for_(Range(0, H), [&](const Range& r) { runRightViewRows(a, r.start, r.end, out.dispRight); },
                   rowStripes(H));
+}
+
+void aggregateCosts(const AggregationInputs& in, const PipelineParams& p, WinnerMaps& out,
+                    Ptr<AggregationState>* work)
+{
+    aggregate(in, p, out, work, nullptr);
+}
+
+void aggregateCosts(const AggregationInputs& in, const PipelineParams& p, WinnerMaps& out, Mat& finalSum,
+                    Ptr<AggregationState>* work)
+{
+    aggregate(in, p, out, work, &finalSum);
 }
 
 void computeMatchingCost(const Mat& censusL, const Mat& censusR, const Mat& prior16, const PipelineParams& p,

@@ -440,194 +440,329 @@ static inline void prefetchRead(const char* p)
 alike; about 1 % of the call at 2 threads). The records stream in ascending addresses and need no hint. */
 enum { PREFETCH_AHEAD = 4 };
 
+//! The horizontal path's predecessor as the walk goes: its record (window [lo, hi)) and the record's minimum.
+struct HorizontalPrev
+{
+    const ushort* rec;
+    ushort min;
+    int lo, hi;
+};
+
 /** One strip's row of one sweep: pixels x0 .. x1 - 1 of the sweep's row i (down: image row i, walked left to right;
 up: row H - 1 - i, right to left). NARROW: some window is narrower than the range (searchWindows): the row is walked
 tile by tile, a tile's window, predecessor windows and volume layout set once per tile segment. The pixels at the
 ends of a segment (the horizontal path's hand-offs, the image's edges, a predecessor in another tile), those of the
-sweep's first row and those whose predecessors' windows do not hold theirs take the general set-up; the others only
-advance pointers. */
+sweep's first row and those whose predecessors' windows do not hold theirs take the general set-up (generalInputs);
+the others only advance pointers (plainInputs). The constructor sets the row up; segment() walks one segment. The
+flags are template parameters, so the walk has no branch on them. The step's arguments and the winner's lanes stay
+outside the object: where a path step is not inlined it takes their addresses, and the row's state would then be
+reloaded around every call. */
 template <int NV, bool UP, bool EXACT, bool NARROW>
-static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
+struct RowSweep
 {
-    enum { ND = NV + 1, H = NV };
-    const int W = a.W, D = a.D, T = WINDOW_TILE;
-    const ptrdiff_t st = a.stride;
-    const int step = UP ? -1 : 1;
-    const int y = UP ? a.H - 1 - i : i, yq = y - step;
-    const bool first = i == 0;
-    const ushort P1 = (ushort)a.p.w.p1;
-    const PipelineParams& p = a.p;
-    const unsigned* L = a.censusL.ptr<unsigned>(y);
-    const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
-    const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
-    const ushort* noPath = a.noPath.data() + RECORD_PAD;
-    // The strip's scratch (AggregationState::scratch): its horizontal record, the complete sums, its copies of the
-    // indices and DDC rows, one copy of a predecessor per direction (pathInput), the jump penalties.
-    ushort* scratch = a.scratch + a.scratchPerStrip * strip;
-    ushort* hrec = scratch + RECORD_PAD;
-    ushort* sums = scratch + a.scratchSums;
-    const ushort* ddc = scratch + a.scratchDdc;
-    ushort* temp[ND];
-    for (int k = 0; k < ND; k++)
-        temp[k] = scratch + a.scratchTemp + (size_t)k * st + RECORD_PAD;
-    // The row's right census halves at j in [W - x1, W - x0 + D - 1) (reversedRightRow: rl0[j], rh0[j]) and the
-    // DDC offsets of its pixels (addRow[x]).
-    ushort* rlBuf = scratch + a.scratchRight;
-    ushort* rhBuf = rlBuf + (a.scratchAddend - a.scratchRight) / 2;
-    reversedRightRow(a.censusR.ptr<unsigned>(y), W, p.minDisparity, W - x1, W - x0 + D - 1, rlBuf, rhBuf);
-    const ushort* rl0 = rlBuf - (W - x1);
-    const ushort* rh0 = rhBuf - (W - x1);
-    ushort* addBuf = scratch + a.scratchAddend;
-    ddcAddends(a, y, x0, x1, addBuf);
-    const ushort* addRow = addBuf - x0;
-    ushort* jumpBuf = scratch + a.scratchJumps;
-    jumpRows<NV>(a, I, Iq, first, step, x0, x1, jumpBuf, jumpBuf + JUMPS * a.jumpStride, a.jumpStride);
-    const ushort* jumps = jumpBuf - JUMPS * x0;   // pixel x's at jumps[JUMPS x + k]
-    // The horizontal path walks xBegin .. xEnd - step: it enters from the strip it comes from (that strip's hand-off
-    // of this row) or starts at the image's edge, and leaves through this strip's hand-off.
-    const int slot = i % a.ring;
-    const int xBegin = UP ? x1 - 1 : x0, xEnd = UP ? x0 - 1 : x1;
-    const bool enters = UP ? x1 < W : x0 > 0;
-    ushort* edgeRow = a.edge.ptr<ushort>(slot) + RECORD_PAD;
-    const int from = strip - step;
-    const ushort* hPrev = enters ? edgeRow + (size_t)from * st : noPath;
-    ushort hMin = enters ? hPrev[RECORD_MIN] : 0;
-    int hlo = 0, hhi = D;
-    if (NARROW && enters)
-        a.window(xBegin - step, y, hlo, hhi);
-    ushort* hEdge = edgeRow + (size_t)strip * st;
-    // The right view (up): this strip's candidates of row y, marked empty first.
-    RightView rv = { nullptr, nullptr, 0 };
-    if (UP)
-    {
-        const size_t at = (size_t)a.rightAt[strip] + (size_t)y * a.rightWidth[strip];
-        rv = { a.rightCost.data() + at, a.rightIndex.data() + at, a.rightLo[strip] };
-        std::fill(rv.cost, rv.cost + a.rightWidth[strip], (ushort)SENTINEL);
-        std::fill(rv.index, rv.index + a.rightWidth[strip], (ushort)RightView::NONE);
-    }
-    short* d16 = UP ? a.disp16.ptr<short>(y) : nullptr;
-    short* dInt = UP ? a.dispInt.ptr<short>(y) : nullptr;
-    short* nu = UP && !a.nonUnique16.empty() ? a.nonUnique16.ptr<short>(y) : nullptr;
-    ushort* finalSum = UP && !a.finalSum.empty() ? a.finalSum.ptr<ushort>(y) : nullptr;
-    const Vec2s* winRowQ = NARROW ? a.windows.ptr<Vec2s>(first ? y / T : yq / T) : nullptr;
+    enum { ND = NV + 1, H = NV, STEP = UP ? -1 : 1 };
+    AggregationState& a;
+    int i, x0, x1, strip, y, yq;
+    bool first;
+    const unsigned* L;        // the row's left census strings
+    const ushort* noPath;     // a record of sentinels (AggregationState::noPath)
+    ushort* hrec;             // the strip's horizontal record, overwritten in place along the strip
+    ushort* sums;             // up: the complete sums
+    const ushort* ddc;        // the strip's copy of the DDC rows
+    ushort* temp[ND];         // per direction, a copy of a predecessor (pathInput)
+    const ushort* rl0;        // the right census halves at j in [W - x1, W - x0 + D - 1): rl0[j], rh0[j]
+    const ushort* rh0;
+    const ushort* addRow;     // pixel x's DDC offset at addRow[x]
+    const ushort* jumps;      // pixel x's jump penalties at jumps[JUMPS x + k]
+    int xEnd;                 // the horizontal path walks to xEnd - step, and leaves through hEdge
+    ushort* hEdge;
+    HorizontalPrev h;
+    RightView rv;             // up: this strip's right-view candidates of row y
+    short* d16;               // up: the winner-takes-all's rows (nu, finalSum: null where not asked for)
+    short* dInt;
+    short* nu;
+    ushort* finalSum;
+    const Vec2s* winRowQ;     // NARROW: the windows of the predecessors' tile row
     // Vertical direction k, in the walk's coordinate u (x down, W - 1 - x up; its predecessor at u - du, du = dx
     // down and -dx up): pixel u writes record slot u - c i + offset (c = du + 1) and reads its predecessor's, slot u -
     // du - c (i - 1) + offset: the one the pixel before it has just read. Slots ascend along the walk, so that the
     // records stream in ascending addresses. A record keeps its minimum at RECORD_MIN.
     ushort* recBase[NV];
     int du[NV], c[NV], offset[NV];
-    LIDARSGM_UNROLL
-    for (int k = 0; k < NV; k++)
-    {
-        recBase[k] = a.records[k].data() + RECORD_PAD;
-        du[k] = UP ? -a.dx[k] : a.dx[k];
-        c[k] = du[k] + 1;
-        offset[k] = std::max(c[k], 0) * (a.H - 1);
-    }
-    StepArgs<NV> s;
-    s.cost.census256 = p.w.census256;
-    WinnerLanes win;
-    win.iota = scratch + a.scratchIota;
 
-    // The pixels of the segment [xa, xb) (walk order xFirst .. xLast) with window [lo, hi).
-    const auto segment = [&](int xa, int xb, int lo, int hi) {
-        const int n = hi - lo;
-        const int xFirst = UP ? xb - 1 : xa, xLast = UP ? xa : xb - 1;
-        // NARROW: whether the predecessors above in this tile column hold the window (else pathInput copies).
-        bool copyAbove = false;
-        int qlo = 0, qhi = D;
-        if (NARROW && !first)
-        {
-            const Vec2s w = winRowQ[xa / T];
-            qlo = w[0];
-            qhi = w[1];
-            copyAbove = lo < qlo || hi > qhi;
-        }
-        const bool allGeneral = first || copyAbove;
-        // What advances from pixel to pixel: the right strings, the records written and read (their disparity 0),
-        // the volume, the right view's candidates.
-        const ushort* rl = rl0 + (W - 1 - xFirst) + lo;
-        const ushort* rh = rh0 + (W - 1 - xFirst) + lo;
+    //! One segment's window and what its pixels share.
+    struct Segment
+    {
+        int lo, hi, n, xFirst, xLast;
+        int qlo, qhi;         // NARROW: the window of the predecessors above in this tile column
+        bool allGeneral;      // every pixel takes the general set-up
+    };
+    //! What advances from pixel to pixel: the right strings, the records written and read (their disparity 0), the
+    //! volume.
+    struct Cursor
+    {
+        const ushort* rl;
+        const ushort* rh;
         const ushort* rd[NV];
         ushort* wr[NV];
-        const int uFirst = UP ? W - 1 - xFirst : xFirst;
+        ushort* vol;
+    };
+
+    RowSweep(AggregationState& state, int i_, int x0_, int x1_, int strip_)
+        : a(state), i(i_), x0(x0_), x1(x1_), strip(strip_), y(UP ? state.H - 1 - i_ : i_), yq(y - STEP),
+          first(i_ == 0)
+    {
+        L = a.censusL.ptr<unsigned>(y);
+        noPath = a.noPath.data() + RECORD_PAD;
+        rowTables();
+        handOff();
+        outputRows();
+        recordSlots();
+    }
+
+    /** The strip's scratch (AggregationState::scratch): its horizontal record, the complete sums, its copies of the
+    indices and DDC rows, one copy of a predecessor per direction (pathInput), the jump penalties; and the row's tables
+    in it: the right census halves reversed, the DDC offsets of its pixels, their jump penalties. */
+    void rowTables()
+    {
+        const int W = a.W, D = a.D;
+        const ushort* I = a.intensity.empty() ? nullptr : a.intensity.ptr<ushort>(y);
+        const ushort* Iq = I && !first ? a.intensity.ptr<ushort>(yq) : nullptr;
+        ushort* scratch = a.scratch + a.scratchPerStrip * strip;
+        hrec = scratch + RECORD_PAD;
+        sums = scratch + a.scratchSums;
+        ddc = scratch + a.scratchDdc;
+        for (int k = 0; k < ND; k++)
+            temp[k] = scratch + a.scratchTemp + (size_t)k * a.stride + RECORD_PAD;
+        ushort* rlBuf = scratch + a.scratchRight;
+        ushort* rhBuf = rlBuf + (a.scratchAddend - a.scratchRight) / 2;
+        reversedRightRow(a.censusR.ptr<unsigned>(y), W, a.p.minDisparity, W - x1, W - x0 + D - 1, rlBuf, rhBuf);
+        rl0 = rlBuf - (W - x1);
+        rh0 = rhBuf - (W - x1);
+        ushort* addBuf = scratch + a.scratchAddend;
+        ddcAddends(a, y, x0, x1, addBuf);
+        addRow = addBuf - x0;
+        ushort* jumpBuf = scratch + a.scratchJumps;
+        jumpRows<NV>(a, I, Iq, first, STEP, x0, x1, jumpBuf, jumpBuf + JUMPS * a.jumpStride, a.jumpStride);
+        jumps = jumpBuf - JUMPS * x0;
+    }
+
+    /** The horizontal path walks xBegin .. xEnd - step: it enters from the strip it comes from (that strip's hand-off
+    of this row) or starts at the image's edge, and leaves through this strip's hand-off. */
+    void handOff()
+    {
+        const ptrdiff_t st = a.stride;
+        const int slot = i % a.ring;
+        const int xBegin = UP ? x1 - 1 : x0;
+        xEnd = UP ? x0 - 1 : x1;
+        const bool enters = UP ? x1 < a.W : x0 > 0;
+        ushort* edgeRow = a.edge.ptr<ushort>(slot) + RECORD_PAD;
+        const int from = strip - STEP;
+        h.rec = enters ? edgeRow + (size_t)from * st : noPath;
+        h.min = enters ? h.rec[RECORD_MIN] : 0;
+        h.lo = 0;
+        h.hi = a.D;
+        if (NARROW && enters)
+            a.window(xBegin - STEP, y, h.lo, h.hi);
+        hEdge = edgeRow + (size_t)strip * st;
+    }
+
+    //! The right view (up): this strip's candidates of row y, marked empty first; the outputs' rows.
+    void outputRows()
+    {
+        rv = { nullptr, nullptr, 0 };
+        if (UP)
+        {
+            const size_t at = (size_t)a.rightAt[strip] + (size_t)y * a.rightWidth[strip];
+            rv = { a.rightCost.data() + at, a.rightIndex.data() + at, a.rightLo[strip] };
+            std::fill(rv.cost, rv.cost + a.rightWidth[strip], (ushort)SENTINEL);
+            std::fill(rv.index, rv.index + a.rightWidth[strip], (ushort)RightView::NONE);
+        }
+        d16 = UP ? a.disp16.ptr<short>(y) : nullptr;
+        dInt = UP ? a.dispInt.ptr<short>(y) : nullptr;
+        nu = UP && !a.nonUnique16.empty() ? a.nonUnique16.ptr<short>(y) : nullptr;
+        finalSum = UP && !a.finalSum.empty() ? a.finalSum.ptr<ushort>(y) : nullptr;
+        winRowQ = NARROW ? a.windows.ptr<Vec2s>(first ? y / WINDOW_TILE : yq / WINDOW_TILE) : nullptr;
+    }
+
+    void recordSlots()
+    {
         LIDARSGM_UNROLL
         for (int k = 0; k < NV; k++)
         {
-            wr[k] = recBase[k] + (uFirst - c[k] * i + offset[k]) * st;
-            rd[k] = recBase[k] + (uFirst - du[k] - c[k] * (i - 1) + offset[k]) * st;
+            recBase[k] = a.records[k].data() + RECORD_PAD;
+            du[k] = UP ? -a.dx[k] : a.dx[k];
+            c[k] = du[k] + 1;
+            offset[k] = std::max(c[k], 0) * (a.H - 1);
         }
-        ushort* vol = a.sumAt(xFirst, y, n);
-        const ptrdiff_t volStep = -(ptrdiff_t)step * n;
+    }
+
+    //! The segment [xa, xb) with window [lo, hi): its walk order and whether the predecessors above hold its window.
+    Segment segmentOf(int xa, int xb, int lo, int hi) const
+    {
+        Segment g;
+        g.lo = lo;
+        g.hi = hi;
+        g.n = hi - lo;
+        g.xFirst = UP ? xb - 1 : xa;
+        g.xLast = UP ? xa : xb - 1;
+        // NARROW: whether the predecessors above in this tile column hold the window (else pathInput copies).
+        bool copyAbove = false;
+        g.qlo = 0;
+        g.qhi = a.D;
+        if (NARROW && !first)
+        {
+            const Vec2s w = winRowQ[xa / WINDOW_TILE];
+            g.qlo = w[0];
+            g.qhi = w[1];
+            copyAbove = lo < g.qlo || hi > g.qhi;
+        }
+        g.allGeneral = first || copyAbove;
+        return g;
+    }
+
+    //! The cursor at the segment's first pixel.
+    void startCursor(const Segment& g, Cursor& cur) const
+    {
+        const ptrdiff_t st = a.stride;
+        cur.rl = rl0 + (a.W - 1 - g.xFirst) + g.lo;
+        cur.rh = rh0 + (a.W - 1 - g.xFirst) + g.lo;
+        const int uFirst = UP ? a.W - 1 - g.xFirst : g.xFirst;
+        LIDARSGM_UNROLL
+        for (int k = 0; k < NV; k++)
+        {
+            cur.wr[k] = recBase[k] + (uFirst - c[k] * i + offset[k]) * st;
+            cur.rd[k] = recBase[k] + (uFirst - du[k] - c[k] * (i - 1) + offset[k]) * st;
+        }
+        cur.vol = a.sumAt(g.xFirst, y, g.n);
+    }
+
+    /** The general set-up of pixel x's step: each vertical predecessor where it lies in the image (else a path
+    starts), copied where its window does not hold the pixel's (NARROW). Returns the horizontal path's output
+    record: the strip's hand-off at its last pixel. */
+    ushort* generalInputs(StepArgs<NV>& s, const Segment& g, const Cursor& cur, const ushort* jx, int x) const
+    {
+        const int W = a.W, T = WINDOW_TILE, lo = g.lo, hi = g.hi;
+        LIDARSGM_UNROLL
+        for (int k = 0; k < NV; k++)
+        {
+            s.out[k] = cur.wr[k] + lo;
+            s.p2[k] = jx[k];
+            const int xp = x - a.dx[k];
+            if (first || xp < 0 || xp >= W)
+            {
+                s.lp[k] = noPath + lo;
+                s.minPrev[k] = 0;
+                continue;
+            }
+            s.minPrev[k] = cur.rd[k][RECORD_MIN];
+            s.lp[k] = cur.rd[k] + lo;
+            if (NARROW)
+            {
+                // A predecessor in another tile column (the segment's ends), or above a wider window.
+                int plo = g.qlo, phi = g.qhi;
+                if (xp / T != x / T)
+                {
+                    const Vec2s w = winRowQ[xp / T];
+                    plo = w[0];
+                    phi = w[1];
+                }
+                s.lp[k] = pathInput(cur.rd[k], plo, phi, lo, hi, temp[k]) + lo;
+            }
+        }
+        // The horizontal path: its input is the previous pixel's record (h.rec, window [h.lo, h.hi)), overwritten in
+        // place along the strip; the strip's last pixel writes the hand-off.
+        s.lp[H] = (NARROW ? pathInput(h.rec, h.lo, h.hi, lo, hi, temp[H]) : h.rec) + lo;
+        return x + STEP == xEnd ? hEdge : hrec;
+    }
+
+    //! A pixel inside the segment, its predecessors in the image and holding its window: pointers only.
+    void plainInputs(StepArgs<NV>& s, const Cursor& cur, const ushort* jx, int lo) const
+    {
+        LIDARSGM_UNROLL
+        for (int k = 0; k < NV; k++)
+        {
+            s.out[k] = cur.wr[k] + lo;
+            s.p2[k] = jx[k];
+            s.minPrev[k] = cur.rd[k][RECORD_MIN];
+            s.lp[k] = cur.rd[k] + lo;
+        }
+        s.lp[H] = hrec + lo;
+    }
+
+    /** After pixel x's step: the records' minima (and, NARROW, the sentinels around a new window), the horizontal
+    path's predecessor for the next pixel, and (up) the pixel's winner. */
+    void finishPixel(const StepArgs<NV>& s, const WinnerLanes& win, const Segment& g, const Cursor& cur, ushort* hOut,
+                     int x)
+    {
+        const int lo = g.lo, hi = g.hi;
+        LIDARSGM_UNROLL
+        for (int k = 0; k < NV; k++)
+        {
+            cur.wr[k][RECORD_MIN] = s.minOut[k];
+            if (NARROW)
+            {
+                cur.wr[k][lo - 1] = SENTINEL;   // the record's -1 and D hold SENTINEL already
+                cur.wr[k][hi] = SENTINEL;
+            }
+        }
+        if (NARROW && (x == g.xFirst || hOut == hEdge))   // a new window in the record, or the hand-off
+        {
+            hOut[lo - 1] = SENTINEL;
+            hOut[hi] = SENTINEL;
+        }
+        h.rec = hOut;
+        h.min = s.minOut[H];
+        h.lo = lo;
+        h.hi = hi;
+        if (UP)
+        {
+            if (finalSum)
+            {
+                ushort* fs = finalSum + (size_t)x * a.D;
+                std::fill(fs, fs + a.D, SENTINEL);
+                memcpy(fs + lo, sums + lo, g.n * sizeof(ushort));
+            }
+            selectPixel(win, sums + lo, lo, g.n, a.p, d16[x], dInt[x], nu ? nu + x : nullptr);
+        }
+    }
+
+    //! The pixels of the segment [xa, xb) (walk order xFirst .. xLast) with window [lo, hi).
+    void segment(StepArgs<NV>& s, WinnerLanes& win, int xa, int xb, int lo, int hi)
+    {
+        const ptrdiff_t st = a.stride;
+        const ushort P1 = (ushort)a.p.w.p1;
+        const Segment g = segmentOf(xa, xb, lo, hi);
+        const int n = g.n;
+        Cursor cur;
+        startCursor(g, cur);
+        const ptrdiff_t volStep = -(ptrdiff_t)STEP * n;
         RightOffer offer = { nullptr, nullptr };
         if (UP)
         {
-            const int u0 = W - 1 - xFirst + p.minDisparity;
+            const int u0 = a.W - 1 - g.xFirst + a.p.minDisparity;
             offer.cost = rv.cost + (u0 + lo - rv.lo);
             offer.index = rv.index + (u0 + lo - rv.lo);
         }
-        for (int x = xFirst;; x += step)
+        for (int x = g.xFirst;; x += STEP)
         {
-            s.cost.rl = rl;
-            s.cost.rh = rh;
+            s.cost.rl = cur.rl;
+            s.cost.rh = cur.rh;
             s.cost.l = L[x];
             s.cost.add = ddc + addRow[x] + lo;
             const ushort* jx = jumps + JUMPS * x;
             ushort* hOut = hrec;
-            if (allGeneral || x == xFirst || x == xLast)
-            {
-                LIDARSGM_UNROLL
-                for (int k = 0; k < NV; k++)
-                {
-                    s.out[k] = wr[k] + lo;
-                    s.p2[k] = jx[k];
-                    const int xp = x - a.dx[k];
-                    if (first || xp < 0 || xp >= W)
-                    {
-                        s.lp[k] = noPath + lo;
-                        s.minPrev[k] = 0;
-                        continue;
-                    }
-                    s.minPrev[k] = rd[k][RECORD_MIN];
-                    s.lp[k] = rd[k] + lo;
-                    if (NARROW)
-                    {
-                        // A predecessor in another tile column (the segment's ends), or above a wider window.
-                        int plo = qlo, phi = qhi;
-                        if (xp / T != x / T)
-                        {
-                            const Vec2s w = winRowQ[xp / T];
-                            plo = w[0];
-                            phi = w[1];
-                        }
-                        s.lp[k] = pathInput(rd[k], plo, phi, lo, hi, temp[k]) + lo;
-                    }
-                }
-                // The horizontal path: its input is the previous pixel's record (hPrev, window [hlo, hhi)),
-                // overwritten in place along the strip; the strip's last pixel writes the hand-off.
-                s.lp[H] = (NARROW ? pathInput(hPrev, hlo, hhi, lo, hi, temp[H]) : hPrev) + lo;
-                if (x + step == xEnd)
-                    hOut = hEdge;
-            }
+            if (g.allGeneral || x == g.xFirst || x == g.xLast)
+                hOut = generalInputs(s, g, cur, jx, x);
             else
-            {
-                LIDARSGM_UNROLL
-                for (int k = 0; k < NV; k++)
-                {
-                    s.out[k] = wr[k] + lo;
-                    s.p2[k] = jx[k];
-                    s.minPrev[k] = rd[k][RECORD_MIN];
-                    s.lp[k] = rd[k] + lo;
-                }
-                s.lp[H] = hrec + lo;
-            }
-            s.minPrev[H] = hMin;
+                plainInputs(s, cur, jx, lo);
+            s.minPrev[H] = h.min;
             s.p2[H] = jx[H];
             s.out[H] = hOut + lo;
-            s.partial = vol;
-            s.sum = UP ? sums + lo : vol;
+            s.partial = cur.vol;
+            s.sum = UP ? sums + lo : cur.vol;
             for (int b = 0; UP && b < n * (int)sizeof(ushort); b += 64)
-                prefetchRead((const char*)(vol + PREFETCH_AHEAD * volStep) + b);
+                prefetchRead((const char*)(cur.vol + PREFETCH_AHEAD * volStep) + b);
             if (UP)
             {
                 win.reset(lo);
@@ -635,63 +770,47 @@ static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
             }
             else
                 pathStep<NV, false, EXACT>(s, n, P1, nullptr, nullptr);
-            LIDARSGM_UNROLL
-            for (int k = 0; k < NV; k++)
-            {
-                wr[k][RECORD_MIN] = s.minOut[k];
-                if (NARROW)
-                {
-                    wr[k][lo - 1] = SENTINEL;   // the record's -1 and D hold SENTINEL already
-                    wr[k][hi] = SENTINEL;
-                }
-            }
-            if (NARROW && (x == xFirst || hOut == hEdge))   // a new window in the record, or the hand-off
-            {
-                hOut[lo - 1] = SENTINEL;
-                hOut[hi] = SENTINEL;
-            }
-            hPrev = hOut;
-            hMin = s.minOut[H];
-            hlo = lo;
-            hhi = hi;
-            if (UP)
-            {
-                if (finalSum)
-                {
-                    ushort* fs = finalSum + (size_t)x * D;
-                    std::fill(fs, fs + D, SENTINEL);
-                    memcpy(fs + lo, sums + lo, n * sizeof(ushort));
-                }
-                selectPixel(win, sums + lo, lo, n, p, d16[x], dInt[x], nu ? nu + x : nullptr);
-            }
-            if (x == xLast)
+            finishPixel(s, win, g, cur, hOut, x);
+            if (x == g.xLast)
                 break;
-            rl -= step;
-            rh -= step;
+            cur.rl -= STEP;
+            cur.rh -= STEP;
             LIDARSGM_UNROLL
             for (int k = 0; k < NV; k++)
             {
-                wr[k] += st;
-                rd[k] += st;
+                cur.wr[k] += st;
+                cur.rd[k] += st;
             }
-            vol += volStep;
+            cur.vol += volStep;
             if (UP)
             {
-                offer.cost -= step;
-                offer.index -= step;
+                offer.cost -= STEP;
+                offer.index -= STEP;
             }
         }
-    };
+    }
+};
+
+//! One strip's row of one sweep (RowSweep): its segments, a tile's each with windows, then the hand-off's minimum.
+template <int NV, bool UP, bool EXACT, bool NARROW>
+static void sweepRowT(AggregationState& a, int i, int x0, int x1, int strip)
+{
+    RowSweep<NV, UP, EXACT, NARROW> row(a, i, x0, x1, strip);
+    StepArgs<NV> s;
+    s.cost.census256 = a.p.w.census256;
+    WinnerLanes win;
+    win.iota = a.scratch + a.scratchPerStrip * strip + a.scratchIota;
     if (NARROW)
     {
-        const Vec2s* winRow = a.windows.ptr<Vec2s>(y / T);
+        const int T = WINDOW_TILE, step = UP ? -1 : 1;
+        const Vec2s* winRow = a.windows.ptr<Vec2s>(row.y / T);
         const int t0 = x0 / T, t1 = (x1 - 1) / T;
         for (int t = UP ? t1 : t0; UP ? t >= t0 : t <= t1; t += step)
-            segment(std::max(x0, t * T), std::min(x1, t * T + T), winRow[t][0], winRow[t][1]);
+            row.segment(s, win, std::max(x0, t * T), std::min(x1, t * T + T), winRow[t][0], winRow[t][1]);
     }
     else
-        segment(x0, x1, 0, D);
-    hEdge[RECORD_MIN] = hMin;
+        row.segment(s, win, x0, x1, 0, a.D);
+    row.hEdge[RECORD_MIN] = row.h.min;
 #if CV_SSE2
     if (!UP)
         _mm_sfence();   // the streamed stores are weakly ordered: the row is complete before the item says so

@@ -47,6 +47,60 @@ struct ConfidenceTable
     float operator()(int e, int r) const { return v[e * R + std::min(r, (int)R - 1)]; }
 };
 
+/* confidenceRange16 of a whole row y of disp16 at once: each row's 3-wide minima and maxima (NO_DISP left out), then
+the three rows' combined; the same values as the rule's 3x3 loop, without its per-pixel bounds tests. lo, hi: scratch
+of the row's width. */
+inline void confidenceRangeRow(const Mat& disp16, int y, short* lo, short* hi, int* range)
+{
+    const int W = disp16.cols, H = disp16.rows;
+    for (int x = 0; x < W; x++)
+    {
+        lo[x] = SHRT_MAX;
+        hi[x] = SHRT_MIN;
+    }
+    // Branch-free, so that the compiler vectorises it: NO_DISP is SHRT_MIN, below every value, so the maxima ignore
+    // it as they are; for the minima it is read as SHRT_MAX.
+    const auto asLow = [](short d) { return d == NO_DISP ? (short)SHRT_MAX : d; };
+    for (int v = std::max(0, y - 1); v <= std::min(H - 1, y + 1); v++)
+    {
+        const short* d = disp16.ptr<short>(v);
+        for (int x = 0; x < W; x++)
+        {
+            lo[x] = std::min(lo[x], asLow(d[x]));
+            hi[x] = std::max(hi[x], d[x]);
+        }
+        for (int x = 1; x < W; x++)
+        {
+            lo[x] = std::min(lo[x], asLow(d[x - 1]));
+            hi[x] = std::max(hi[x], d[x - 1]);
+        }
+        for (int x = 0; x + 1 < W; x++)
+        {
+            lo[x] = std::min(lo[x], asLow(d[x + 1]));
+            hi[x] = std::max(hi[x], d[x + 1]);
+        }
+    }
+    for (int x = 0; x < W; x++)
+        range[x] = hi[x] >= lo[x] ? hi[x] - lo[x] : 0;
+}
+
+/* Whether a value of cols within tc of v lies in the columns x - radius .. x + radius (of W) of the cursor's rows:
+outward from x (a confirming value is likeliest near the pixel), stopping at the first (an existence test: the order
+cannot change it). */
+inline bool lidarValueNear(const SparseColumns& cols, const WindowCursor& cur, int radius, int x, int v, int W, int tc)
+{
+    for (int k = 0; k <= 2 * radius; k++)
+    {
+        const int c = x + ((k & 1) ? -((k + 1) >> 1) : (k >> 1));
+        if (c < 0 || c >= W)
+            continue;
+        for (int i = cur.lo[c]; i < cur.hi[c]; i++)
+            if (std::abs(v - cols.value[i]) <= tc)
+                return true;
+    }
+    return false;
+}
+
 } // namespace
 
 void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRight, const Mat& sparse16,
@@ -68,39 +122,6 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
         return ringLineSupportsOf(v, ringNearest, sparse16.ptr<short>(), sparseStep, x, y, rings.gap,
                                   p.checkThreshold16);
     };
-    // confidenceRange16 of a whole row at once: each row's 3-wide minima and maxima (NO_DISP left out), then the
-    // three rows' combined; the same values as the rule's 3x3 loop, without its per-pixel bounds tests.
-    const auto rangeRow = [&](int y, short* lo, short* hi, int* range) {
-        for (int x = 0; x < W; x++)
-        {
-            lo[x] = SHRT_MAX;
-            hi[x] = SHRT_MIN;
-        }
-        // Branch-free, so that the compiler vectorises it: NO_DISP is SHRT_MIN, below every value, so the maxima
-        // ignore it as they are; for the minima it is read as SHRT_MAX.
-        const auto asLow = [](short d) { return d == NO_DISP ? (short)SHRT_MAX : d; };
-        for (int v = std::max(0, y - 1); v <= std::min(H - 1, y + 1); v++)
-        {
-            const short* d = disp16.ptr<short>(v);
-            for (int x = 0; x < W; x++)
-            {
-                lo[x] = std::min(lo[x], asLow(d[x]));
-                hi[x] = std::max(hi[x], d[x]);
-            }
-            for (int x = 1; x < W; x++)
-            {
-                lo[x] = std::min(lo[x], asLow(d[x - 1]));
-                hi[x] = std::max(hi[x], d[x - 1]);
-            }
-            for (int x = 0; x + 1 < W; x++)
-            {
-                lo[x] = std::min(lo[x], asLow(d[x + 1]));
-                hi[x] = std::max(hi[x], d[x + 1]);
-            }
-        }
-        for (int x = 0; x < W; x++)
-            range[x] = hi[x] >= lo[x] ? hi[x] - lo[x] : 0;
-    };
     _out.create(disp16.size(), p.floatOutput ? CV_32FC1 : CV_16SC1);
     Mat out = _out.getMat(), confidence;
     if (conf)
@@ -118,20 +139,8 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
     const int rc = p.checkRadius, tc = p.checkThreshold16;
 
     const int rs = p.semidenseRadius;   // the confidence's LiDAR evidence window (outputConfidence)
-    // Whether a value within tc of v lies in the columns x - radius .. x + radius of the cursor's rows: outward from x
-    // (a confirming value is likeliest near the pixel), stopping at the first (an existence test: the order cannot
-    // change it).
     const auto lidarConfirms = [&](const WindowCursor& cur, int radius, int x, int v) {
-        for (int k = 0; k <= 2 * radius; k++)
-        {
-            const int c = x + ((k & 1) ? -((k + 1) >> 1) : (k >> 1));
-            if (c < 0 || c >= W)
-                continue;
-            for (int i = cur.lo[c]; i < cur.hi[c]; i++)
-                if (std::abs(v - cols.value[i]) <= tc)
-                    return true;
-        }
-        return false;
+        return lidarValueNear(cols, cur, radius, x, v, W, tc);
     };
     parallel_for_(Range(0, H), [&](const Range& r) {
         WindowCursor cur(cols, rc, lidarTest ? r.start : 0);
@@ -153,7 +162,7 @@ void consistencyCheck(const Mat& disp16, const Mat& dispInt, const Mat& dispRigh
             const short* nu = useRings ? nonUnique16.ptr<short>(y) : nullptr;
             float* co = conf ? confidence.ptr<float>(y) : nullptr;
             if (conf)
-                rangeRow(y, res + W, res + 2 * W, range16);
+                confidenceRangeRow(disp16, y, res + W, res + 2 * W, range16);
             for (int x = 0; x < W; x++)
             {
                 res[x] = d16[x];

@@ -48,11 +48,10 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
         return;
     }
 
-    const Mat prior = p.semidense ? semidense16_ : p.ddc ? sparse16_ : Mat();
     // The windows from the priors the call has (in plain SGM, the LiDAR's values where given).
     if (searchWindowOn(p))
     {
-        searchWindows(p.semidense ? semidense16_ : sparse16_, left, right, p, windows_, nullptr, &coarseAggregation_);
+        searchWindows(p.semidense ? semidense16_ : sparse16_, left, right, p, windows_, &coarseAggregation_);
         searched_ = (double)windowCells(windows_, left.size()) / ((double)left.total() * p.numDisparities);
     }
     else
@@ -60,18 +59,27 @@ void CpuPipeline::run(const Mat& left, const Mat& right, const Mat& sparse, cons
         windows_.release();
         searched_ = 1.0;
     }
-    aggregateCosts(censusL_, censusR_, prior, left, p, disp16_, dispInt_, dispRight_, nonUnique16_, noArray(),
-                   &aggregation_, p.weighCopies && scan ? sparse16_ : Mat(), windows_);
+    AggregationInputs in;
+    in.censusL = censusL_;
+    in.censusR = censusR_;
+    if (p.semidense || p.ddc)
+        in.prior16 = p.semidense ? semidense16_ : sparse16_;
+    in.left = left;
+    if (p.weighCopies && scan)
+        in.own16 = sparse16_;
+    in.windows = windows_;
+    aggregateCosts(in, p, winners_, &aggregation_);
+    const WinnerMaps& w = winners_;
     if (p.medianSize == 3)
     {
-        medianFilter(disp16_, med16_);
-        medianFilter(dispInt_, medInt_);
-        medianFilter(dispRight_, medRight_);
-        consistencyCheck(med16_, medInt_, medRight_, sparse16_, nonUnique16_, rings_, p, out, confidence,
+        medianFilter(w.disp16, med16_);
+        medianFilter(w.dispInt, medInt_);
+        medianFilter(w.dispRight, medRight_);
+        consistencyCheck(med16_, medInt_, medRight_, sparse16_, w.nonUnique16, rings_, p, out, confidence,
                          points_.get());
     }
     else
-        consistencyCheck(disp16_, dispInt_, dispRight_, sparse16_, nonUnique16_, rings_, p, out, confidence,
+        consistencyCheck(w.disp16, w.dispInt, w.dispRight, sparse16_, w.nonUnique16, rings_, p, out, confidence,
                          points_.get());
 }
 

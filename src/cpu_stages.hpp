@@ -57,10 +57,10 @@ CV_EXPORTS void ringNearestMaps(const Mat& sparse16, RingMaps& rings);
 
 /** The disparity windows (tileWindow, pipeline.hpp): windows receives per WINDOW_TILE tile (lo, hi) as CV_16SC2.
 prior16: the call's prior map (may be empty); where a tile has no prior around it, the coarse pass
-(coarseDisparities) on left and right (CV_8UC1 or CV_16UC1) gives its range. coarse (tests): the coarse map, empty
-where the pass did not run. */
+(coarseDisparities) on left and right (CV_8UC1 or CV_16UC1) gives its range. work: the coarse aggregation's buffers
+kept between calls (nullptr: temporaries). coarse (tests): the coarse map, empty where the pass did not run. */
 CV_EXPORTS void searchWindows(const Mat& prior16, const Mat& left, const Mat& right, const PipelineParams& p,
-                              Mat& windows, Mat* coarse = nullptr, Ptr<AggregationState>* work = nullptr);
+                              Mat& windows, Ptr<AggregationState>* work = nullptr, Mat* coarse = nullptr);
 /** The coarse pass: left and right reduced by COARSE_SCALE (coarseMean of each block, the border replicated), and
 plain SGM on them with coarseParams(p); coarse receives its integer disparities (CV_16SC1, coarse pixels). work: the
 coarse aggregation's buffers kept between calls (aggregateCosts). */
@@ -69,25 +69,29 @@ CV_EXPORTS void coarseDisparities(const Mat& left, const Mat& right, const Pipel
 //! The cells the windows cover in an image of the given size (sum over the pixels of hi - lo).
 CV_EXPORTS int64 windowCells(const Mat& windows, Size size);
 
+//! aggregateCosts' inputs; what a call does not have stays empty.
+struct AggregationInputs
+{
+    Mat censusL, censusR;   //!< censusTransform's strings
+    Mat prior16;            //!< the prior (k = round(prior16) - minD where it has a value); empty: plain SGM
+    Mat left;               //!< the jump penalty's intensity steps, read only when p.edgeThreshold > 0
+    Mat own16;              //!< the filtered sparse map where copied priors take p.wCopy (copiedPrior); empty: w
+    Mat windows;            //!< searchWindows' windows; empty: the full range
+};
+
 /** Semi-global aggregation (paper Eq. 2) over 4 or 8 paths and the winner-takes-all, fused: the matching cost
-(matchingCost with the prior index round(prior16) - minD where prior16 has a value; prior16 may be empty for plain
-SGM) is computed as the paths go, and each pixel's winner is taken when its sum completes (aggregation.simd.hpp).
-The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). Outputs:
-disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;
-dispInt: the integer left disparity (NO_DISP where not unique);
-dispRight: the integer right-view disparity (lowest aggregated cost along the diagonal x + d);
-nonUnique16 (only when ringCheckOn(p)): the winner x16 where the uniqueness check fails, NO_DISP elsewhere;
-finalSum (tests; only when asked for): the aggregated costs, rows = image rows, cols = width * numDisparities.
-windows (searchWindows; empty: the full range): each pixel searches its tile's window only (its sums there, the
-rest of finalSum SENTINEL), paths reaching a disparity outside the previous pixel's window through the jump only.
+(matchingCost with the prior index round(prior16) - minD where prior16 has a value) is computed as the paths go, and
+each pixel's winner is taken when its sum completes (aggregation.simd.hpp). out receives the winner's maps
+(WinnerMaps). With windows each pixel searches its tile's window only (its sums there, the rest of finalSum
+SENTINEL), paths reaching a disparity outside the previous pixel's window through the jump only.
 work: the call's buffers (the 16-bit volume of partial sums, rows of costs and path costs, the right view), kept
 between calls by the caller, so that repeated calls at one size neither allocate nor fault in 2 W H D bytes and more;
 nullptr: temporaries. */
-CV_EXPORTS void aggregateCosts(const Mat& censusL, const Mat& censusR, const Mat& prior16, const Mat& left,
-                               const PipelineParams& p, Mat& disp16, Mat& dispInt, Mat& dispRight,
-                               Mat& nonUnique16, OutputArray finalSum = noArray(),
-                               Ptr<AggregationState>* work = nullptr, const Mat& own16 = Mat(),
-                               const Mat& windows = Mat());
+CV_EXPORTS void aggregateCosts(const AggregationInputs& in, const PipelineParams& p, WinnerMaps& out,
+                               Ptr<AggregationState>* work = nullptr);
+//! aggregateCosts, also writing the aggregated costs to finalSum (tests): rows = image rows, cols = width * D.
+CV_EXPORTS void aggregateCosts(const AggregationInputs& in, const PipelineParams& p, WinnerMaps& out, Mat& finalSum,
+                               Ptr<AggregationState>* work = nullptr);
 
 /** The matching cost volume that aggregateCosts computes as it goes (for the tests): rows = image rows,
 cols = width * numDisparities, CV_16UC1, d fastest. The right pixel x - minD - d is clamped to the image. */

@@ -651,6 +651,17 @@ struct RingMaps
     bool valid = false;
 };
 
+/** The winner-takes-all's maps (aggregateCosts on the CPU, winnerTakesAll on the GPU), CV_16SC1:
+disp16: left disparity x16 (subpixel if enabled) or NO_DISP where the uniqueness check fails;
+dispInt: the integer left disparity (NO_DISP where not unique);
+dispRight: the integer right-view disparity (lowest aggregated cost along the diagonal x + d);
+nonUnique16 (written only where ringCheckOn(p)): the winner x16 where the uniqueness check fails, NO_DISP
+elsewhere. */
+struct WinnerMaps
+{
+    Mat disp16, dispInt, dispRight, nonUnique16;
+};
+
 //! nearestRingPoints read from RingMaps::nearest, for ringCandidateOf.
 struct RingNearestMap
 {
@@ -680,7 +691,8 @@ public:
 private:
     double searched_ = 0;
     Mat windows_;
-    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_, disp16_, dispInt_, dispRight_, nonUnique16_;
+    Mat censusL_, censusR_, sparse16_, visible16_, semidense16_;
+    WinnerMaps winners_;
     RingMaps rings_;
     Ptr<AggregationState> aggregation_, coarseAggregation_;
     Ptr<SparseColumns> points_;   // sparse16_'s points, listed once for semidensification and the check

@@ -175,14 +175,20 @@ long long parseCount(const String& path, const std::string& key, const std::stri
     return (long long)v;
 }
 
-Mat readPcd(const String& path, const std::vector<char>& file)
+//! A PCD file's header lines as given (up to and including DATA), and where its data start.
+struct PcdHeader
 {
-    // The header: lines up to and including DATA.
     std::vector<std::string> fields, sizeWords, typeWords, countWords;
     long long width = -1, height = 1, points = -1;
     std::string dataKind;
+    size_t dataStart = 0;
+};
+
+PcdHeader readPcdHeader(const String& path, const std::vector<char>& file)
+{
+    PcdHeader h;
     size_t pos = 0;
-    while (dataKind.empty())
+    while (h.dataKind.empty())
     {
         if (pos >= file.size())
             fail(path, "the header ends before its DATA line");
@@ -194,183 +200,259 @@ Mat readPcd(const String& path, const std::vector<char>& file)
             continue;
         const std::vector<std::string> w = words(line);
         if (key == "FIELDS")
-            fields = w;
+            h.fields = w;
         else if (key == "SIZE")
-            sizeWords = w;
+            h.sizeWords = w;
         else if (key == "TYPE")
-            typeWords = w;
+            h.typeWords = w;
         else if (key == "COUNT")
-            countWords = w;
+            h.countWords = w;
         else if (key == "WIDTH" && w.size() == 1)
-            width = parseCount(path, key, w[0]);
+            h.width = parseCount(path, key, w[0]);
         else if (key == "HEIGHT" && w.size() == 1)
-            height = parseCount(path, key, w[0]);
+            h.height = parseCount(path, key, w[0]);
         else if (key == "POINTS" && w.size() == 1)
-            points = parseCount(path, key, w[0]);
+            h.points = parseCount(path, key, w[0]);
         else if (key == "DATA")
         {
             if (w.size() != 1)
                 fail(path, "DATA names no kind");
-            dataKind = w[0];
+            h.dataKind = w[0];
         }
     }
-    const size_t nf = fields.size();
+    h.dataStart = pos;
+    return h;
+}
+
+/* A PCD record's layout from its header, checked: each field's type and count, its offset in a record (binary) and in
+a record's values (ascii), the point count, and which fields are x, y, z and intensity (-1: none). */
+struct PcdLayout
+{
+    std::vector<Scalar> types;
+    std::vector<int> counts;
+    std::vector<size_t> offset, first;
+    size_t step = 0, values = 0;
+    long long n = 0;
+    int ix = -1, iy = -1, iz = -1, ii = -1;
+};
+
+//! Each field's type and count from SIZE, TYPE and COUNT.
+void pcdFieldTypes(const String& path, const PcdHeader& h, PcdLayout& l)
+{
+    const size_t nf = h.fields.size();
     if (nf == 0)
         fail(path, "the header has no FIELDS");
-    if (sizeWords.size() != nf || typeWords.size() != nf || (!countWords.empty() && countWords.size() != nf))
-        fail(path, "SIZE, TYPE and COUNT give " + std::to_string(sizeWords.size()) + ", " +
-                       std::to_string(typeWords.size()) + " and " + std::to_string(countWords.size()) +
+    if (h.sizeWords.size() != nf || h.typeWords.size() != nf || (!h.countWords.empty() && h.countWords.size() != nf))
+        fail(path, "SIZE, TYPE and COUNT give " + std::to_string(h.sizeWords.size()) + ", " +
+                       std::to_string(h.typeWords.size()) + " and " + std::to_string(h.countWords.size()) +
                        " fields, FIELDS " + std::to_string(nf));
-    std::vector<Scalar> types(nf);
-    std::vector<int> counts(nf, 1);
+    l.types.assign(nf, Scalar());
+    l.counts.assign(nf, 1);
     for (size_t i = 0; i < nf; i++)
     {
-        const long long size = parseCount(path, "SIZE", sizeWords[i]);
-        const std::string& t = typeWords[i];
+        const long long size = parseCount(path, "SIZE", h.sizeWords[i]);
+        const std::string& t = h.typeWords[i];
         if (t != "F" && t != "I" && t != "U")
-            fail(path, "field " + fields[i] + " has type '" + t + "', not F, I or U");
+            fail(path, "field " + h.fields[i] + " has type '" + t + "', not F, I or U");
         if ((size != 1 && size != 2 && size != 4 && size != 8) || (t == "F" && size != 4 && size != 8))
-            fail(path, "field " + fields[i] + " of type " + t + " has " + sizeWords[i] + " bytes");
-        types[i].type = t[0];
-        types[i].size = (int)size;
-        if (!countWords.empty())
-            counts[i] = (int)std::min(parseCount(path, "COUNT", countWords[i]), 1LL << 20);
+            fail(path, "field " + h.fields[i] + " of type " + t + " has " + h.sizeWords[i] + " bytes");
+        l.types[i].type = t[0];
+        l.types[i].size = (int)size;
+        if (!h.countWords.empty())
+            l.counts[i] = (int)std::min(parseCount(path, "COUNT", h.countWords[i]), 1LL << 20);
     }
-    if (width < 0 && points < 0)
+}
+
+PcdLayout pcdLayout(const String& path, const PcdHeader& h)
+{
+    PcdLayout l;
+    pcdFieldTypes(path, h, l);
+    if (h.width < 0 && h.points < 0)
         fail(path, "the header has neither WIDTH nor POINTS");
-    if ((double)width * (double)height > 1e12)
+    if ((double)h.width * (double)h.height > 1e12)
         fail(path, "WIDTH x HEIGHT is not a number of points");
-    if (width >= 0 && points >= 0 && points != width * height)
-        fail(path, "POINTS " + std::to_string(points) + " disagrees with WIDTH x HEIGHT = " +
-                       std::to_string(width) + " x " + std::to_string(height));
-    const long long n = points >= 0 ? points : width * height;
-    // Each field's offset in a record (binary) and in a record's values (ascii); x, y, z and intensity.
-    std::vector<size_t> offset(nf), first(nf);
-    size_t step = 0, values = 0;
-    int ix = -1, iy = -1, iz = -1, ii = -1;
+    if (h.width >= 0 && h.points >= 0 && h.points != h.width * h.height)
+        fail(path, "POINTS " + std::to_string(h.points) + " disagrees with WIDTH x HEIGHT = " +
+                       std::to_string(h.width) + " x " + std::to_string(h.height));
+    l.n = h.points >= 0 ? h.points : h.width * h.height;
+    const size_t nf = h.fields.size();
+    l.offset.resize(nf);
+    l.first.resize(nf);
     std::vector<std::string> unread;
     for (size_t i = 0; i < nf; i++)
     {
-        offset[i] = step;
-        first[i] = values;
-        step += (size_t)types[i].size * counts[i];
-        values += counts[i];
-        int* slot = fields[i] == "x" ? &ix : fields[i] == "y" ? &iy : fields[i] == "z" ? &iz
-                  : fields[i] == "intensity" ? &ii : nullptr;
-        if (slot && *slot < 0 && counts[i] > 0)   // a field of count > 1 gives its first value
+        l.offset[i] = l.step;
+        l.first[i] = l.values;
+        l.step += (size_t)l.types[i].size * l.counts[i];
+        l.values += l.counts[i];
+        const std::string& f = h.fields[i];
+        int* slot = f == "x" ? &l.ix : f == "y" ? &l.iy : f == "z" ? &l.iz : f == "intensity" ? &l.ii : nullptr;
+        if (slot && *slot < 0 && l.counts[i] > 0)   // a field of count > 1 gives its first value
             *slot = (int)i;
         else if (!slot)
-            unread.push_back(fields[i]);
+            unread.push_back(f);
     }
     noteUnreadFields(path, unread);
-    if (ix < 0 || iy < 0 || iz < 0)
-        fail(path, "FIELDS has no " + std::string(ix < 0 ? "x" : iy < 0 ? "y" : "z"));
-
-    std::vector<float> out;
-    const unsigned char* data = (const unsigned char*)file.data() + std::min(pos, file.size());
-    const size_t available = file.size() - std::min(pos, file.size());
-    if (dataKind == "ascii")
-    {
-        std::istringstream text(std::string((const char*)data, available));
-        std::vector<double> record(values);
-        std::string token;
-        for (long long p = 0; p < n; p++)
-        {
-            for (size_t v = 0; v < values; v++)
-            {
-                if (!(text >> token))
-                    fail(path, "the data ends at point " + std::to_string(p) + " of " + std::to_string(n));
-                if (!parseNumber(token, record[v]))
-                    fail(path, "point " + std::to_string(p) + " has '" + token + "' where a number belongs");
-            }
-            addPoint(out, record[first[ix]], record[first[iy]], record[first[iz]], ii >= 0 ? record[first[ii]] : 0.0);
-        }
-        if (text >> token)
-            fail(path, "more values follow the " + std::to_string(n) + " points of the header");
-        return toMat(out);
-    }
-    const double bytes = (double)n * (double)step;
-    if (dataKind == "binary")
-    {
-        if (bytes > (double)available)
-            fail(path, "truncated: " + std::to_string(n) + " points of " + std::to_string(step) + " bytes need " +
-                           std::to_string((long long)bytes) + " bytes of data, the file has " +
-                           std::to_string(available));
-        for (long long p = 0; p < n; p++)
-        {
-            const unsigned char* r = data + (size_t)p * step;
-            addPoint(out, types[ix].read(r + offset[ix]), types[iy].read(r + offset[iy]),
-                     types[iz].read(r + offset[iz]), ii >= 0 ? types[ii].read(r + offset[ii]) : 0.0);
-        }
-        return toMat(out);
-    }
-    if (dataKind == "binary_compressed")
-    {
-        // Two little-endian sizes, then the LZF stream of the fields one after the other (each over all points).
-        if (available < 8)
-            fail(path, "truncated: binary_compressed data without its two sizes");
-        uint32_t packed = 0, unpacked = 0;
-        std::memcpy(&packed, data, 4);
-        std::memcpy(&unpacked, data + 4, 4);
-        if (packed > available - 8)
-            fail(path, "truncated: " + std::to_string(packed) + " compressed bytes announced, " +
-                           std::to_string(available - 8) + " there");
-        if ((double)unpacked != bytes)
-            fail(path, "the uncompressed size " + std::to_string(unpacked) + " disagrees with " + std::to_string(n) +
-                           " points of " + std::to_string(step) + " bytes");
-        // LZF writes at most 264 bytes for 2 (a back-reference): a larger size cannot come out of this stream.
-        if ((double)unpacked > 132.0 * packed + 64.0)
-            fail(path, "the uncompressed size " + std::to_string(unpacked) + " cannot come from " +
-                           std::to_string(packed) + " compressed bytes");
-        std::vector<unsigned char> raw(unpacked);
-        if (lzfDecompress(data + 8, packed, raw.data(), raw.size()) != (long long)unpacked)
-            fail(path, "the compressed data is corrupt (LZF)");
-        // Field i of point p lies at n offset[i] + p size_i count_i.
-        auto at = [&](int i, long long p) {
-            return types[i].read(raw.data() + (size_t)n * offset[i] + (size_t)p * types[i].size * counts[i]);
-        };
-        for (long long p = 0; p < n; p++)
-            addPoint(out, at(ix, p), at(iy, p), at(iz, p), ii >= 0 ? at(ii, p) : 0.0);
-        return toMat(out);
-    }
-    fail(path, "unknown DATA kind '" + dataKind + "' (ascii, binary or binary_compressed)");
+    if (l.ix < 0 || l.iy < 0 || l.iz < 0)
+        fail(path, "FIELDS has no " + std::string(l.ix < 0 ? "x" : l.iy < 0 ? "y" : "z"));
+    return l;
 }
 
-Mat readPly(const String& path, const std::vector<char>& file)
+Mat readPcdAscii(const String& path, const unsigned char* data, size_t available, const PcdLayout& l)
 {
-    struct Property
+    std::vector<float> out;
+    std::istringstream text(std::string((const char*)data, available));
+    std::vector<double> record(l.values);
+    std::string token;
+    for (long long p = 0; p < l.n; p++)
     {
-        std::string name;
-        Scalar value;
-        bool list = false;
-        Scalar count;
-    };
-    struct Element
+        for (size_t v = 0; v < l.values; v++)
+        {
+            if (!(text >> token))
+                fail(path, "the data ends at point " + std::to_string(p) + " of " + std::to_string(l.n));
+            if (!parseNumber(token, record[v]))
+                fail(path, "point " + std::to_string(p) + " has '" + token + "' where a number belongs");
+        }
+        addPoint(out, record[l.first[l.ix]], record[l.first[l.iy]], record[l.first[l.iz]],
+                 l.ii >= 0 ? record[l.first[l.ii]] : 0.0);
+    }
+    if (text >> token)
+        fail(path, "more values follow the " + std::to_string(l.n) + " points of the header");
+    return toMat(out);
+}
+
+Mat readPcdBinary(const String& path, const unsigned char* data, size_t available, const PcdLayout& l)
+{
+    const double bytes = (double)l.n * (double)l.step;
+    if (bytes > (double)available)
+        fail(path, "truncated: " + std::to_string(l.n) + " points of " + std::to_string(l.step) + " bytes need " +
+                       std::to_string((long long)bytes) + " bytes of data, the file has " + std::to_string(available));
+    std::vector<float> out;
+    const std::vector<Scalar>& t = l.types;
+    for (long long p = 0; p < l.n; p++)
     {
-        std::string name;
-        long long n = 0;
-        std::vector<Property> props;
+        const unsigned char* r = data + (size_t)p * l.step;
+        addPoint(out, t[l.ix].read(r + l.offset[l.ix]), t[l.iy].read(r + l.offset[l.iy]),
+                 t[l.iz].read(r + l.offset[l.iz]), l.ii >= 0 ? t[l.ii].read(r + l.offset[l.ii]) : 0.0);
+    }
+    return toMat(out);
+}
+
+//! binary_compressed: two little-endian sizes, then the LZF stream of the fields one after the other (each over all
+//! points).
+Mat readPcdCompressed(const String& path, const unsigned char* data, size_t available, const PcdLayout& l)
+{
+    const double bytes = (double)l.n * (double)l.step;
+    if (available < 8)
+        fail(path, "truncated: binary_compressed data without its two sizes");
+    uint32_t packed = 0, unpacked = 0;
+    std::memcpy(&packed, data, 4);
+    std::memcpy(&unpacked, data + 4, 4);
+    if (packed > available - 8)
+        fail(path, "truncated: " + std::to_string(packed) + " compressed bytes announced, " +
+                       std::to_string(available - 8) + " there");
+    if ((double)unpacked != bytes)
+        fail(path, "the uncompressed size " + std::to_string(unpacked) + " disagrees with " + std::to_string(l.n) +
+                       " points of " + std::to_string(l.step) + " bytes");
+    // LZF writes at most 264 bytes for 2 (a back-reference): a larger size cannot come out of this stream.
+    if ((double)unpacked > 132.0 * packed + 64.0)
+        fail(path, "the uncompressed size " + std::to_string(unpacked) + " cannot come from " +
+                       std::to_string(packed) + " compressed bytes");
+    std::vector<unsigned char> raw(unpacked);
+    if (lzfDecompress(data + 8, packed, raw.data(), raw.size()) != (long long)unpacked)
+        fail(path, "the compressed data is corrupt (LZF)");
+    // Field i of point p lies at n offset[i] + p size_i count_i.
+    auto at = [&](int i, long long p) {
+        return l.types[i].read(raw.data() + (size_t)l.n * l.offset[i] + (size_t)p * l.types[i].size * l.counts[i]);
     };
-    auto scalarOf = [&](const std::string& t, bool bigEndian) {
-        static const char* names[][2] = { { "char", "int8" }, { "uchar", "uint8" }, { "short", "int16" },
-                                          { "ushort", "uint16" }, { "int", "int32" }, { "uint", "uint32" },
-                                          { "float", "float32" }, { "double", "float64" } };
-        static const char types[] = { 'I', 'U', 'I', 'U', 'I', 'U', 'F', 'F' };
-        static const int sizes[] = { 1, 1, 2, 2, 4, 4, 4, 8 };
-        for (int i = 0; i < 8; i++)
-            if (t == names[i][0] || t == names[i][1])
-            {
-                Scalar s;
-                s.type = types[i];
-                s.size = sizes[i];
-                s.bigEndian = bigEndian;
-                return s;
-            }
-        fail(path, "unknown property type '" + t + "'");
-    };
-    std::vector<Element> elements;
-    std::string format;
-    size_t pos = 0;
+    std::vector<float> out;
+    for (long long p = 0; p < l.n; p++)
+        addPoint(out, at(l.ix, p), at(l.iy, p), at(l.iz, p), l.ii >= 0 ? at(l.ii, p) : 0.0);
+    return toMat(out);
+}
+
+Mat readPcd(const String& path, const std::vector<char>& file)
+{
+    const PcdHeader h = readPcdHeader(path, file);
+    const PcdLayout l = pcdLayout(path, h);
+    const size_t pos = std::min(h.dataStart, file.size());
+    const unsigned char* data = (const unsigned char*)file.data() + pos;
+    const size_t available = file.size() - pos;
+    if (h.dataKind == "ascii")
+        return readPcdAscii(path, data, available, l);
+    if (h.dataKind == "binary")
+        return readPcdBinary(path, data, available, l);
+    if (h.dataKind == "binary_compressed")
+        return readPcdCompressed(path, data, available, l);
+    fail(path, "unknown DATA kind '" + h.dataKind + "' (ascii, binary or binary_compressed)");
+}
+
+//! A PLY property: a scalar, or a list of scalars after its count.
+struct PlyProperty
+{
+    std::string name;
+    Scalar value;
+    bool list = false;
+    Scalar count;
+};
+
+struct PlyElement
+{
+    std::string name;
+    long long n = 0;
+    std::vector<PlyProperty> props;
+};
+
+//! A PLY property type's scalar ("float", "float32", ...).
+Scalar plyScalar(const String& path, const std::string& t, bool bigEndian)
+{
+    static const char* names[][2] = { { "char", "int8" }, { "uchar", "uint8" }, { "short", "int16" },
+                                      { "ushort", "uint16" }, { "int", "int32" }, { "uint", "uint32" },
+                                      { "float", "float32" }, { "double", "float64" } };
+    static const char types[] = { 'I', 'U', 'I', 'U', 'I', 'U', 'F', 'F' };
+    static const int sizes[] = { 1, 1, 2, 2, 4, 4, 4, 8 };
+    for (int i = 0; i < 8; i++)
+        if (t == names[i][0] || t == names[i][1])
+        {
+            Scalar s;
+            s.type = types[i];
+            s.size = sizes[i];
+            s.bigEndian = bigEndian;
+            return s;
+        }
+    fail(path, "unknown property type '" + t + "'");
+}
+
+//! A property line's words (after "property") as the property of the element before it.
+void addPlyProperty(const String& path, const std::vector<std::string>& w, const std::string& format,
+                    std::vector<PlyElement>& elements)
+{
+    if (elements.empty() || format.empty())
+        fail(path, "a property before its format or element");
+    PlyProperty pr;
+    const bool big = format == "binary_big_endian";
+    if (w.size() == 4 && w[0] == "list")
+    {
+        pr.list = true;
+        pr.count = plyScalar(path, w[1], big);
+        pr.value = plyScalar(path, w[2], big);
+        pr.name = w[3];
+    }
+    else if (w.size() == 2)
+    {
+        pr.value = plyScalar(path, w[0], big);
+        pr.name = w[1];
+    }
+    else
+        fail(path, "a property line of " + std::to_string(w.size()) + " words");
+    elements.back().props.push_back(pr);
+}
+
+//! The header up to end_header: its elements and format; pos receives where the data start.
+void readPlyHeader(const String& path, const std::vector<char>& file, std::vector<PlyElement>& elements,
+                   std::string& format, size_t& pos)
+{
+    pos = 0;
     bool first = true, ended = false;
     while (!ended)
     {
@@ -402,111 +484,112 @@ Mat readPly(const String& path, const std::vector<char>& file)
         {
             if (w.size() != 2)
                 fail(path, "an element line without a name and a count");
-            Element e;
+            PlyElement e;
             e.name = w[0];
             e.n = parseCount(path, "element " + w[0], w[1]);
             elements.push_back(e);
         }
         else if (key == "property")
-        {
-            if (elements.empty() || format.empty())
-                fail(path, "a property before its format or element");
-            Property pr;
-            const bool big = format == "binary_big_endian";
-            if (w.size() == 4 && w[0] == "list")
-            {
-                pr.list = true;
-                pr.count = scalarOf(w[1], big);
-                pr.value = scalarOf(w[2], big);
-                pr.name = w[3];
-            }
-            else if (w.size() == 2)
-            {
-                pr.value = scalarOf(w[0], big);
-                pr.name = w[1];
-            }
-            else
-                fail(path, "a property line of " + std::to_string(w.size()) + " words");
-            elements.back().props.push_back(pr);
-        }
+            addPlyProperty(path, w, format, elements);
         else if (key == "end_header")
             ended = true;
     }
     if (format.empty())
         fail(path, "the header has no format line");
+}
 
+//! The value of property pr of record r of element e in ascii data (a list's last item; 0 for an empty list).
+double plyAsciiValue(const String& path, std::istringstream& text, const PlyElement& e, const PlyProperty& pr,
+                     long long r)
+{
+    long long items = 1;
+    std::string token;
+    double x = 0;
+    if (pr.list)
+    {
+        if (!(text >> token) || !parseNumber(token, x) || x < 0)
+            fail(path, "element " + e.name + " " + std::to_string(r) + " has no list count");
+        items = (long long)x;
+    }
+    for (long long k = 0; k < items; k++)
+    {
+        if (!(text >> token))
+            fail(path, "the data ends in element " + e.name + " " + std::to_string(r) + " of " + std::to_string(e.n));
+        if (!parseNumber(token, x))
+            fail(path, "element " + e.name + " " + std::to_string(r) + " has '" + token + "' where a number belongs");
+    }
+    return x;
+}
+
+//! Property pr of record r of element e in binary data at pos, which moves past it; v receives a scalar's value.
+void plyBinaryValue(const String& path, const std::vector<char>& file, size_t& pos, const PlyElement& e,
+                    const PlyProperty& pr, long long r, double& v)
+{
+    long long items = 1;
+    if (pr.list)
+    {
+        if (pos + pr.count.size > file.size())
+            fail(path, "truncated in element " + e.name + " " + std::to_string(r));
+        const double c = pr.count.read((const unsigned char*)file.data() + pos);
+        if (c < 0)
+            fail(path, "a negative list count in element " + e.name);
+        items = (long long)c;
+        pos += pr.count.size;
+    }
+    const double need = (double)items * pr.value.size;
+    if (need > (double)(file.size() - std::min(pos, file.size())))
+        fail(path, "truncated in element " + e.name + " " + std::to_string(r) + " of " + std::to_string(e.n));
+    if (!pr.list)
+        v = pr.value.read((const unsigned char*)file.data() + pos);
+    pos += (size_t)need;
+}
+
+//! The vertex element's x, y, z and intensity properties (-1: none), the others said once (noteUnreadFields).
+void plyVertexSlots(const String& path, const PlyElement& e, int& ix, int& iy, int& iz, int& ii)
+{
+    std::vector<std::string> unread;
+    for (int i = 0; i < (int)e.props.size(); i++)
+    {
+        const std::string& nm = e.props[i].name;
+        int* slot = e.props[i].list ? nullptr : nm == "x" ? &ix : nm == "y" ? &iy : nm == "z" ? &iz
+                  : nm == "intensity" ? &ii : nullptr;
+        if (slot)
+            *slot = i;
+        else
+            unread.push_back(nm);
+    }
+    noteUnreadFields(path, unread);
+    if (ix < 0 || iy < 0 || iz < 0)
+        fail(path, "the vertex element has no " + std::string(ix < 0 ? "x" : iy < 0 ? "y" : "z"));
+}
+
+Mat readPly(const String& path, const std::vector<char>& file)
+{
+    std::vector<PlyElement> elements;
+    std::string format;
+    size_t pos = 0;
+    readPlyHeader(path, file, elements, format, pos);
     std::vector<float> out;
     const bool ascii = format == "ascii";
     std::istringstream text(ascii ? std::string(file.data() + std::min(pos, file.size()), file.size() -
                                                 std::min(pos, file.size()))
                                   : std::string());
-    for (const Element& e : elements)
+    // The elements before the vertex element are read past; the vertex element's points are the cloud.
+    for (const PlyElement& e : elements)
     {
         const bool vertex = e.name == "vertex";
         int ix = -1, iy = -1, iz = -1, ii = -1;
-        std::vector<std::string> unread;
-        for (int i = 0; i < (int)e.props.size(); i++)
-        {
-            const std::string& nm = e.props[i].name;
-            int* slot = e.props[i].list ? nullptr : nm == "x" ? &ix : nm == "y" ? &iy : nm == "z" ? &iz
-                      : nm == "intensity" ? &ii : nullptr;
-            if (slot)
-                *slot = i;
-            else if (vertex)
-                unread.push_back(nm);
-        }
         if (vertex)
-            noteUnreadFields(path, unread);
-        if (vertex && (ix < 0 || iy < 0 || iz < 0))
-            fail(path, "the vertex element has no " + std::string(ix < 0 ? "x" : iy < 0 ? "y" : "z"));
+            plyVertexSlots(path, e, ix, iy, iz, ii);
         std::vector<double> v(e.props.size());
         for (long long r = 0; r < e.n; r++)
         {
             for (size_t i = 0; i < e.props.size(); i++)
             {
-                const Property& pr = e.props[i];
-                long long items = 1;
                 if (ascii)
-                {
-                    std::string token;
-                    double x = 0;
-                    if (pr.list)
-                    {
-                        if (!(text >> token) || !parseNumber(token, x) || x < 0)
-                            fail(path, "element " + e.name + " " + std::to_string(r) + " has no list count");
-                        items = (long long)x;
-                    }
-                    for (long long k = 0; k < items; k++)
-                    {
-                        if (!(text >> token))
-                            fail(path, "the data ends in element " + e.name + " " + std::to_string(r) + " of " +
-                                           std::to_string(e.n));
-                        if (!parseNumber(token, x))
-                            fail(path, "element " + e.name + " " + std::to_string(r) + " has '" + token +
-                                           "' where a number belongs");
-                    }
-                    v[i] = x;
-                }
+                    v[i] = plyAsciiValue(path, text, e, e.props[i], r);
                 else
-                {
-                    if (pr.list)
-                    {
-                        if (pos + pr.count.size > file.size())
-                            fail(path, "truncated in element " + e.name + " " + std::to_string(r));
-                        const double c = pr.count.read((const unsigned char*)file.data() + pos);
-                        if (c < 0)
-                            fail(path, "a negative list count in element " + e.name);
-                        items = (long long)c;
-                        pos += pr.count.size;
-                    }
-                    const double need = (double)items * pr.value.size;
-                    if (need > (double)(file.size() - std::min(pos, file.size())))
-                        fail(path, "truncated in element " + e.name + " " + std::to_string(r) + " of " +
-                                       std::to_string(e.n));
-                    if (!pr.list)
-                        v[i] = pr.value.read((const unsigned char*)file.data() + pos);
-                    pos += (size_t)need;
-                }
+                    plyBinaryValue(path, file, pos, e, e.props[i], r, v[i]);
             }
             if (vertex)
                 addPoint(out, v[ix], v[iy], v[iz], ii >= 0 ? v[ii] : 0.0);

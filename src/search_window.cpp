@@ -103,15 +103,16 @@ void coarseDisparities(const Mat& left, const Mat& right, const PipelineParams& 
         }, rowStripes(cs.height));
     }
     const PipelineParams q = coarseParams(p);
-    Mat cl, cr, d16, dInt, dRight, nonUnique;
-    censusTransform(small[0], cl);
-    censusTransform(small[1], cr);
-    aggregateCosts(cl, cr, Mat(), Mat(), q, d16, dInt, dRight, nonUnique, noArray(), work);
-    coarse = dInt;
+    AggregationInputs in;
+    censusTransform(small[0], in.censusL);
+    censusTransform(small[1], in.censusR);
+    WinnerMaps out;
+    aggregateCosts(in, q, out, work);
+    coarse = out.dispInt;
 }
 
 void searchWindows(const Mat& prior16, const Mat& left, const Mat& right, const PipelineParams& p, Mat& windows,
-                   Mat* coarseOut, Ptr<AggregationState>* work)
+                   Ptr<AggregationState>* work, Mat* coarseOut)
 {
     const int T = WINDOW_TILE, D = p.numDisparities, minD = p.minDisparity, S = COARSE_SCALE;
     const Size size = left.size();

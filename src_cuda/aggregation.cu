@@ -586,10 +586,13 @@ void runWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<us
 }
 
 template <typename T>
-void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<T> image,
-               const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-               WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream)
+void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const AggregationOutputs& out,
+               cudaStream_t stream)
 {
+    const PtrStepSz<int> censusL = in.censusL, censusR = in.censusR;
+    const PtrStepSz<short> prior16 = in.prior16;
+    const PtrStepSz<ushort> facts = out.facts, sum = out.sum;
+    const WindowMap windows = in.windows;
     if (windows.tiles.data)
     {
         zeroWindowsKernel<<<dim3(windows.tiles.cols, censusL.rows), 128, 0, stream>>>(windows, censusL.cols,
@@ -602,8 +605,8 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
     if (ddc || p.edgeThreshold > 0)
     {
         const dim3 block(32, 8), grid(cv::cudev::divUp(censusL.cols, 32), cv::cudev::divUp(censusL.rows, 8));
-        factsKernel<T><<<grid, block, 0, stream>>>(prior16, own16, scan, image, p.minDisparity, p.edgeThreshold,
-                                                  facts);
+        factsKernel<T><<<grid, block, 0, stream>>>(prior16, in.own16, in.scan, in.left, p.minDisparity,
+                                                  p.edgeThreshold, facts);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
     if (windows.tiles.data)
@@ -636,18 +639,16 @@ void aggregate(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> 
 
 } // namespace
 
-void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream)
+void aggregateCosts(const AggregationInputs<uchar>& in, const PipelineParams& p, const AggregationOutputs& out,
+                    cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, windows, sum, stream);
+    aggregate(in, p, out, stream);
 }
 
-void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream)
+void aggregateCosts(const AggregationInputs<ushort>& in, const PipelineParams& p, const AggregationOutputs& out,
+                    cudaStream_t stream)
 {
-    aggregate(censusL, censusR, prior16, left, p, own16, scan, facts, windows, sum, stream);
+    aggregate(in, p, out, stream);
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

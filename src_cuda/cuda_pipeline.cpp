@@ -24,7 +24,7 @@ void cudaCheck(cudaError_t err)
 }
 
 /* A CV_16S map of size sz inside the memory of m (any type, wide enough), from 16-bit column c0 of each of its rows:
-for buffers that share memory (CudaPipeline::Buffers). */
+for buffers that share memory (CudaPipeline::Buffers::BufferPlan). */
 cuda::GpuMat shortMap(const cuda::GpuMat& m, Size sz, int c0)
 {
     CV_DbgAssert(m.rows >= sz.height && (int)(m.cols * m.elemSize() / 2) >= c0 + sz.width);
@@ -41,8 +41,14 @@ void coarsePaths(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda::GpuMa
 {
     ci::coarseImages(cuda::PtrStepSz<T>(L), cuda::PtrStepSz<T>(R), cuda::PtrStepSz<T>(cl), cuda::PtrStepSz<T>(cr), st);
     ci::censusTransform(cuda::PtrStepSz<T>(cl), cuda::PtrStepSz<T>(cr), w.censusL, censusR, padBefore, padAfter, st);
-    ci::aggregateCosts(w.censusL, censusR, cuda::PtrStepSz<short>(), cuda::PtrStepSz<T>(cl), q,
-                       cuda::PtrStepSz<short>(), nullptr, cuda::PtrStepSz<ushort>(), ci::WindowMap(), w.sum, st);
+    // Plain SGM over the full range: no prior, no copied priors, no windows, so no facts.
+    ci::AggregationInputs<T> in;
+    in.censusL = w.censusL;
+    in.censusR = censusR;
+    in.left = cl;
+    ci::AggregationOutputs out;
+    out.sum = w.sum;
+    ci::aggregateCosts(in, q, out, st);
 }
 
 } // namespace
@@ -71,8 +77,15 @@ void ci::enqueueSearchWindows(const cuda::GpuMat& prior16, const cuda::GpuMat& L
         coarsePaths<uchar>(L, R, cl, cr, q, w, censusR, padBefore, padAfter, st);
     else
         coarsePaths<ushort>(L, R, cl, cr, q, w, censusR, padBefore, padAfter, st);
-    ci::winnerTakesAll(w.sum, cs.width, cs.height, q, ci::WindowMap(), d16, dInt, w.key, dRight,
-                       cuda::PtrStepSz<short>(), st);
+    ci::WinnerInputs sums;
+    sums.sum = w.sum;
+    sums.width = cs.width;
+    sums.height = cs.height;
+    ci::WinnerMaps winners;
+    winners.disp16 = d16;
+    winners.dispInt = dInt;
+    winners.dispRight = dRight;
+    ci::winnerTakesAll(sums, q, winners, w.key, st);
     ci::searchWindows(prior16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior16), dInt, p,
                       w.ranges.rowRange(0, tiles.height), w.ranges.rowRange(tiles.height, 2 * tiles.height),
                       w.windows, st);
@@ -82,13 +95,7 @@ void ci::enqueueSearchWindows(const cuda::GpuMat& prior16, const cuda::GpuMat& L
 
 struct CudaPipeline::Buffers
 {
-    /* The only allocations. Maps whose lifetimes do not overlap share memory (the stages run in stream order): the
-    converted sparse map before the visibility filter lives in censusL's memory (the census transform runs after the
-    filter); the path kernel's per-pixel facts overwrite the semidense prior they are made from (the aggregation reads
-    it last); after the aggregation the census strings are dead, so the winner-takes-all's right-view keys take
-    censusL's memory and its disparity maps censusRPadded's, its non-unique winners (for the ring check) the memory of
-    the semidense prior; after the winner-takes-all the sum volume is dead, so the right-view disparities and the
-    median's outputs take its memory. */
+    // The only allocations (BufferPlan says which of them a call's maps share).
     cuda::GpuMat censusL, censusR, sparse16, semidense16, sum;
     cuda::GpuMat facts;              //!< the path kernel's per-pixel facts where the semidense map does not hold them
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
@@ -104,6 +111,64 @@ struct CudaPipeline::Buffers
     int lastD = 0;
     cudaEvent_t done = nullptr;      //!< recorded at the end of the last call
     cudaStream_t lastStream = 0;     //!< the stream of the last call
+
+    /* Which memory each map of a call takes. Maps whose lifetimes do not overlap share memory (the stages run in
+    stream order):
+    - the converted sparse map before the visibility filter lives in censusL's memory (the census transform runs
+      after the filter);
+    - the path kernel's per-pixel facts overwrite the semidense prior they are made from (the aggregation reads it
+      last); DSGM's prior, the sparse map, is read by the check later, so DSGM (and SGM with the edge rule) keeps
+      them in a map of their own;
+    - after the aggregation the census strings are dead, so the winner-takes-all's right-view keys take censusL's
+      memory and its disparity maps censusRPadded's, its non-unique winners (for the ring check) the memory of the
+      semidense prior;
+    - after the winner-takes-all the sum volume is dead, so the right-view disparities and the median's outputs take
+      its memory (4 W shorts a row). */
+    struct BufferPlan
+    {
+        Buffers& b;
+        Size sz;
+        cuda::GpuMat convertedSparse() const { return shortMap(b.censusL, sz, 0); }
+        //! The facts of a call with a prior or the edge rule (else none).
+        cuda::GpuMat facts(const PipelineParams& p, bool prior) const
+        {
+            if (p.semidense)
+                return b.semidense16;
+            if (!(prior || p.edgeThreshold > 0))
+                return cuda::GpuMat();
+            b.facts.create(sz, CV_16UC1);
+            return b.facts;
+        }
+        cuda::GpuMat rightKey() const { return b.censusL; }
+        cuda::GpuMat disp16() const { return shortMap(b.censusRPadded, sz, 0); }
+        cuda::GpuMat dispInt() const { return shortMap(b.censusRPadded, sz, sz.width); }
+        cuda::GpuMat nonUnique16() const { return b.semidense16; }
+        //! In the volume: 0 the right view, 1 to 3 the median's outputs of disp16, dispInt and dispRight.
+        cuda::GpuMat afterSums(const cuda::GpuMat& volume, int k) const { return shortMap(volume, sz, k * sz.width); }
+    };
+
+    //! One call: its arguments, and what its stages hand on.
+    struct Call
+    {
+        Call(const cuda::GpuMat& L_, const cuda::GpuMat& R_, const cuda::GpuMat& Sp_, const PipelineParams& p_,
+             cudaStream_t st_, bool capturing_)
+            : L(L_), R(R_), Sp(Sp_), p(p_), st(st_), capturing(capturing_), sz(L_.size())
+        {
+        }
+        const cuda::GpuMat& L;
+        const cuda::GpuMat& R;
+        const cuda::GpuMat& Sp;
+        const PipelineParams& p;
+        cudaStream_t st;
+        bool capturing;
+        Size sz;
+        int* scanStats = nullptr;         //!< the scan test's statistics where it ran
+        bool rings = false;               //!< ring interpolation ran: ringAbove, ringBelow and ringStats hold its maps
+        cuda::GpuMat ringAbove, ringBelow;
+        ci::WindowMap windows = ci::WindowMap();
+        cuda::GpuMat volume;              //!< the sum volume (sum, or a captured call's own)
+        void* graphVolume = nullptr;      //!< a captured call's volume, freed at its end
+    };
 
     /* The buffers are shared by all calls, so a call must not start on the GPU before the previous call has finished
     with them. On the same stream that holds by stream order; on another stream the new stream first waits (on the
@@ -134,6 +199,232 @@ struct CudaPipeline::Buffers
             cudaCheck(cudaEventCreateWithFlags(&done, cudaEventDisableTiming));
         cudaCheck(cudaEventRecord(done, st));
     }
+
+    //! The census strings' buffers; censusR is padded as the path kernel reads it (rightCensusPadBefore / After).
+    void censusBuffers(const Call& c)
+    {
+        censusL.create(c.sz, CV_32SC1);
+        const int padBefore = ci::rightCensusPadBefore(c.p), padAfter = ci::rightCensusPadAfter(c.p);
+        censusRPadded.create(c.sz.height, padBefore + c.sz.width + padAfter, CV_32SC1);
+        censusR = censusRPadded.colRange(padBefore, padBefore + c.sz.width);
+    }
+
+    /* The sparse input: conversion (with the units check's counts, copied to the host for checkUnits, which a graph
+    cannot do), the scan test, the visibility filter. */
+    void sparseInput(Call& c, const BufferPlan& plan)
+    {
+        const PipelineParams& p = c.p;
+        sparse16.create(c.sz, CV_16SC1);
+        const bool filter = visibilityFilterOn(p);
+        const cuda::GpuMat converted = filter ? plan.convertedSparse() : sparse16;
+        int* counts = nullptr;
+        if (!c.capturing)
+        {
+            unitsCounts.create(1, (int)(sizeof(SparseCounts) / sizeof(int)), CV_32SC1);
+            counts = unitsCounts.ptr<int>();
+            cudaCheck(cudaMemsetAsync(counts, 0, sizeof(SparseCounts), c.st));
+        }
+        if (c.Sp.depth() == CV_16U)
+            ci::convertSparse(cuda::PtrStepSz<ushort>(c.Sp), p.minDisparity, p.numDisparities, converted, counts, c.st);
+        else
+            ci::convertSparse(cuda::PtrStepSz<float>(c.Sp), p.minDisparity, p.numDisparities, converted, counts, c.st);
+        if (counts)
+        {
+            if (!hostCounts)
+                cudaCheck(cudaHostAlloc((void**)&hostCounts, sizeof(SparseCounts), cudaHostAllocDefault));
+            if (!countsReady)
+                cudaCheck(cudaEventCreateWithFlags(&countsReady, cudaEventDisableTiming));
+            cudaCheck(cudaMemcpyAsync(hostCounts, counts, sizeof(SparseCounts), cudaMemcpyDeviceToHost, c.st));
+            cudaCheck(cudaEventRecord(countsReady, c.st));
+        }
+        // The scan test, once for the stages that need it (on the map as given), read by them on the device.
+        if (p.visibilityParallax256 > 0 || p.weighCopies)
+        {
+            scanStats.create(1, 2 * SCAN_GAP_BINS + 1, CV_32SC1);
+            c.scanStats = scanStats.ptr<int>();
+            ci::testScan(converted, c.scanStats, c.st);
+        }
+        if (filter)
+            ci::filterHiddenPoints(converted, p, sparse16, c.scanStats, c.st);
+    }
+
+    void census(const Call& c)
+    {
+        const int padBefore = ci::rightCensusPadBefore(c.p), padAfter = ci::rightCensusPadAfter(c.p);
+        if (c.L.depth() == CV_8U)
+            ci::censusTransform(cuda::PtrStepSz<uchar>(c.L), cuda::PtrStepSz<uchar>(c.R), censusL, censusR, padBefore,
+                                padAfter, c.st);
+        else
+            ci::censusTransform(cuda::PtrStepSz<ushort>(c.L), cuda::PtrStepSz<ushort>(c.R), censusL, censusR,
+                                padBefore, padAfter, c.st);
+    }
+
+    //! Semidensification and ring interpolation (SDSGM, or the semidense map alone).
+    void semidense(Call& c)
+    {
+        semidense16.create(c.sz, CV_16SC1);
+        ci::semidensify(censusL, censusR, sparse16, c.p, semidense16, c.st);
+        if (!c.rings)
+            return;
+        ring.create(2 * c.sz.height, c.sz.width, CV_16SC1);
+        ringStats.create(1, RING_GAP_BINS + 1, CV_32SC1);
+        c.ringAbove = ring.rowRange(0, c.sz.height);
+        c.ringBelow = ring.rowRange(c.sz.height, 2 * c.sz.height);
+        ci::interpolateRings(censusL, censusR, sparse16, c.p, semidense16, c.ringAbove, c.ringBelow,
+                             ringStats.ptr<int>(), c.st);
+    }
+
+    /* The windows from the priors the call has (in plain SGM, the LiDAR's values where given), before the facts
+    overwrite the semidense map; then the compact volume (WindowMap), which takes the windows' total, which only the
+    device knows: the call waits for it and allocates what it needs (a continuous buffer, kept while large enough). A
+    captured call cannot wait: its graph allocates (and frees) a volume of the full range's size, which any windows
+    fit. */
+    void windowedVolume(Call& c)
+    {
+        const PipelineParams& p = c.p;
+        const Size sz = c.sz;
+        ci::enqueueSearchWindows(p.semidense ? semidense16 : c.Sp.empty() ? cuda::GpuMat() : sparse16, c.L, c.R, p,
+                                 windows, c.st);
+        c.windows = ci::windowMap(windows);
+        const Size tiles(windows.windows.cols, windows.windows.rows);
+        size_t units = (size_t)tiles.area() * (p.numDisparities / WINDOW_ALIGN);
+        if (!c.capturing)
+        {
+            if (!windowUnits)
+                cudaCheck(cudaHostAlloc((void**)&windowUnits, sizeof(int), cudaHostAllocDefault));
+            cudaCheck(cudaMemcpyAsync(windowUnits, windows.bases.ptr<int>() + tiles.area(), sizeof(int),
+                                      cudaMemcpyDeviceToHost, c.st));
+            cudaCheck(cudaStreamSynchronize(c.st));
+            units = (size_t)*windowUnits;
+        }
+        const size_t cols = std::max((units * ci::WINDOW_VOLUME_UNIT + sz.height - 1) / sz.height, (size_t)4 * sz.width);
+        CV_Assert(cols <= (size_t)INT_MAX);
+        const bool fits = !sum.empty() && sum.isContinuous() && sum.type() == CV_16UC1 && sum.rows == sz.height &&
+                          (size_t)sum.cols >= cols;
+        if (fits)
+            c.volume = sum;
+        else if (c.capturing)
+        {
+            cudaCheck(cudaMallocAsync(&c.graphVolume, cols * sz.height * sizeof(ushort), c.st));
+            c.volume = cuda::GpuMat(sz.height, (int)cols, CV_16UC1, c.graphVolume);
+        }
+        else
+        {
+            // An eighth more than this call needs, so that the next frames' windows seldom grow it.
+            sum.release();
+            cuda::createContinuous(sz.height, (int)std::min(cols + cols / 8, (size_t)INT_MAX), CV_16UC1, sum);
+            c.volume = sum;
+        }
+    }
+
+    //! The sum volume: the windows' compact one, or the full range's (4 W shorts a row at least: BufferPlan).
+    void sumVolume(Call& c)
+    {
+        windowed = searchWindowOn(c.p);
+        lastSize = c.sz;
+        lastD = c.p.numDisparities;
+        if (windowed)
+            windowedVolume(c);
+        else
+        {
+            sum.create(c.sz.height, c.sz.width * c.p.numDisparities, CV_16UC1);
+            c.volume = sum;
+        }
+    }
+
+    //! The aggregation's inputs for images of element type T.
+    template <typename T>
+    ci::AggregationInputs<T> aggregationInputs(const Call& c, const cuda::GpuMat& prior) const
+    {
+        ci::AggregationInputs<T> in;
+        in.censusL = censusL;
+        in.censusR = censusR;
+        if (!prior.empty())
+            in.prior16 = prior;
+        in.left = c.L;
+        if (c.p.weighCopies && c.scanStats)
+        {
+            in.own16 = sparse16;
+            in.scan = c.scanStats + 2 * SCAN_GAP_BINS;
+        }
+        in.windows = c.windows;
+        return in;
+    }
+
+    void aggregate(const Call& c, const BufferPlan& plan)
+    {
+        const PipelineParams& p = c.p;
+        const cuda::GpuMat prior = p.semidense ? semidense16 : p.ddc ? sparse16 : cuda::GpuMat();
+        ci::AggregationOutputs out;
+        out.sum = c.volume;
+        const cuda::GpuMat factsMap = plan.facts(p, !prior.empty());
+        if (!factsMap.empty())
+            out.facts = factsMap;
+        if (c.L.depth() == CV_8U)
+            ci::aggregateCosts(aggregationInputs<uchar>(c, prior), p, out, c.st);
+        else
+            ci::aggregateCosts(aggregationInputs<ushort>(c, prior), p, out, c.st);
+    }
+
+    /* The winner-takes-all, then (medianSize 3) the median of its three maps: returns the maps the check takes, and
+    in ringCheck the ring check's inputs. */
+    ci::WinnerMaps winners(const Call& c, const BufferPlan& plan, ci::RingCheckMaps& ringCheck)
+    {
+        ci::WinnerInputs sums;
+        sums.sum = c.volume;
+        sums.width = c.sz.width;
+        sums.height = c.sz.height;
+        sums.windows = c.windows;
+        ci::WinnerMaps maps;
+        maps.disp16 = plan.disp16();
+        maps.dispInt = plan.dispInt();
+        maps.dispRight = plan.afterSums(c.volume, 0);
+        if (c.rings && ringCheckOn(c.p))
+        {
+            ringCheck = { c.ringAbove, c.ringBelow, plan.nonUnique16(), ringStats.ptr<int>() + RING_GAP_BINS };
+            maps.nonUnique16 = ringCheck.nonUnique16;
+        }
+        ci::winnerTakesAll(sums, c.p, maps, plan.rightKey(), c.st);
+        if (c.p.medianSize != 3)
+            return maps;
+        ci::WinnerMaps med = maps;
+        med.disp16 = plan.afterSums(c.volume, 1);
+        med.dispInt = plan.afterSums(c.volume, 2);
+        med.dispRight = plan.afterSums(c.volume, 3);
+        const ci::MedianMaps filter = { { maps.disp16, maps.dispInt, maps.dispRight },
+                                        { med.disp16, med.dispInt, med.dispRight } };
+        ci::medianFilter(filter, 3, c.st);
+        return med;
+    }
+
+    void check(const Call& c, const ci::WinnerMaps& maps, const ci::RingCheckMaps& ringCheck, const cuda::GpuMat& o,
+               OutputArray confidence)
+    {
+        const cuda::PtrStepSz<short> sparse = sparse16.empty() || c.Sp.empty() ? cuda::PtrStepSz<short>()
+                                                                               : cuda::PtrStepSz<short>(sparse16);
+        cuda::PtrStepSz<float> conf;
+        if (c.p.confidence)
+        {
+            confidence.create(c.sz, CV_32FC1);
+            conf = confidence.getGpuMat();
+        }
+        if (c.p.floatOutput)
+            ci::consistencyCheck(maps.disp16, maps.dispInt, maps.dispRight, sparse, ringCheck, c.p,
+                                 cuda::PtrStepSz<float>(o), conf, c.st);
+        else
+            ci::consistencyCheck(maps.disp16, maps.dispInt, maps.dispRight, sparse, ringCheck, c.p,
+                                 cuda::PtrStepSz<short>(o), conf, c.st);
+    }
+
+    //! The end of a call, with the rest of its work queued: the units check's counts are long copied by then.
+    void endCall(const Call& c, bool& warned)
+    {
+        markCallEnd(c.st, c.capturing);
+        if (c.Sp.empty() || c.capturing)
+            return;
+        cudaCheck(cudaEventSynchronize(countsReady));
+        checkSparseUnits(*hostCounts, c.Sp.type(), c.p, warned);
+    }
 };
 
 CudaPipeline::CudaPipeline() : b_(new Buffers) {}
@@ -158,201 +449,34 @@ void CudaPipeline::run(const cuda::GpuMat& L, const cuda::GpuMat& R, const cuda:
     // No stream given: the default stream (not cuda::Stream::Null() up front: that needs a working driver).
     cudaStream_t st = stream ? cuda::StreamAccessor::getStream(*stream) : 0;
     Buffers& b = *b_;
-    const bool capturing = b.orderAfterLastCall(st);
-    const Size sz = L.size();
-    b.censusL.create(sz, CV_32SC1);
-    const int padBefore = ci::rightCensusPadBefore(p), padAfter = ci::rightCensusPadAfter(p);
-    b.censusRPadded.create(sz.height, padBefore + sz.width + padAfter, CV_32SC1);
-    b.censusR = b.censusRPadded.colRange(padBefore, padBefore + sz.width);
-    int* scanStats = nullptr;
+    Buffers::Call c(L, R, Sp, p, st, b.orderAfterLastCall(st));
+    const Buffers::BufferPlan plan = { b, c.sz };
+    b.censusBuffers(c);
     if (!Sp.empty())
-    {
-        b.sparse16.create(sz, CV_16SC1);
-        const bool filter = visibilityFilterOn(p);
-        const cuda::GpuMat converted = filter ? shortMap(b.censusL, sz, 0) : b.sparse16;
-        // The units check's counts: read on the host at the end of the call (checkUnits), which a graph cannot do.
-        int* counts = nullptr;
-        if (!capturing)
-        {
-            b.unitsCounts.create(1, (int)(sizeof(SparseCounts) / sizeof(int)), CV_32SC1);
-            counts = b.unitsCounts.ptr<int>();
-            cudaCheck(cudaMemsetAsync(counts, 0, sizeof(SparseCounts), st));
-        }
-        if (Sp.depth() == CV_16U)
-            ci::convertSparse(cuda::PtrStepSz<ushort>(Sp), p.minDisparity, p.numDisparities, converted, counts, st);
-        else
-            ci::convertSparse(cuda::PtrStepSz<float>(Sp), p.minDisparity, p.numDisparities, converted, counts, st);
-        if (counts)
-        {
-            if (!b.hostCounts)
-                cudaCheck(cudaHostAlloc((void**)&b.hostCounts, sizeof(SparseCounts), cudaHostAllocDefault));
-            if (!b.countsReady)
-                cudaCheck(cudaEventCreateWithFlags(&b.countsReady, cudaEventDisableTiming));
-            cudaCheck(cudaMemcpyAsync(b.hostCounts, counts, sizeof(SparseCounts), cudaMemcpyDeviceToHost, st));
-            cudaCheck(cudaEventRecord(b.countsReady, st));
-        }
-        // The scan test, once for the stages that need it (on the map as given), read by them on the device.
-        if (p.visibilityParallax256 > 0 || p.weighCopies)
-        {
-            b.scanStats.create(1, 2 * SCAN_GAP_BINS + 1, CV_32SC1);
-            scanStats = b.scanStats.ptr<int>();
-            ci::testScan(converted, scanStats, st);
-        }
-        if (filter)
-            ci::filterHiddenPoints(converted, p, b.sparse16, scanStats, st);
-    }
-    if (L.depth() == CV_8U)
-        ci::censusTransform(cuda::PtrStepSz<uchar>(L), cuda::PtrStepSz<uchar>(R), b.censusL, b.censusR, padBefore,
-                            padAfter, st);
-    else
-        ci::censusTransform(cuda::PtrStepSz<ushort>(L), cuda::PtrStepSz<ushort>(R), b.censusL, b.censusR, padBefore,
-                            padAfter, st);
-    // At the end of the call, with the rest of its work queued: the counts are long copied by then.
-    const bool counted = !Sp.empty() && !capturing;
-    auto checkUnits = [&]() {
-        if (!counted)
-            return;
-        cudaCheck(cudaEventSynchronize(b.countsReady));
-        checkSparseUnits(*b.hostCounts, Sp.type(), p, warned);
-    };
-    const bool rings = (semidenseOnly || p.semidense) && p.ringGapFactor16 > 0 && !Sp.empty();
-    cuda::GpuMat ringAbove, ringBelow;
+        b.sparseInput(c, plan);
+    b.census(c);
+    c.rings = (semidenseOnly || p.semidense) && p.ringGapFactor16 > 0 && !Sp.empty();
     if (semidenseOnly || p.semidense)
-    {
-        b.semidense16.create(sz, CV_16SC1);
-        ci::semidensify(b.censusL, b.censusR, b.sparse16, p, b.semidense16, st);
-        if (rings)
-        {
-            b.ring.create(2 * sz.height, sz.width, CV_16SC1);
-            b.ringStats.create(1, RING_GAP_BINS + 1, CV_32SC1);
-            ringAbove = b.ring.rowRange(0, sz.height);
-            ringBelow = b.ring.rowRange(sz.height, 2 * sz.height);
-            ci::interpolateRings(b.censusL, b.censusR, b.sparse16, p, b.semidense16, ringAbove, ringBelow,
-                                 b.ringStats.ptr<int>(), st);
-        }
-    }
-
-    out.create(sz, p.floatOutput ? CV_32FC1 : CV_16SC1);
-    cuda::GpuMat o = out.getGpuMat();
+        b.semidense(c);
+    out.create(c.sz, p.floatOutput ? CV_32FC1 : CV_16SC1);
+    const cuda::GpuMat o = out.getGpuMat();
     if (semidenseOnly)
     {
         if (p.floatOutput)
             ci::encodeOutput(b.semidense16, p.minDisparity, cuda::PtrStepSz<float>(o), st);
         else
             ci::encodeOutput(b.semidense16, p.minDisparity, cuda::PtrStepSz<short>(o), st);
-        b.markCallEnd(st, capturing);
-        checkUnits();
+        b.endCall(c, warned);
         return;
     }
-
-    const cuda::GpuMat prior = p.semidense ? b.semidense16 : p.ddc ? b.sparse16 : cuda::GpuMat();
-    // The windows from the priors the call has (in plain SGM, the LiDAR's values where given), before the facts
-    // overwrite the semidense map.
-    b.windowed = searchWindowOn(p);
-    b.lastSize = sz;
-    b.lastD = p.numDisparities;
-    ci::WindowMap windows = ci::WindowMap();
-    // The sum volume; after the winner-takes-all it holds the right-view and median maps (4 W shorts a row).
-    cuda::GpuMat volume;
-    void* graphVolume = nullptr;
-    if (b.windowed)
-    {
-        ci::enqueueSearchWindows(p.semidense ? b.semidense16 : Sp.empty() ? cuda::GpuMat() : b.sparse16, L, R, p,
-                                 b.windows, st);
-        windows = ci::windowMap(b.windows);
-        // The compact volume (WindowMap) takes the windows' total, which only the device knows: the call waits for
-        // it and allocates what it needs (a continuous buffer, kept while large enough). A captured call cannot
-        // wait: its graph allocates (and frees) a volume of the full range's size, which any windows fit.
-        const Size tiles(b.windows.windows.cols, b.windows.windows.rows);
-        size_t units = (size_t)tiles.area() * (p.numDisparities / WINDOW_ALIGN);
-        if (!capturing)
-        {
-            if (!b.windowUnits)
-                cudaCheck(cudaHostAlloc((void**)&b.windowUnits, sizeof(int), cudaHostAllocDefault));
-            cudaCheck(cudaMemcpyAsync(b.windowUnits, b.windows.bases.ptr<int>() + tiles.area(), sizeof(int),
-                                      cudaMemcpyDeviceToHost, st));
-            cudaCheck(cudaStreamSynchronize(st));
-            units = (size_t)*b.windowUnits;
-        }
-        const size_t cols = std::max((units * ci::WINDOW_VOLUME_UNIT + sz.height - 1) / sz.height, (size_t)4 * sz.width);
-        CV_Assert(cols <= (size_t)INT_MAX);
-        const bool fits = !b.sum.empty() && b.sum.isContinuous() && b.sum.type() == CV_16UC1 &&
-                          b.sum.rows == sz.height && (size_t)b.sum.cols >= cols;
-        if (fits)
-            volume = b.sum;
-        else if (capturing)
-        {
-            cudaCheck(cudaMallocAsync(&graphVolume, cols * sz.height * sizeof(ushort), st));
-            volume = cuda::GpuMat(sz.height, (int)cols, CV_16UC1, graphVolume);
-        }
-        else
-        {
-            // An eighth more than this call needs, so that the next frames' windows seldom grow it.
-            b.sum.release();
-            cuda::createContinuous(sz.height, (int)std::min(cols + cols / 8, (size_t)INT_MAX), CV_16UC1, b.sum);
-            volume = b.sum;
-        }
-    }
-    else
-    {
-        b.sum.create(sz.height, sz.width * p.numDisparities, CV_16UC1);
-        volume = b.sum;
-    }
-    const cuda::PtrStepSz<short> prior16 = prior.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior);
-    const bool weigh = p.weighCopies && scanStats;
-    const cuda::PtrStepSz<short> own16 = weigh ? cuda::PtrStepSz<short>(b.sparse16) : cuda::PtrStepSz<short>();
-    const int* scan = weigh ? scanStats + 2 * SCAN_GAP_BINS : nullptr;
-    // The path kernel's per-pixel facts: in the semidense map's memory, which the aggregation reads for the last
-    // time (the winner-takes-all reuses it); DSGM's prior, the sparse map, is read by the check later.
-    cuda::GpuMat facts;
-    if (p.semidense)
-        facts = b.semidense16;
-    else if (!prior.empty() || p.edgeThreshold > 0)
-    {
-        b.facts.create(sz, CV_16UC1);
-        facts = b.facts;
-    }
-    const cuda::PtrStepSz<ushort> facts16 = facts.empty() ? cuda::PtrStepSz<ushort>() : cuda::PtrStepSz<ushort>(facts);
-    if (L.depth() == CV_8U)
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<uchar>(L), p, own16, scan, facts16, windows,
-                           volume, st);
-    else
-        ci::aggregateCosts(b.censusL, b.censusR, prior16, cuda::PtrStepSz<ushort>(L), p, own16, scan, facts16, windows,
-                           volume, st);
-    const cuda::GpuMat rightKey = b.censusL, disp16 = shortMap(b.censusRPadded, sz, 0),
-                       dispInt = shortMap(b.censusRPadded, sz, sz.width), dispRight = shortMap(volume, sz, 0);
+    b.sumVolume(c);
+    b.aggregate(c, plan);
     ci::RingCheckMaps ringCheck = {};
-    if (rings && ringCheckOn(p))
-        ringCheck = { ringAbove, ringBelow, b.semidense16, b.ringStats.ptr<int>() + RING_GAP_BINS };
-    ci::winnerTakesAll(volume, sz.width, sz.height, p, windows, disp16, dispInt, rightKey, dispRight,
-                       ringCheck.nonUnique16, st);
-    cuda::GpuMat d16 = disp16, dInt = dispInt, dRight = dispRight;
-    if (p.medianSize == 3)
-    {
-        const cuda::GpuMat med16 = shortMap(volume, sz, sz.width), medInt = shortMap(volume, sz, 2 * sz.width),
-                           medRight = shortMap(volume, sz, 3 * sz.width);
-        const ci::MedianMaps maps = { { disp16, dispInt, dispRight }, { med16, medInt, medRight } };
-        ci::medianFilter(maps, 3, st);
-        d16 = med16;
-        dInt = medInt;
-        dRight = medRight;
-    }
-    const cuda::PtrStepSz<short> sparse = b.sparse16.empty() || Sp.empty() ? cuda::PtrStepSz<short>()
-                                                                           : cuda::PtrStepSz<short>(b.sparse16);
-    cuda::PtrStepSz<float> conf;
-    if (p.confidence)
-    {
-        confidence.create(sz, CV_32FC1);
-        conf = confidence.getGpuMat();
-    }
-    if (p.floatOutput)
-        ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<float>(o), conf, st);
-    else
-        ci::consistencyCheck(d16, dInt, dRight, sparse, ringCheck, p, cuda::PtrStepSz<short>(o), conf, st);
-    if (graphVolume)
-        cudaCheck(cudaFreeAsync(graphVolume, st));
-    b.markCallEnd(st, capturing);
-    checkUnits();
+    const ci::WinnerMaps maps = b.winners(c, plan, ringCheck);
+    b.check(c, maps, ringCheck, o, confidence);
+    if (c.graphVolume)
+        cudaCheck(cudaFreeAsync(c.graphVolume, st));
+    b.endCall(c, warned);
 }
 
 double CudaPipeline::searchedFraction() const

@@ -103,27 +103,57 @@ struct WindowMap
 /** The compact volume's bases of the windows (lo | hi << 16 per tile): bases, tiles + 1 ints of device memory. */
 void windowLayout(PtrStepSz<int> windows, int* bases, cudaStream_t stream);
 
-/** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
-and the prior (empty: plain SGM), so no cost volume is stored. sum: rows = image rows, cols = width * numDisparities.
-The left image gives the jump penalty's intensity steps (read only when p.edgeThreshold > 0). own16: the filtered
-sparse map where copied priors take p.wCopy (copiedPrior) if the scan test's result at *scan (device memory) is
-non-zero; empty: w everywhere. facts: a map of the image's size that receives each pixel's packed facts (the
-path kernel's input besides the census strings) where a prior or the edge rule exists; it may be prior16's memory,
-which it then overwrites. windows (empty: the full range): each pixel's paths cover its tile's window only, and sum's
-memory is the compact volume (WindowMap), of which only the windows' sums are zeroed and written. */
-void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<uchar> left,
-                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream);
-void aggregateCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> prior16, PtrStepSz<ushort> left,
-                    const PipelineParams& p, PtrStepSz<short> own16, const int* scan, PtrStepSz<ushort> facts,
-                    WindowMap windows, PtrStepSz<ushort> sum, cudaStream_t stream);
+/** aggregateCosts' inputs, the CPU's AggregationInputs (what a call does not have stays empty): the census strings;
+the prior (data null: plain SGM); the left image of element type T, whose intensity steps give the jump penalty
+(read only when p.edgeThreshold > 0); own16, the filtered sparse map where copied priors take p.wCopy (copiedPrior)
+if the scan test's result at *scan (device memory) is non-zero (data null: w everywhere); the windows (tiles.data
+null: the full range), each pixel's paths covering its tile's window only. */
+template <typename T>
+struct AggregationInputs
+{
+    PtrStepSz<int> censusL, censusR;
+    PtrStepSz<short> prior16;
+    PtrStepSz<T> left;
+    PtrStepSz<short> own16;
+    const int* scan = nullptr;
+    WindowMap windows = WindowMap();
+};
 
-/** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima; dispRight receives the
-right-view disparity as on the CPU; nonUnique16 (may be empty) the winners that fail the uniqueness check, NO_DISP
-elsewhere. windows: as aggregateCosts' (each pixel's winner within its window). height: the image's. */
-void winnerTakesAll(PtrStepSz<ushort> sum, int width, int height, const PipelineParams& p, WindowMap windows,
-                    PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
-                    PtrStepSz<short> dispRight, PtrStepSz<short> nonUnique16, cudaStream_t stream);
+/** aggregateCosts' outputs. sum: rows = image rows, cols = width * numDisparities; with windows, the compact volume
+(WindowMap), of which only the windows' sums are zeroed and written. facts (scratch): a map of the image's size that
+receives each pixel's packed facts (the path kernel's input besides the census strings), needed where a prior or the
+edge rule exists; it may be prior16's memory, which it then overwrites. */
+struct AggregationOutputs
+{
+    PtrStepSz<ushort> sum;
+    PtrStepSz<ushort> facts;
+};
+
+/** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
+and the prior, so no cost volume is stored. */
+void aggregateCosts(const AggregationInputs<uchar>& in, const PipelineParams& p, const AggregationOutputs& out,
+                    cudaStream_t stream);
+void aggregateCosts(const AggregationInputs<ushort>& in, const PipelineParams& p, const AggregationOutputs& out,
+                    cudaStream_t stream);
+
+//! winnerTakesAll's inputs: aggregateCosts' sums of an image of width x height, laid out as windows says.
+struct WinnerInputs
+{
+    PtrStepSz<ushort> sum;
+    int width = 0, height = 0;
+    WindowMap windows = WindowMap();   //!< as aggregateCosts' (each pixel's winner within its window)
+};
+
+/** The winner-takes-all's maps, the CPU's WinnerMaps: dispRight the right-view disparity as on the CPU; nonUnique16
+(data null: not written) the winners that fail the uniqueness check, NO_DISP elsewhere. */
+struct WinnerMaps
+{
+    PtrStepSz<short> disp16, dispInt, dispRight, nonUnique16;
+};
+
+/** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima. */
+void winnerTakesAll(const WinnerInputs& in, const PipelineParams& p, const WinnerMaps& out, PtrStepSz<int> rightKey,
+                    cudaStream_t stream);
 
 /** The disparity windows' buffers: the coarse pass's images (left, then right), census strings, sums and outputs
 (disp16, dispInt, dispRight), right-view keys; the tiles' prior and coarse ranges; the windows (CV_16SC2) and their

@@ -144,14 +144,31 @@ void searchWindows(const GpuMat& prior16, const GpuMat& left, const GpuMat& righ
         *coarse = w.disp.rowRange(w.disp.rows / 3, 2 * w.disp.rows / 3);
 }
 
+/* The stage's inputs for a left image of element type T (the stage's overloads); own16 empty: no copied priors (then
+scanFlag is not read). */
+template <typename T>
+static ci::AggregationInputs<T> aggregationInputs(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& prior16,
+                                                  const GpuMat& left, const GpuMat& own16, const GpuMat& scanFlag)
+{
+    ci::AggregationInputs<T> in;
+    in.censusL = censusL;
+    in.censusR = censusR;
+    if (!prior16.empty())
+        in.prior16 = prior16;
+    in.left = left;
+    if (!own16.empty())
+    {
+        in.own16 = own16;
+        in.scan = scanFlag.ptr<int>();
+    }
+    return in;
+}
+
 void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& prior16, const GpuMat& left,
                     const PipelineParams& p, const GpuMat& own16, bool scan, GpuMat& sum, const GpuMat& windows)
 {
     sum.create(left.rows, left.cols * p.numDisparities, CV_16UC1);
     GpuMat scanFlag(1, 1, CV_32SC1, Scalar::all(scan ? 1 : 0));
-    const cuda::PtrStepSz<short> prior = prior16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(prior16);
-    const cuda::PtrStepSz<short> own = own16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(own16);
-    const int* flag = own16.empty() ? nullptr : scanFlag.ptr<int>();
     GpuMat facts(left.size(), CV_16UC1);
     // With windows the stage fills the compact volume, copied here into sum's full layout (0 outside the windows).
     std::unique_ptr<CompactVolume> compact(windows.empty() ? nullptr
@@ -162,11 +179,23 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
         cuda::createContinuous(1, (int)compact->sums(), CV_16UC1, volume);
     else
         volume = sum;
-    const ci::WindowMap map = compact ? compact->map(windows) : ci::WindowMap();
+    ci::AggregationOutputs out;
+    out.sum = volume;
+    out.facts = facts;
     if (left.type() == CV_8UC1)
-        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<uchar>(left), p, own, flag, facts, map, volume, 0);
+    {
+        ci::AggregationInputs<uchar> in = aggregationInputs<uchar>(censusL, censusR, prior16, left, own16, scanFlag);
+        if (compact)
+            in.windows = compact->map(windows);
+        ci::aggregateCosts(in, p, out, 0);
+    }
     else
-        ci::aggregateCosts(censusL, censusR, prior, cuda::PtrStepSz<ushort>(left), p, own, flag, facts, map, volume, 0);
+    {
+        ci::AggregationInputs<ushort> in = aggregationInputs<ushort>(censusL, censusR, prior16, left, own16, scanFlag);
+        if (compact)
+            in.windows = compact->map(windows);
+        ci::aggregateCosts(in, p, out, 0);
+    }
     finish();
     if (!compact)
         return;
@@ -190,7 +219,9 @@ void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMa
         nonUnique16.release();
     // With windows: sum (full layout) into the compact volume the stage reads (its own memory, not sum's).
     GpuMat volume = windows.empty() ? sum : GpuMat();
-    ci::WindowMap map = ci::WindowMap();
+    ci::WinnerInputs in;
+    in.width = width;
+    in.height = sz.height;
     std::unique_ptr<CompactVolume> compact;
     if (!windows.empty())
     {
@@ -200,10 +231,16 @@ void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMa
         CV_Assert(full.isContinuous());
         compact->forEachWindowSum([&](size_t f, size_t i) { c.ptr<ushort>()[i] = full.ptr<ushort>()[f]; });
         volume.upload(c);
-        map = compact->map(windows);
+        in.windows = compact->map(windows);
     }
-    ci::winnerTakesAll(volume, width, sz.height, p, map, disp16, dispInt, rightKey, dispRight,
-                       nonUnique16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(nonUnique16), 0);
+    in.sum = volume;
+    ci::WinnerMaps out;
+    out.disp16 = disp16;
+    out.dispInt = dispInt;
+    out.dispRight = dispRight;
+    if (!nonUnique16.empty())
+        out.nonUnique16 = nonUnique16;
+    ci::winnerTakesAll(in, p, out, rightKey, 0);
     finish();
 }
 

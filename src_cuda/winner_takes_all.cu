@@ -196,10 +196,14 @@ __global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz
 
 } // namespace
 
-void winnerTakesAll(PtrStepSz<ushort> sum, int width, int height, const PipelineParams& p, WindowMap windows,
-                    PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
-                    PtrStepSz<short> dispRight, PtrStepSz<short> nonUnique16, cudaStream_t stream)
+void winnerTakesAll(const WinnerInputs& in, const PipelineParams& p, const WinnerMaps& out, PtrStepSz<int> rightKey,
+                    cudaStream_t stream)
 {
+    const PtrStepSz<ushort> sum = in.sum;
+    const int width = in.width, height = in.height;
+    const WindowMap windows = in.windows;
+    const PtrStepSz<short> disp16 = out.disp16, dispInt = out.dispInt, dispRight = out.dispRight,
+                           nonUnique16 = out.nonUnique16;
     CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
                                    stream));
     const dim3 grid((width + SEG - 1) / SEG, height);

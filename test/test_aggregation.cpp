@@ -141,8 +141,12 @@ TEST(Lidarsgm_Aggregation, one_step_by_hand)
     p.w.census256 = 256;
     p.w.p1 = 3;
     p.w.p2 = 20;
-    Mat d16, di, dr, nu, sum;
-    aggregateCosts(cl, cr, Mat(), Mat(), p, d16, di, dr, nu, sum);
+    AggregationInputs in;
+    in.censusL = cl;
+    in.censusR = cr;
+    WinnerMaps w;
+    Mat sum;
+    aggregateCosts(in, p, w, sum);
     // Pixel 1: left-to-right = C(1) + L(0) step with L(0) = C(0) = 0 everywhere: 1 + min(0, 3, 3, 20) - 0 = 1;
     // right-to-left starts at pixel 1 (= C = 1); vertical paths = C = 1. Sum = 4 at every d.
     for (int d = 0; d < D; d++)
@@ -178,16 +182,22 @@ TEST_P(Lidarsgm_AggregationRandom, matches_reference)
     // With the ring check on, the winner-takes-all also keeps the non-unique winners.
     p.ringGapFactor16 = 32;
     p.semidense = p.lidarCheck = true;
-    Mat cost, ref, sum, d16, di, dr, nu, e16, ei, er, enu;
+    Mat cost, ref, sum, e16, ei, er, enu;
     computeMatchingCost(cl, cr, prior, p, cost);
     referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref, image, thr, p.w.p2Edge);
-    aggregateCosts(cl, cr, prior, image, p, d16, di, dr, nu, sum);
+    AggregationInputs in;
+    in.censusL = cl;
+    in.censusR = cr;
+    in.prior16 = prior;
+    in.left = image;
+    WinnerMaps w;
+    aggregateCosts(in, p, w, sum);
     EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
     winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
-    EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(nu, enu, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(w.disp16, e16, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(w.dispInt, ei, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(w.dispRight, er, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(w.nonUnique16, enu, NORM_INF));
 }
 INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationRandom,
     testing::Combine(testing::Values(4, 8), testing::Values(16, 48),
@@ -263,17 +273,24 @@ TEST(Lidarsgm_Aggregation, copied_priors_take_their_weights)
             }
     ASSERT_GT(copies, 0);
     ASSERT_GT(cvtest::norm(cost, costOwn, NORM_INF), 0);
-    Mat ref, e16, ei, er, enu, sum, d16, di, dr, nu;
+    Mat ref, e16, ei, er, enu, sum;
     referenceAggregation(cost, sz.width, D, 8, p.w.p1, p.w.p2, ref);
     winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
-    aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, nu, sum, nullptr, own);
+    AggregationInputs in;
+    in.censusL = cl;
+    in.censusR = cr;
+    in.prior16 = prior;
+    in.own16 = own;
+    WinnerMaps w;
+    aggregateCosts(in, p, w, sum);
     EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(w.disp16, e16, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(w.dispRight, er, NORM_INF));
     // Without the sparse map every prior takes w.
     Mat refOwn;
     referenceAggregation(costOwn, sz.width, D, 8, p.w.p1, p.w.p2, refOwn);
-    aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, nu, sum);
+    in.own16.release();
+    aggregateCosts(in, p, w, sum);
     EXPECT_EQ(0, cvtest::norm(sum, refOwn, NORM_INF));
 }
 
@@ -296,17 +313,22 @@ TEST_P(Lidarsgm_AggregationThreads, same_as_reference)
     winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
     const int saved = getNumThreads();
     setNumThreads(threads);
-    Mat sum, d16, di, dr, nu;
+    AggregationInputs in;
+    in.censusL = cl;
+    in.censusR = cr;
+    in.prior16 = prior;
+    WinnerMaps w;
+    Mat sum;
     // Twice: the second call reuses the buffers the first one left.
     Ptr<AggregationState> kept;
     for (int call = 0; call < 2; call++)
     {
-        aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, nu, sum, &kept);
+        aggregateCosts(in, p, w, sum, &kept);
         EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF)) << "call " << call;
-        EXPECT_EQ(0, cvtest::norm(nu, enu, NORM_INF)) << "call " << call;
-        EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF)) << "call " << call;
-        EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF)) << "call " << call;
-        EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF)) << "call " << call;
+        EXPECT_EQ(0, cvtest::norm(w.nonUnique16, enu, NORM_INF)) << "call " << call;
+        EXPECT_EQ(0, cvtest::norm(w.disp16, e16, NORM_INF)) << "call " << call;
+        EXPECT_EQ(0, cvtest::norm(w.dispInt, ei, NORM_INF)) << "call " << call;
+        EXPECT_EQ(0, cvtest::norm(w.dispRight, er, NORM_INF)) << "call " << call;
     }
     setNumThreads(saved);
 }
@@ -345,12 +367,17 @@ TEST(Lidarsgm_Aggregation, stack_placement_does_not_change_results)
         int shift = 0;
         const auto check = [&]() {
             SCOPED_TRACE(cv::format("%d threads, stack shift %d", threads, shift));
-            Mat sum, d16, di, dr, nu;
-            aggregateCosts(cl, cr, prior, Mat(), p, d16, di, dr, nu, sum);
+            AggregationInputs in;
+            in.censusL = cl;
+            in.censusR = cr;
+            in.prior16 = prior;
+            WinnerMaps w;
+            Mat sum;
+            aggregateCosts(in, p, w, sum);
             EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
-            EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
-            EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF));
-            EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
+            EXPECT_EQ(0, cvtest::norm(w.disp16, e16, NORM_INF));
+            EXPECT_EQ(0, cvtest::norm(w.dispInt, ei, NORM_INF));
+            EXPECT_EQ(0, cvtest::norm(w.dispRight, er, NORM_INF));
         };
         shift = 16;   withStackShift<16>(check);
         shift = 48;   withStackShift<48>(check);
@@ -391,33 +418,43 @@ TEST_P(Lidarsgm_AggregationWindows, match_reference)
     referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref, image, thr, p.w.p2Edge, windows);
     referenceWinners(ref, windows, sz.width, p, e16, ei, er, enu);
     const int saved = getNumThreads();
+    AggregationInputs in;
+    in.censusL = cl;
+    in.censusR = cr;
+    in.prior16 = prior;
+    in.left = image;
+    in.windows = windows;
     Ptr<AggregationState> kept;
     for (int threads : { 1, 2, 7 })
     {
         SCOPED_TRACE(cv::format("%d threads", threads));
         setNumThreads(threads);
-        Mat sum, d16, di, dr, nu;
-        aggregateCosts(cl, cr, prior, image, p, d16, di, dr, nu, sum, &kept, Mat(), windows);
+        WinnerMaps w;
+        Mat sum;
+        aggregateCosts(in, p, w, sum, &kept);
         EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
-        EXPECT_EQ(0, cvtest::norm(d16, e16, NORM_INF));
-        EXPECT_EQ(0, cvtest::norm(di, ei, NORM_INF));
-        EXPECT_EQ(0, cvtest::norm(dr, er, NORM_INF));
-        EXPECT_EQ(0, cvtest::norm(nu, enu, NORM_INF));
+        EXPECT_EQ(0, cvtest::norm(w.disp16, e16, NORM_INF));
+        EXPECT_EQ(0, cvtest::norm(w.dispInt, ei, NORM_INF));
+        EXPECT_EQ(0, cvtest::norm(w.dispRight, er, NORM_INF));
+        EXPECT_EQ(0, cvtest::norm(w.nonUnique16, enu, NORM_INF));
     }
     setNumThreads(saved);
     // The full range as windows is the aggregation without them, and the reference winners agree with the
     // winner-takes-all on the full volume.
     Mat full((sz.height + 31) / 32, (sz.width + 31) / 32, CV_16SC2, Scalar(0, D));
-    Mat sumW, sumF, d16W, d16F, a, b, c, f, g, h;
-    aggregateCosts(cl, cr, prior, image, p, d16W, a, b, c, sumW, nullptr, Mat(), full);
-    aggregateCosts(cl, cr, prior, image, p, d16F, f, g, h, sumF);
+    Mat sumW, sumF;
+    WinnerMaps wW, wF;
+    in.windows = full;
+    aggregateCosts(in, p, wW, sumW);
+    in.windows.release();
+    aggregateCosts(in, p, wF, sumF);
     EXPECT_EQ(0, cvtest::norm(sumW, sumF, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(d16W, d16F, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(b, g, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(wW.disp16, wF.disp16, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(wW.dispRight, wF.dispRight, NORM_INF));
     referenceWinners(sumF, full, sz.width, p, e16, ei, er, enu);
-    EXPECT_EQ(0, cvtest::norm(d16F, e16, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(g, er, NORM_INF));
-    EXPECT_EQ(0, cvtest::norm(h, enu, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(wF.disp16, e16, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(wF.dispRight, er, NORM_INF));
+    EXPECT_EQ(0, cvtest::norm(wF.nonUnique16, enu, NORM_INF));
 }
 INSTANTIATE_TEST_CASE_P(/**/, Lidarsgm_AggregationWindows,
     testing::Combine(testing::Values(4, 8), testing::Values(48, 128),
@@ -455,7 +492,8 @@ TEST(Lidarsgm_SearchWindows, rule_by_hand)
     p.minDisparity = 0;
     p.searchWindow = 4;
     Mat windows, coarse;
-    searchWindows(prior, left, right, p, windows, &coarse);
+    Ptr<AggregationState> work;
+    searchWindows(prior, left, right, p, windows, &work, &coarse);
     ASSERT_EQ(Size(5, 3), windows.size());
     ASSERT_FALSE(coarse.empty());
     EXPECT_EQ(Size(150 / 4, 90 / 4), coarse.size());
@@ -518,7 +556,8 @@ TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
             p.searchWindow = margin;
             const Mat windowPrior = p.semidense ? c.semidense16 : c.sparse16;
             Mat windows, coarse;
-            searchWindows(windowPrior, c.left, c.right, p, windows, &coarse);
+            Ptr<AggregationState> work;
+            searchWindows(windowPrior, c.left, c.right, p, windows, &work, &coarse);
             if (coarse.empty())
                 coarseDisparities(c.left, c.right, p, coarse);   // the GPU computes it on every call
             cuda::GpuMat gw, gcoarse;
@@ -527,9 +566,16 @@ TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
             expectSameAsCpu(coarse, gcoarse, what + " (coarse)");
             expectSameAsCpu(windows, gw, what + " (windows)");
 
-            Mat sum, d16, dInt, dRight, nonUnique;
-            aggregateCosts(c.censusL, c.censusR, c.prior, c.left, p, d16, dInt, dRight, nonUnique, sum, nullptr,
-                           c.own16, windows);
+            AggregationInputs in;
+            in.censusL = c.censusL;
+            in.censusR = c.censusR;
+            in.prior16 = c.prior;
+            in.left = c.left;
+            in.own16 = c.own16;
+            in.windows = windows;
+            WinnerMaps winners;
+            Mat sum;
+            aggregateCosts(in, p, winners, sum);
             cuda::GpuMat gl, gr, gsum;
             cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), p, gl, gr);
             cuda_host::aggregateCosts(gl, gr, c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior),
@@ -550,11 +596,11 @@ TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
             ASSERT_EQ(0, cvtest::norm(sum, s, NORM_INF)) << what << " (sums within the windows)";
             cuda::GpuMat g16, gInt, gRight, gNonUnique;
             cuda_host::winnerTakesAll(gsum, c.left.cols, p, g16, gInt, gRight, gNonUnique, gw);
-            expectSameAsCpu(d16, g16, what + " (disp16)");
-            expectSameAsCpu(dInt, gInt, what + " (dispInt)");
-            expectSameAsCpu(dRight, gRight, what + " (dispRight)");
-            if (!nonUnique.empty())
-                expectSameAsCpu(nonUnique, gNonUnique, what + " (nonUnique16)");
+            expectSameAsCpu(winners.disp16, g16, what + " (disp16)");
+            expectSameAsCpu(winners.dispInt, gInt, what + " (dispInt)");
+            expectSameAsCpu(winners.dispRight, gRight, what + " (dispRight)");
+            if (!winners.nonUnique16.empty())
+                expectSameAsCpu(winners.nonUnique16, gNonUnique, what + " (nonUnique16)");
         }
 }
 

@@ -128,8 +128,18 @@ inline StageCase runCpuStages(const std::string& name, const Mat& l, const Mat& 
         c.rings.valid = false;
     c.prior = p.semidense ? c.semidense16 : p.ddc ? c.sparse16 : Mat();
     c.own16 = p.weighCopies && c.scan ? c.sparse16 : Mat();
-    aggregateCosts(c.censusL, c.censusR, c.prior, l, p, c.disp16, c.dispInt, c.dispRight, c.nonUnique16, c.sum,
-                   nullptr, c.own16);
+    cv::lidarsgm::detail::AggregationInputs in;
+    in.censusL = c.censusL;
+    in.censusR = c.censusR;
+    in.prior16 = c.prior;
+    in.left = l;
+    in.own16 = c.own16;
+    cv::lidarsgm::detail::WinnerMaps w;
+    aggregateCosts(in, p, w, c.sum);
+    c.disp16 = w.disp16;
+    c.dispInt = w.dispInt;
+    c.dispRight = w.dispRight;
+    c.nonUnique16 = w.nonUnique16;
     medianFilter(c.disp16, c.med16);
     medianFilter(c.dispInt, c.medInt);
     medianFilter(c.dispRight, c.medRight);

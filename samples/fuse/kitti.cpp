@@ -129,13 +129,9 @@ struct FrameResult
     bool resumed = false;
 };
 
-/* One pass over the frames; failed frames are appended to failures ("id: why"). The frames go to --streams workers
-(default 1), each on its own thread taking the next frame when done with one: reading and writing on the CPU overlap
-the other workers' matching. The sums are taken in frame order at the end. */
-void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTitle, std::vector<std::string>& failures)
+//! A pass's rows with their labels and nothing counted: one per mode, the LiDAR alone, the semidense map, Table V's.
+PassRows passRows(const Options& o)
 {
-    const std::vector<std::string>& ids = src.ids;
-    const std::string out = o.str("out"), key = optionsKey(o);
     const std::vector<std::string> modes = o.list("modes", "sgm,dsgm,sdsgm");
     const int check = checkFromName(o.str("check", "stereo-lidar"));
     PassRows sums;
@@ -149,19 +145,28 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
     }
     sums.lidar.label = "LiDAR points alone";
     sums.semi.label = "semidense map (SDSGM input)";
+    return sums;
+}
 
-    std::vector<FrameResult> results(ids.size());
+/* The frames of a pass into results (labels from rows): they go to --streams workers (default 1), each on its own
+thread taking the next frame when done with one, so that reading and writing on the CPU overlap the other workers'
+matching. A frame with --resume and a metrics.yml is taken from it; a frame that fails keeps why. total: the pass's
+time so far, for the progress line. */
+void computeFrames(const Options& o, const FrameSource& src, int lines, bool lineTitle, const PassRows& rows,
+                   std::vector<FrameResult>& results, TickMeter& total)
+{
+    const std::vector<std::string>& ids = src.ids;
+    const std::string out = o.str("out"), key = optionsKey(o);
+    results.assign(ids.size(), FrameResult());
     std::atomic<size_t> next(0);
     size_t done = 0, computedSoFar = 0;
     std::mutex progressLock;
-    TickMeter total;
-    total.start();
     auto runOne = [&](FrameWorker& worker, size_t n) {
         const std::string frameOut =
             out.empty() ? "" : out + "/" + ids[n] + (lineTitle ? format("_%dlines", lines) : "");
         const std::string metrics = frameOut + "/metrics.yml";
         FrameResult& res = results[n];
-        res.rows = sums;   // labels; counts and times start empty
+        res.rows = rows;   // labels; counts and times start empty
         try
         {
             if (o.has("resume") && utils::fs::exists(metrics))
@@ -219,6 +224,46 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
         t.join();
     if (workerError)
         std::rethrow_exception(workerError);
+}
+
+//! The pass's tables from sums (scored: some frame has ground truth), its confidence and residual lines.
+void printPass(const Options& o, const FrameSource& src, int lines, bool lineTitle, const PassRows& sums,
+               size_t computed, size_t resumed, bool scored)
+{
+    const std::string title = format("%s: %zu frames%s, D1 (KITTI devkit rules), sums over frames, %s",
+                                     src.label.c_str(), computed + resumed,
+                                     lineTitle ? format(", %d LiDAR lines", lines).c_str() : "",
+                                     o.has("cuda") ? format("CUDA, %d stream(s), ms = GPU time per call",
+                                                            o.i("streams", 1)).c_str()
+                                                   : format("CPU, %d threads", getNumThreads()).c_str());
+    std::vector<Row> table = sums.modes;
+    if (computed + resumed == 0)
+        printf("\n%s: no frame to sum, every frame failed (the reasons follow)\n", src.label.c_str());
+    else if (scored)
+    {
+        table.push_back(sums.lidar);
+        printTable(title, "D1", table);
+        printf("| %-28s | %6.2f %% | %11.2f %% | %11s | %8s |\n", sums.semi.label.c_str(),
+               sums.semi.stats.coverage(), sums.semi.stats.coveredError(), "-", "-");
+    }
+    else
+        printTimes(title.substr(0, title.find(", D1")) + ", no ground truth", table);
+    if (scored && !sums.table5.empty())
+        printTable("Consistency checks on SDSGM (the paper's Table V)", "D1", sums.table5);
+    for (const Row& r : sums.modes)
+        printConfidence(r, "D1", format("%zu computed frames", computed));
+}
+
+/* One pass over the frames (computeFrames); failed frames are appended to failures ("id: why"). The sums are taken in
+frame order at the end. */
+void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTitle, std::vector<std::string>& failures)
+{
+    const std::vector<std::string>& ids = src.ids;
+    PassRows sums = passRows(o);
+    std::vector<FrameResult> results;
+    TickMeter total;
+    total.start();
+    computeFrames(o, src, lines, lineTitle, sums, results, total);
 
     size_t computed = 0, resumed = 0, failed = 0;
     bool scored = false;
@@ -244,28 +289,7 @@ void kittiPass(const Options& o, const FrameSource& src, int lines, bool lineTit
         }
     }
     total.stop();
-    const std::string title = format("%s: %zu frames%s, D1 (KITTI devkit rules), sums over frames, %s",
-                                     src.label.c_str(), computed + resumed,
-                                     lineTitle ? format(", %d LiDAR lines", lines).c_str() : "",
-                                     o.has("cuda") ? format("CUDA, %d stream(s), ms = GPU time per call",
-                                                            o.i("streams", 1)).c_str()
-                                                   : format("CPU, %d threads", getNumThreads()).c_str());
-    std::vector<Row> table = sums.modes;
-    if (computed + resumed == 0)
-        printf("\n%s: no frame to sum, every frame failed (the reasons follow)\n", src.label.c_str());
-    else if (scored)
-    {
-        table.push_back(sums.lidar);
-        printTable(title, "D1", table);
-        printf("| %-28s | %6.2f %% | %11.2f %% | %11s | %8s |\n", sums.semi.label.c_str(),
-               sums.semi.stats.coverage(), sums.semi.stats.coveredError(), "-", "-");
-    }
-    else
-        printTimes(title.substr(0, title.find(", D1")) + ", no ground truth", table);
-    if (scored && !sums.table5.empty())
-        printTable("Consistency checks on SDSGM (the paper's Table V)", "D1", sums.table5);
-    for (const Row& r : sums.modes)
-        printConfidence(r, "D1", format("%zu computed frames", computed));
+    printPass(o, src, lines, lineTitle, sums, computed, resumed, scored);
     printResiduals(residuals);
     // A rate only of frames computed here: frames taken from an earlier run cost nothing to read back.
     printf("frames: %zu computed, %zu taken from earlier runs (--resume), %zu failed%s\n", computed, resumed, failed,
