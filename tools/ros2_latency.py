@@ -8,19 +8,26 @@
    (CameraInfo pair, images to grey, PointCloud2 to points), the projection, the bare compute call (cv2, or GpuMat
    upload, compute and download with --cuda), and the conversions out (DisparityImage pixels and window, REP 118 depth,
    the organised cloud, the three messages built), median over --rounds rounds. Target: conversions <= 10 % of the
-   compute on the CPU path at KITTI size.
+   compute on the CPU path at KITTI size. Then each conversion's sub-steps (median ms, minor page faults, MB written
+   and the GB/s that makes), and the host's memory for reference (NUMA nodes, transparent huge pages, a copy of the
+   cloud's size into a reused buffer and into a fresh one): a host where fresh memory costs page faults, or whose
+   memory bandwidth is low, shows it there. Without rclpy the messages are plain objects that keep their arrays as
+   they are (as the rclpy kit and rosbags' do: the node and the bag command copy nothing into a message).
 2. With rclpy (the ROS 2 environment): the node as a process (python3 -m lidarsgm_ros.node), a publisher sending the
    frames at 10 Hz under new stamps, and a subscriber timing each output from its publication; the node keeps up when
    every frame published after the first output is fused.
 """
 import argparse
+import glob
 import os
+import resource
 import signal
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
+from types import SimpleNamespace
 
 import cv2
 import numpy as np
@@ -49,23 +56,104 @@ def frames(args, kit):
     return out
 
 
+def minor_faults():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+
+
+class Steps:
+    """Wall time and minor page faults of named steps, one round at a time (mark(name) ends a step)."""
+
+    def __init__(self):
+        self.rounds = []
+
+    def start(self):
+        self.round = {}
+        self.rounds.append(self.round)
+        self._t, self._f = time.perf_counter(), minor_faults()
+
+    def mark(self, name):
+        t, f = time.perf_counter(), minor_faults()
+        dt, df = self.round.get(name, (0.0, 0))
+        self.round[name] = (dt + t - self._t, df + f - self._f)
+        self._t, self._f = time.perf_counter(), minor_faults()  # the getrusage call itself not counted
+
+    def median(self, name, skip=1):
+        rows = [r[name] for r in self.rounds[skip:] if name in r]
+        return 1000 * statistics.median(t for t, _ in rows), statistics.median(f for _, f in rows)
+
+    def names(self):
+        return list(self.rounds[0]) if self.rounds else []
+
+
+# sub-steps: (part, step names) in the order they run; the bytes each writes per pixel (32FC1 depth) for its GB/s
+IN_STEPS = ("camera_info pair", "images to grey", "left image to BGR", "PointCloud2 to points")
+OUT_BYTES = {"disparity image": 4, "disparityToDepth": 4, "depth image": 4, "disparityToPoints": 12,
+             "x y z rgb cloud": 16}
+
+
+def plain_kit():
+    """Messages as plain objects that keep their arrays (no ROS): as MessageKit.rosbags, the node's rclpy kit."""
+    return MessageKit(lambda type_name, **f: SimpleNamespace(**f),
+                      lambda a: np.ascontiguousarray(a).reshape(-1).view(np.uint8),
+                      lambda a: np.asarray(a, np.float64).ravel())
+
+
+def memory_reference(nbytes, rounds):
+    """A line on the host's memory: NUMA nodes, transparent huge pages, and a copy of nbytes into a reused buffer
+    against one into a fresh buffer each time (the difference: page faults), median of rounds."""
+    nodes = len(glob.glob("/sys/devices/system/node/node[0-9]*"))
+    thp = "?"
+    if os.path.exists("/sys/kernel/mm/transparent_hugepage/enabled"):
+        thp = open("/sys/kernel/mm/transparent_hugepage/enabled").read().strip()
+    src = np.ones(nbytes, np.uint8)
+    dst = np.empty_like(src)
+    dst[...] = 0
+    reused, fresh, faults, tobytes = [], [], [], []
+    for _ in range(rounds + 1):
+        t = time.perf_counter()
+        np.copyto(dst, src)
+        reused.append(time.perf_counter() - t)
+        f, t = minor_faults(), time.perf_counter()
+        new = np.empty_like(src)
+        np.copyto(new, src)
+        fresh.append(time.perf_counter() - t)
+        faults.append(minor_faults() - f)
+        del new
+        t = time.perf_counter()
+        b = src.tobytes()
+        tobytes.append(time.perf_counter() - t)
+        del b
+    r, fr, fa, tb = (statistics.median(v[1:]) for v in (reused, fresh, faults, tobytes))
+    return ("memory: %s NUMA node%s, transparent huge pages %s, %d CPUs for this process; a %.1f MB copy: %.2f ms "
+            "(%.1f GB/s) into a reused buffer, %.2f ms (%.1f GB/s, %d minor page faults, %.2f us each over the "
+            "reused copy) into a fresh one, %.2f ms as bytes (tobytes)"
+            % (nodes or "?", "" if nodes == 1 else "s", thp, len(os.sched_getaffinity(0)), nbytes / 1e6, 1000 * r,
+               nbytes / r / 1e9, 1000 * fr, nbytes / fr / 1e9, fa, 1e6 * (fr - r) / fa if fa else 0.0,
+               1000 * tb))
+
+
 def in_process(args):
-    kit = MessageKit.rclpy() if HAVE_RCLPY else MessageKit(
-        lambda type_name, **f: type("Msg", (), f)(), lambda a: np.ascontiguousarray(a).tobytes(),
-        lambda a: np.asarray(a, np.float64).ravel())
+    kit = MessageKit.rclpy() if HAVE_RCLPY else plain_kit()
     print("1. per frame, median of %d rounds (%s messages, %s, %d OpenCV threads)"
           % (args.rounds, "rclpy" if HAVE_RCLPY else "plain", "CUDA" if args.cuda else "CPU", cv2.getNumThreads()))
     print("| frame | conversions in | projection | compute | conversions out | conversions / compute |")
     print("| --- | --- | --- | --- | --- | --- |")
+    breakdown = []
     for fid, frame, m in frames(args, kit):
         fusion = Fusion(cv2, args.params, args.cuda, kitti.ros_calibration(frame.calibration)[3])
         t = {k: [] for k in ("in", "proj", "compute", "out")}
+        steps, serial = Steps(), Steps()
         for r in range(args.rounds + 1):
+            steps.start()
             t0 = time.perf_counter()
             g = cr.stereo_geometry(m["left/camera_info"], m["right/camera_info"])
+            steps.mark("camera_info pair")
             grey_l, grey_r = cr.to_grey(m["left/image_rect"], cv2), cr.to_grey(m["right/image_rect"], cv2)
+            steps.mark("images to grey")
             bgr = cr.to_bgr(m["left/image_rect"], cv2)
-            points, _ = cr.cloud_to_points(m["points"])
+            steps.mark("left image to BGR")
+            points, _, _ = cr.cloud_points(m["points"])
+            steps.mark("PointCloud2 to points")
             t1 = time.perf_counter()
             sparse = fusion.project(g, points)
             t2 = time.perf_counter()
@@ -75,9 +163,14 @@ def in_process(args):
             else:
                 disp = fusion.sgm.compute(grey_l, grey_r, sparse)
             t3 = time.perf_counter()
-            output_messages(kit, fusion, Result(disp, None, g, bgr, sparse, grey_l, grey_r), "camera", 10**9,
-                            "32FC1")
+            steps.mark("(projection and compute)")
+            result = Result(**dict(dict.fromkeys(Result._fields), disparity16=disp, geometry=g, left_bgr=bgr,
+                                   sparse=sparse, left_grey=grey_l, right_grey=grey_r, points=points))
+            output_messages(kit, fusion, result, "camera", 10**9, "32FC1", steps.mark)
             t4 = time.perf_counter()
+            # The same outputs once more in one band, each step timed on its own (not in the totals above).
+            serial.start()
+            output_messages(kit, fusion, result, "camera", 10**9, "32FC1", serial.mark, bands=1)
             if r == 0:
                 continue  # warm-up
             t["in"].append(t1 - t0)
@@ -88,6 +181,32 @@ def in_process(args):
         print("| %s | %.2f ms | %.2f ms | %.2f ms | %.2f ms | %.1f %% |"
               % (fid, med["in"], med["proj"], med["compute"], med["out"],
                  100 * (med["in"] + med["out"]) / med["compute"]))
+        breakdown.append((fid, frame.left.shape[0] * frame.left.shape[1], steps, serial))
+    print("\n1b. the conversions by sub-step, median of the same rounds: ms, minor page faults, and for the outputs "
+          "the MB each writes and the GB/s that makes; 'out, one band' is each output step on its own, the outputs "
+          "made once more in one band (Fusion.outputs bands=1) after each round's")
+    print("| sub-step | %s |" % " | ".join(b[0] for b in breakdown))
+    print("| --- |%s" % (" --- |" * len(breakdown)))
+    names = [n for n in breakdown[0][2].names() if not n.startswith("(")]
+    for part, chosen, which in (("in", [n for n in names if n in IN_STEPS], 2),
+                                ("out", [n for n in names if n not in IN_STEPS], 2),
+                                ("out, one band", breakdown[0][3].names(), 3)):
+        tot = [[0.0, 0] for _ in breakdown]
+        for n in chosen:
+            cells = []
+            for i, b in enumerate(breakdown):
+                pixels, steps = b[1], b[which]
+                ms, faults = steps.median(n)
+                tot[i][0] += ms
+                tot[i][1] += faults
+                cell = "%.2f ms, %d faults" % (ms, faults)
+                if n in OUT_BYTES:
+                    mb = OUT_BYTES[n] * pixels / 1e6
+                    cell += ", %.1f MB, %.1f GB/s" % (mb, mb / ms if ms > 0 else 0.0)
+                cells.append(cell)
+            print("| %s: %s | %s |" % (part, n, " | ".join(cells)))
+        print("| %s: sum of the medians | %s |" % (part, " | ".join("%.2f ms, %d faults" % (ms, f) for ms, f in tot)))
+    print(memory_reference(16 * breakdown[0][1], args.rounds))
 
 
 def node_rate(args):

@@ -86,9 +86,11 @@ class BagTest(unittest.TestCase):
             for _, channel, _, msg in make_reader(f, decoder_factories=[DecoderFactory()]).iter_decoded_messages():
                 topics.setdefault(channel.topic, []).append(msg)
         self.assertEqual(sorted(topics), sorted("/stereo/" + t for t in (
-            "disparity", "depth", "points2", "confidence", "left/image_rect", "left/camera_info", "right/image_rect",
-            "right/camera_info", "points")))
+            "disparity", "depth", "points2", "confidence", "fusion_status", "left/image_rect", "left/camera_info",
+            "right/image_rect", "right/camera_info", "points")))
         self.assertTrue(all(len(v) == 2 for v in topics.values()))
+        self.assertEqual([(s.status[0].level, s.status[0].message) for s in topics["/stereo/fusion_status"]],
+                         [(0, "fused with the LiDAR")] * 2)
         d = topics["/stereo/disparity"][1]
         self.assertEqual((d.image.encoding, d.delta_d, d.min_disparity, d.max_disparity), ("32FC1", 1 / 16, 0, 127))
         disp = np.frombuffer(bytes(d.image.data), np.float32).reshape(d.image.height, d.image.width)
@@ -116,15 +118,21 @@ class BagTest(unittest.TestCase):
                 "--lidar-to-camera", *[repr(float(v)) for v in (pitch @ t).ravel()])
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("over 2 sets, 2 above 1 px: the LiDAR pulls the fusion off the images there", r.stdout)
-        # A transform that puts the scan 1 km behind the camera: every set skipped with the reason, exit code 1.
+        # A transform that puts the scan 1 km behind the camera: every set fused as stereo alone, with the reason.
         flip = t.copy()
         flip[2, 3] -= 1000
-        r = run("lidarsgm_ros.bag", bag, os.path.join(self.work, "out_db3_flipped"), "--params-file", PARAMS,
+        out = os.path.join(self.work, "out_db3_flipped")
+        r = run("lidarsgm_ros.bag", bag, out, "--params-file", PARAMS,
                 "--lidar-to-camera", *[repr(float(v)) for v in flip.ravel()])
-        self.assertEqual(r.returncode, 1, r.stderr)
-        self.assertIn("set 1 of ~2 (stamp 0.100000000) skipped: none of the cloud's 123223 points projects into the "
-                      "left image", r.stdout)
-        self.assertIn("0 sets fused, 2 skipped", r.stdout)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("set 1 of ~2 fused in ", r.stdout)
+        self.assertIn("stereo alone: none of the cloud's 123223 points projects into the left image", r.stdout)
+        self.assertIn("2 sets fused as stereo alone (0 no cloud, 2 calibration, 0 bad message)", r.stdout)
+        sgm = cv2.lidarsgm.StereoLidarSGM.load(PARAMS)
+        sgm.setMode(cv2.lidarsgm.StereoLidarSGM_MODE_SGM)
+        sgm.setConsistencyCheck(cv2.lidarsgm.StereoLidarSGM_CHECK_STEREO)
+        np.testing.assert_array_equal(np.round(disparities(out)[10**8] * 16).astype(np.int16),
+                                      sgm.compute(frame.left, frame.right, np.zeros(frame.sparse.shape, np.float32)))
 
     def test_fail_safe_and_recalibration(self):
         """A 2-degree rotation error: the sets are fused as stereo alone (pixel for pixel the tool's SGM with the
@@ -147,8 +155,8 @@ class BagTest(unittest.TestCase):
         self.assertRegex(r.stdout, r"correction from 4 sets: pitch [-+\d.]+ \+- [\d.]+, yaw .* calibration residual "
                                    r"[\d.]+ -> 0\.\d+ px")
         self.assertIn("switched to the corrected transform from set 5 on", r.stdout)
-        self.assertIn("4 sets fused as stereo alone (their LiDAR misplaced on the images); the corrected transform "
-                      "taken after set 4", r.stdout)
+        self.assertIn("4 sets fused as stereo alone (0 no cloud, 4 calibration, 0 bad message); the corrected "
+                      "transform taken after set 4", r.stdout)
         for k in (5, 6):
             m = re.search(r"set %d of ~6 fused in \d+ ms, matching residual ([\d.]+) px\n" % k, r.stdout)
             self.assertIsNotNone(m, r.stdout)
@@ -255,18 +263,21 @@ class BagTest(unittest.TestCase):
     def test_late_scans_need_approximate_sync(self):
         bag = os.path.join(self.work, "kitti_late")
         self.assertEqual(run("lidarsgm_ros.kitti", KITTI, bag, "--lidar-offset-ms", "30").returncode, 0)
+        # Exact sync: no scan shares the images' stamps; the pairs go as stereo alone, and the command says why.
         r = run("lidarsgm_ros.bag", bag, os.path.join(self.work, "out_exact"), "--params-file", PARAMS)
-        self.assertEqual(r.returncode, 1, r.stdout)
-        self.assertIn("0 sets fused, 0 skipped, 0 kept from before, 4 incomplete sets dropped", r.stdout)
-        self.assertIn("pass --approximate-sync", r.stderr)
+        self.assertEqual(r.returncode, 0, r.stdout)
+        self.assertIn("2 sets fused, 0 skipped, 0 kept from before, 2 messages dropped", r.stdout)
+        self.assertIn("2 sets fused as stereo alone (2 no cloud, 0 calibration, 0 bad message)", r.stdout)
+        self.assertIn("no scan shares a stamp with the images: if the LiDAR is not triggered by the cameras, pass "
+                      "--approximate-sync", r.stderr)
         out = os.path.join(self.work, "out_approx")
         r = run("lidarsgm_ros.bag", bag, out, "--params-file", PARAMS, "--approximate-sync", "--tolerance", "0.05")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.expect_tool_output(out)
         r = run("lidarsgm_ros.bag", bag, os.path.join(self.work, "out_tight"), "--params-file", PARAMS,
                 "--approximate-sync", "--tolerance", "0.02")
-        self.assertEqual(r.returncode, 1)
-        self.assertIn("0 sets fused, 0 skipped, 0 kept from before, 10 unmatched messages dropped", r.stdout)
+        self.assertEqual(r.returncode, 0)
+        self.assertIn("2 sets fused as stereo alone (2 no cloud, 0 calibration, 0 bad message)", r.stdout)
 
     def test_resume_after_an_interruption(self):
         out = os.path.join(self.work, "out_resume")

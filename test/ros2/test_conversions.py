@@ -17,6 +17,7 @@ from lidarsgm_ros import conversions as cr  # noqa: E402
 from lidarsgm_ros import kitti  # noqa: E402
 from lidarsgm_ros.conversions import ConversionError  # noqa: E402
 from lidarsgm_ros.fusion import Fusion  # noqa: E402
+from lidarsgm_ros import fusion as fusion_module  # noqa: E402
 from lidarsgm_ros.messages import MessageKit  # noqa: E402
 from lidarsgm_ros.sync import ApproximateSync, ExactSync  # noqa: E402
 
@@ -107,6 +108,66 @@ class StereoGeometry(unittest.TestCase):
                 cr.stereo_geometry(l, r)
             self.assertIn(text, str(e.exception))
 
+    def test_the_last_pair_is_kept(self):
+        """The same pair's values again: the same StereoGeometry back, without the checks; any value changed, or a
+        broken pair after a good one: worked out (or refused) anew."""
+        left, right = self.pair()
+        g = cr.stereo_geometry(info(left), info(right))
+        self.assertIs(cr.stereo_geometry(info(left), info(right)), g)
+        other = right.copy()
+        other[0, 3] = -700 * 0.5
+        self.assertAlmostEqual(cr.stereo_geometry(info(left), info(other)).baseline, 0.5)
+        self.assertAlmostEqual(cr.stereo_geometry(info(left), info(right, frame="x")).baseline, 0.54)
+        with self.assertRaisesRegex(ConversionError, "no image size"):
+            cr.stereo_geometry(info(left, w=0), info(right, w=0))
+        self.assertIsNot(cr.stereo_geometry(info(left), info(right)), g)
+        self.assertEqual(cr.stereo_geometry(info(left), info(right)).focal_baseline, g.focal_baseline)
+
+    def test_broken_camera_info(self):
+        """K or P of the wrong size, fx 0, NaN, no image size, values that are no numbers: each refused, saying what
+        is wrong and what was expected."""
+        left, right = self.pair()
+        k = list(self.K.ravel())
+
+        def with_k(m, kv, **kw):
+            i = info(m, **kw)
+            i.k = kv
+            return i
+        fx0 = left.copy()
+        fx0[0, 0] = 0
+        nan = right.copy()
+        nan[0, 3] = np.nan
+        inf = left.copy()
+        inf[1, 2] = np.inf
+        cases = [
+            ((with_k(left, k[:8]), with_k(right, k)), "left camera_info K has 8 values, expected 9 (3 x 3"),
+            ((with_k(left, k), with_k(right, k + [1.0])), "right camera_info K has 10 values, expected 9"),
+            ((with_k(left, k[:3] + [np.nan] + k[4:]), info(right)), "left camera_info K holds NaN or infinite"),
+            ((info(left), info(right[:, :3])), "right camera_info P has 9 values, expected 12 (3 x 4, row by row)"),
+            ((info(fx0), info(right)), "left camera_info has no projection matrix P (fx 0, fy 700, P[2,2] 1; "
+                                       "expected fx, fy > 0"),
+            ((info(left), info(nan)), "right camera_info P holds NaN or infinite values"),
+            ((info(inf), info(right)), "left camera_info P holds NaN or infinite values"),
+            ((info(left), info(right, w=0)), "right camera_info has no image size (0x375): expected the calibrated"),
+            ((info(left, h=0), info(right, h=0)), "left camera_info has no image size (1242x0)"),
+            ((info(left, w=-4), info(right)), "left camera_info has no image size (-4x375)"),
+            ((info(left, w=12.5), info(right)), "left camera_info width is 12.5, expected an integer"),
+            ((Msg(width=1242, height=375, p=["a"] * 12, header=Msg(frame_id="")), info(right)),
+             "left camera_info P is not a list of numbers"),
+        ]
+        for (l, r), text in cases:
+            with self.assertRaises(ConversionError, msg=text) as e:
+                cr.stereo_geometry(l, r)
+            self.assertIn(text, str(e.exception))
+        # The rectification maps refuse NaN distortion and a camera_info without an image size.
+        rect = Msg(width=64, height=48, d=[0.0] * 5, k=k, r=list(np.eye(3).ravel()), p=list(left.ravel()),
+                   distortion_model="plumb_bob")
+        for change, text in ((dict(d=[np.nan, 0, 0, 0, 0]), "distortion coefficients hold NaN"),
+                             (dict(width=0), "the left camera_info has no image size (0x48)")):
+            with self.assertRaises(ConversionError) as e:
+                cr.rectification_maps(cv2, Msg(**dict(vars(rect), **change)), "left")
+            self.assertIn(text, str(e.exception))
+
 
 class Images(unittest.TestCase):
     def test_padded_rows_and_encodings(self):
@@ -130,6 +191,33 @@ class Images(unittest.TestCase):
             cr.image_to_array(Msg(height=1, width=1, step=2, encoding="yuv422", is_bigendian=0, data=bytes(2)))
         with self.assertRaisesRegex(ConversionError, "32FC1 image cannot be matched"):
             cr.to_grey(Msg(height=1, width=1, step=4, encoding="32FC1", is_bigendian=0, data=bytes(4)), cv2)
+
+    def test_image_size_step_and_data_must_agree(self):
+        """len(data) = step x height exactly, step >= a row, width and height > 0; data of any buffer type."""
+        def img(**kw):
+            m = dict(height=5, width=7, step=8, encoding="mono8", is_bigendian=0, data=bytes(40))
+            m.update(kw)
+            return Msg(**m)
+        self.assertEqual(cr.image_to_array(img()).shape, (5, 7))
+        self.assertEqual(cr.image_to_array(img(data=list(range(40)))).tolist()[1][:2], [8, 9])
+        self.assertEqual(cr.image_to_array(img(data=np.zeros(40, np.uint8))).shape, (5, 7))
+        for msg, text in (
+                (img(data=bytes(41)), "image data holds 41 bytes, a 7x5 mono8 image with step 8 needs step x height "
+                                      "= 40"),
+                (img(data=bytes(39)), "image data holds 39 bytes"),
+                (img(step=6, data=bytes(30)), "image step 6 is less than a row of the 7x5 mono8 image (7 bytes)"),
+                (img(encoding="bgr8", step=20, data=bytes(100)), "image step 20 is less than a row of the 7x5 bgr8 "
+                                                                 "image (21 bytes): expected step >= width x 3"),
+                (img(width=0, step=0, data=b""), "image is empty (0x5): expected width and height > 0"),
+                (img(height=0, data=b""), "image is empty (7x0)"),
+                (img(height=-1), "image is empty (7x-1)"),
+                (img(step=None), "image step is None, expected an integer"),
+                (img(data=None), "the image's data is NoneType, expected bytes"),
+                (img(data=[300] * 40), "the image's data is list, expected bytes"),
+                (img(encoding="mono10"), "image encoding 'mono10' is not supported (16UC1, 32FC1, 8UC1, bgr8")):
+            with self.assertRaises(ConversionError, msg=text) as e:
+                cr.to_grey(msg, cv2)
+            self.assertIn(text, str(e.exception))
 
 
 class Clouds(unittest.TestCase):
@@ -177,6 +265,182 @@ class Clouds(unittest.TestCase):
             with self.assertRaises(ConversionError) as e:
                 cr.cloud_to_points(msg)
             self.assertIn(text, str(e.exception))
+
+    XYZ = [field("x", 0, 7), field("y", 4, 7), field("z", 8, 7)]
+
+    def test_non_finite_points_dropped_and_counted(self):
+        xyz = np.array([[1, 2, 3], [np.nan, 0, 1], [4, np.inf, 6], [7, 8, -np.inf], [9, 9, 9]], np.float32)
+        rec = np.zeros((5, 4), np.float32)
+        rec[:, :3] = xyz
+        rec[:, 3].view(np.uint32)[:] = [0, 1, 2, 3, 4]
+        points, ring, dropped = cr.cloud_points(cloud(rec, self.XYZ + [field("ring", 12, 6)]))
+        np.testing.assert_array_equal(points, xyz[[0, 4]])
+        np.testing.assert_array_equal(ring, [0, 4])
+        self.assertEqual(dropped, 3)
+        points, ring, dropped = cr.cloud_points(cloud(rec, self.XYZ))
+        self.assertEqual((points.shape, ring, dropped), ((2, 3), None, 3))
+        self.assertEqual(cr.cloud_points(cloud(rec[[0, 4]], self.XYZ))[2], 0)
+        # float64 beyond float32's range: infinite as float32, dropped and counted, no warning
+        big = np.array([[1, 2, 3], [1e300, 0, 0]], np.float64)
+        f64 = [field("x", 0, 8), field("y", 8, 8), field("z", 16, 8)]
+        with np.errstate(all="raise"):
+            points, _, dropped = cr.cloud_points(cloud(big, f64))
+        np.testing.assert_array_equal(points, [[1, 2, 3]])
+        self.assertEqual(dropped, 1)
+        np.testing.assert_array_equal(cr.cloud_to_points(cloud(rec, self.XYZ))[0], xyz[[0, 4]])  # the old call
+        with self.assertRaisesRegex(ConversionError, r"no finite point \(5 points, all with a NaN or infinite"):
+            cr.cloud_points(cloud(np.full((5, 3), np.nan, np.float32), self.XYZ))
+
+    def test_numeric_coordinates_of_any_datatype(self):
+        """x y z as int16 (a driver's millimetres, say) are read as their numbers, as float32."""
+        rec = np.array([[1, -2, 3], [-300, 5, 32767]], np.int16)
+        points, _, dropped = cr.cloud_points(cloud(rec, [field("x", 0, 3), field("y", 2, 3), field("z", 4, 3)]))
+        np.testing.assert_array_equal(points, rec.astype(np.float32))
+        self.assertEqual((points.dtype, dropped), (np.float32, 0))
+
+    def test_header_and_data_must_agree(self):
+        """The rules of sensor_msgs/PointCloud2: each refused with what is wrong and what was expected."""
+        rec = np.zeros((6, 4), np.float32)  # 6 points of 16 bytes: x y z and 4 bytes free
+
+        def c(fields=None, **kw):
+            m = cloud(rec, self.XYZ if fields is None else fields, height=2)
+            for k, v in kw.items():
+                setattr(m, k, v)
+            return m
+        self.assertEqual(cr.cloud_points(c())[0].shape, (6, 3))
+        self.assertEqual(cr.cloud_points(c(data=list(c().data)))[0].shape, (6, 3))  # a list of byte values
+        # Left unset where the rest says it (drivers that make fields and clouds by hand): count 0 on x is one value,
+        # row_step 0 with rows of width x point_step.
+        for lenient in (c([field("x", 0, 7, count=0), field("y", 4, 7), field("z", 8, 7)]), c(row_step=0)):
+            np.testing.assert_array_equal(cr.cloud_points(lenient)[0], cr.cloud_points(c())[0])
+        cases = [
+            (c(point_step=0), "point_step is 0: expected the bytes of one point (> 0)"),
+            (c(point_step=-16), "point_step is -16"),
+            (c(point_step=8), "point field 'z' (offset 8, 1 x 4 bytes) does not fit the point step 8: expected "
+                              "offset + size x count <= point_step"),
+            (c(row_step=40), "row_step 40 is less than width x point_step = 3 x 16 = 48"),
+            (c(row_step=0, data=c().data[:-16]), "row_step 0 is less than width x point_step"),
+            (c(data=c().data + bytes(16)), "data holds 112 bytes, expected row_step x height = 48 x 2 = 96"),
+            (c(data=c().data[:-16]), "data holds 80 bytes, expected row_step x height = 48 x 2 = 96"),
+            (c(row_step=64), "data holds 96 bytes, expected row_step x height = 64 x 2 = 128"),
+            (c(width=0), "the point cloud is empty (2 x 0 points)"),
+            (c(height=0), "the point cloud is empty (0 x 3 points)"),
+            (c(width=-3, height=-2), "the point cloud is -2 x -3 points: expected height and width >= 1"),
+            (c(width=2.5), "the point cloud's width is 2.5, expected an integer"),
+            (c([field("x", 0, 7), field("y", 2, 7), field("z", 8, 7)]),
+             "point fields 'x' (bytes 0-3) and 'y' (bytes 2-5) overlap"),
+            (c(self.XYZ + [field("", 10, 2)]), "point fields 'z' (bytes 8-11) and '' (bytes 10-10) overlap"),
+            (c(self.XYZ + [field("intensity", 0, 8)]), "point fields 'x' (bytes 0-3) and 'intensity' (bytes 0-7) "
+                                                       "overlap"),
+            (c([]), "the point cloud has no fields: expected at least x, y, z"),
+            (c([field("x", 0, 7, count=2), field("y", 8, 7), field("z", 12, 7)]),
+             "point field 'x' has count 2: expected 1 (one value a point)"),
+            (c(self.XYZ + [field("ring", 12, 4, count=2)]), "point field 'ring' has count 2: expected 1"),
+            (c(self.XYZ + [field("x", 12, 7)]), "point field 'x' appears twice (offsets 0 and 12): expected it once"),
+            (c([field("x", -4, 7), field("y", 4, 7), field("z", 8, 7)]),
+             "point field 'x' has offset -4 and count 1: expected both >= 0"),
+            (c([field("x", 2**40, 7), field("y", 4, 7), field("z", 8, 7)]), "point field 'x' (offset 1099511627776"),
+            (c([field("x", 0, 7, count=2**62), field("y", 4, 7), field("z", 8, 7)]), "does not fit the point step 16"),
+            (c([field("x", 0, "float32"), field("y", 4, 7), field("z", 8, 7)]),
+             "point field 'x' datatype is 'float32', expected an integer"),
+            (c([field("x", 0, 0), field("y", 4, 7), field("z", 8, 7)]),
+             "point field 'x' has an unknown datatype 0: expected one of sensor_msgs/PointField's (1 INT8"),
+            (c(self.XYZ + [field(None, 12, 7)]), "a point field's name is None, expected a string"),
+            (c(data=None), "the point cloud's data is NoneType, expected bytes"),
+            (Msg(**dict(vars(c()), fields=None)), "the point cloud's fields are None, expected a list of PointField"),
+        ]
+        for msg, text in cases:
+            with self.assertRaises(ConversionError, msg=text) as e:
+                cr.cloud_points(msg)
+            self.assertIn(text, str(e.exception))
+        bad_ring = rec.copy()
+        bad_ring[1, 3] = np.nan
+        with self.assertRaisesRegex(ConversionError, "point field 'ring' holds values that are not laser indices"):
+            cr.cloud_points(cloud(bad_ring, self.XYZ + [field("ring", 12, 7)]))
+        # Padding fields without a name, repeated names we do not read and count-0 fields we do not read: allowed.
+        ok = c(self.XYZ + [field("", 12, 2, count=4), field("t", 12, 7, count=0)])
+        self.assertEqual(cr.cloud_points(ok)[0].shape, (6, 3))
+
+    def test_fuzz_every_outcome_is_a_result_or_a_refusal(self):
+        """A good cloud's point_step, row_step, width, height, fields and data length mutated at random: every
+        outcome is either the points an independent reader (struct, point by point) finds, or a ConversionError."""
+        rng = np.random.default_rng(20261127)
+        types = {1: "b", 2: "B", 3: "h", 4: "H", 5: "i", 6: "I", 7: "f", 8: "d"}
+        base_rec = rng.normal(scale=10, size=(12, 5)).astype(np.float32)
+        base_rec[3, 1] = np.nan
+        base_rec[:, 4].view(np.uint32)[:] = rng.integers(0, 64, 12)
+        fields0 = [("x", 0, 7, 1), ("y", 4, 7, 1), ("z", 8, 7, 1), ("intensity", 12, 7, 1), ("ring", 16, 6, 1)]
+        outcomes = {"result": 0, "refused": 0}
+
+        def reference(m):
+            """The finite points (float32) and rings the message's own definition gives, read point by point (a
+            row_step of 0 taken as width x point_step)."""
+            f = {fd.name: fd for fd in m.fields}
+            order = ">" if m.is_bigendian else "<"
+            pts, rings = [], []
+            row_step = m.row_step or m.width * m.point_step
+            for r in range(m.height):
+                for col in range(m.width):
+                    base = r * row_step + col * m.point_step
+                    p = [struct.unpack_from(order + types[f[n].datatype], m.data, base + f[n].offset)[0]
+                         for n in "xyz"]
+                    p = np.array(p, np.float64)
+                    with np.errstate(over="ignore"):
+                        p32 = p.astype(np.float32)
+                    if np.isfinite(p32).all():
+                        pts.append(p32)
+                        if "ring" in f:
+                            rings.append(struct.unpack_from(order + types[f["ring"].datatype], m.data,
+                                                            base + f["ring"].offset)[0])
+            return np.array(pts, np.float32).reshape(-1, 3), rings
+        for case in range(400):
+            height = int(rng.choice([1, 2, 3, 4]))
+            rec = base_rec[:12 // height * height]
+            m = cloud(rec, [field(*f) for f in fields0], height=height)
+            for _ in range(int(rng.integers(1, 4))):
+                what = rng.integers(0, 7)
+                if what == 0:
+                    m.point_step = int(rng.choice([0, 1, 4, 12, 16, 19, 20, 24, 40, -20, 2**33]))
+                elif what == 1:
+                    m.row_step = int(rng.choice([0, m.row_step - 4, m.row_step, m.row_step + 4, 2 * m.row_step,
+                                                 -m.row_step, m.width * m.point_step]))
+                elif what == 2:
+                    m.width = int(rng.choice([0, 1, m.width - 1, m.width + 1, 2 * m.width, -1]))
+                elif what == 3:
+                    m.height = int(rng.choice([0, 1, m.height - 1, m.height + 1, -1]))
+                elif what == 4:
+                    d = int(rng.choice([-20, -1, 1, 4, 20, -len(m.data)]))
+                    m.data = m.data[:len(m.data) + d] if d < 0 else m.data + bytes(d)
+                elif what == 5:
+                    i = int(rng.integers(0, len(m.fields)))
+                    fd = m.fields[i]
+                    attr = ["offset", "datatype", "count", "name"][int(rng.integers(0, 4))]
+                    value = {"offset": [0, 2, 4, 15, 16, 17, -4, 2**31], "datatype": [0, 1, 3, 5, 7, 8, 9],
+                             "count": [0, 1, 2, 3], "name": ["", "x", "y", "ring", "w"]}[attr]
+                    m.fields[i] = field(**dict(vars(fd), **{attr: value[int(rng.integers(0, len(value)))]}))
+                else:
+                    if rng.random() < 0.5 and len(m.fields) > 1:
+                        m.fields = [f for j, f in enumerate(m.fields) if j != int(rng.integers(0, len(m.fields)))]
+                    else:
+                        m.fields = m.fields + [field(str(rng.choice(["pad", "", "x"])), int(rng.integers(0, 24)),
+                                                     int(rng.choice([2, 4, 7, 8])))]
+                # keep the data consistent with the header half of the time: the mutation then reaches the fields
+                if rng.random() < 0.5 and m.height > 0 and m.row_step > 0 and m.row_step * m.height < 10**6:
+                    need = m.row_step * m.height
+                    m.data = (m.data * (need // max(len(m.data), 1) + 1))[:need]
+            try:
+                points, ring, dropped = cr.cloud_points(m)
+            except ConversionError:
+                outcomes["refused"] += 1
+                continue
+            outcomes["result"] += 1
+            want, rings = reference(m)
+            np.testing.assert_array_equal(points, want, err_msg="case %d" % case)
+            self.assertEqual(dropped, m.width * m.height - len(want), "case %d" % case)
+            if ring is not None:
+                self.assertEqual(ring.tolist(), rings, "case %d" % case)
+        self.assertGreater(outcomes["result"], 40, outcomes)  # the fuzz reaches both outcomes
+        self.assertGreater(outcomes["refused"], 100, outcomes)
 
 
 class Transforms(unittest.TestCase):
@@ -279,6 +543,18 @@ class Outputs(unittest.TestCase):
         with self.assertRaisesRegex(ConversionError, "depth encoding must be 32FC1"):
             cr.depth_image(depth, "mono8")
 
+    def test_cv2_window_is_the_same(self):
+        """valid_window with cv2 (cv2.boundingRect of a comparison, what Fusion.outputs calls) against its numpy
+        path, and on a map without a valid pixel."""
+        rng = np.random.default_rng(4)
+        d16 = rng.integers(-40, 2000, (37, 53)).astype(np.int16)
+        for mind in (-2, 0, 3, 200):
+            self.assertEqual(cr.valid_window(d16, mind, cv2), cr.valid_window(d16, mind))
+        sub = np.full((6, 9), -16, np.int16)
+        sub[2:4, 5] = 40
+        self.assertEqual(cr.valid_window(sub, 0, cv2), (5, 2, 1, 2))
+        self.assertEqual(cr.valid_window(np.full((3, 4), -16, np.int16), 0, cv2), (0, 0, 0, 0))
+
     def test_packed_colour(self):
         bgr = np.array([[[1, 2, 3]]], np.uint8)
         packed = pack_rgb(bgr).view(np.uint32)
@@ -333,6 +609,32 @@ class FusionOfMessages(unittest.TestCase):
     def fusion(self, use_cuda=False):
         return Fusion(cv2, self.params, use_cuda, kitti.ros_calibration(self.frame.calibration)[3])
 
+    def test_outputs_in_bands_are_the_same_bytes(self):
+        """Fusion.outputs in 1, 3 and 8 bands of rows at once (on threads): every array byte for byte the same, in
+        32FC1 and 16UC1, fresh arrays and a kit's reused ones; a Q whose -cy moved by a band's first row is not exact
+        in double is not split."""
+        f = self.fusion()
+        r = f.fuse(*self.inputs())
+        d16 = r.disparity16.copy()
+        d16[::7, ::5] = -16  # invalid pixels scattered too
+        r = r._replace(disparity16=d16)
+        for enc in ("32FC1", "16UC1"):
+            want = [np.array(a) for a in f.outputs(r, enc, bands=1)]
+            for bands in (3, 8):
+                for alloc in (None, self.kit.alloc, self.kit.alloc):
+                    got = f.outputs(r, enc, alloc, bands=bands)
+                    for a, b in zip(want, got):
+                        self.assertEqual(np.array(b).tobytes(), a.tobytes(), (enc, bands))
+        self.assertEqual(cr.row_bands(375, 8), [(0, 46), (46, 93), (93, 140), (140, 187), (187, 234), (234, 281),
+                                                (281, 328), (328, 375)])
+        self.assertEqual(cr.row_bands(40, 8), [(0, 40)])
+        q = cv2.lidarsgm.reprojectionMatrix(r.geometry.projection, r.geometry.focal_baseline)
+        self.assertEqual(cr.band_reprojection(q, 46)[1, 3], q[1, 3] + 46)
+        q[1, 3] = -0.1  # -0.1 + 3 is not exact
+        self.assertIsNone(cr.band_reprojection(q, 3))
+        q[3, 1] = 1e-3  # y in the fourth row: not a shift of cy alone
+        self.assertIsNone(cr.band_reprojection(q, 0))
+
     def test_same_as_the_module_call(self):
         r = self.fusion().fuse(*self.inputs(), confidence=True)
         sgm = cv2.lidarsgm.StereoLidarSGM.load(self.params)
@@ -359,9 +661,10 @@ class FusionOfMessages(unittest.TestCase):
         uncalibrated = self.kit.camera_info(self.kit.header(0, ""), 1242, 375, np.eye(3), np.zeros((3, 4)))
         with self.assertRaisesRegex(ConversionError, "right camera_info has no projection matrix P"):
             f.fuse(*self.inputs(**{"right/camera_info": uncalibrated}))
-        f.lidar_to_camera = None
-        with self.assertRaisesRegex(ConversionError, "no LiDAR-to-camera transform: set the lidar_to_camera"):
-            f.fuse(*self.inputs())
+        f.lidar_to_camera = None  # no transform: the images fused as stereo alone, saying why (Fusion.fuse)
+        r = f.fuse(*self.inputs())
+        self.assertEqual(r.stereo_alone, fusion_module.CALIBRATION)
+        self.assertIn("no LiDAR-to-camera transform: set the lidar_to_camera", r.reason)
 
     def test_settings_checked_by_the_module(self):
         f = self.fusion()

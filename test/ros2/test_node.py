@@ -5,9 +5,10 @@ package's Fast DDS profile for megabyte messages (config/fastdds_large_data.xml)
 
 Checks: the DisparityImage equals the tool's output for the frame pixel for pixel (and the same call through cv2);
 its D1 against the ground truth; depth and points against cv2.lidarsgm.disparityToDepth / disparityToPoints; a frame
-whose cloud has no x/y/z is logged and skipped while the next one is fused; a value the module refuses is refused at
+whose cloud has no x/y/z is fused as stereo alone with the reason logged; a value the module refuses is refused at
 run time with its message, the old value kept. A second node takes the transform from tf instead (a /tf_static and a
-/tf publisher): nothing but a warning before tf has it, then the same DisparityImages, and a change on /tf taken.
+/tf publisher): stereo alone with a warning before tf has it, then the same DisparityImages, and a change on /tf taken.
+(test_node_faults.py drives a node through the faults a robot meets.)
 """
 import os
 import random
@@ -34,6 +35,7 @@ import rclpy  # noqa: E402
 from rcl_interfaces.srv import GetParameters, SetParameters  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
+from diagnostic_msgs.msg import DiagnosticArray  # noqa: E402
 from tf2_msgs.msg import TFMessage  # noqa: E402
 from geometry_msgs.msg import TransformStamped  # noqa: E402
 
@@ -103,6 +105,9 @@ class NodeRun(unittest.TestCase):
         for topic, t in OUTPUT_TYPES.items():
             cls.node.create_subscription(rclpy_class(t), topic, lambda m, topic=topic: cls.got[topic].__setitem__(
                 stamp_ns(m), m), 10)
+        cls.status = {}  # stamp -> fusion_status's source ("lidar" or "stereo alone") and class
+        cls.node.create_subscription(DiagnosticArray, "fusion_status", lambda m: cls.status.__setitem__(
+            stamp_ns(m), tuple(kv.value for kv in m.status[0].values)), QoSProfile(depth=10))
         cls.kit = MessageKit.rclpy()
         wait_for(cls.node, lambda: all(p.get_subscription_count() for p in cls.pubs.values()), 60,
                  "the node's subscriptions")
@@ -143,13 +148,15 @@ class NodeRun(unittest.TestCase):
     def expect_outputs(self, stamp, seconds=120):
         self.wait(lambda: all(stamp in v for v in self.got.values()), seconds, "the outputs of %d" % stamp)
 
-    def publish_until_fused(self, fid, stamp, before=None):
-        """Publishes the frame, again under a later stamp every 3 s until its outputs come: a best-effort message
-        sent before the node's subscription has matched the publisher is lost, as on a robot. before(stamp) runs
-        ahead of each attempt. The outputs of any stamp sent count (under load a fusion may take longer than the
-        3 s). Returns the frame and the stamp whose outputs came."""
+    def publish_until_fused(self, fid, stamp, before=None, lidar=True):
+        """Publishes the frame, again under a later stamp every 3 s until its outputs come (fused with its LiDAR
+        unless lidar is False: a transform the test made wrong): a best-effort message sent before the node's
+        subscription has matched the publisher is lost, as on a robot (a lost cloud gives stereo alone).
+        before(stamp) runs ahead of each attempt. The outputs of any stamp sent count (under load a fusion may take
+        longer than the 3 s). Returns the frame and the stamp whose outputs came."""
         sent = []
-        done = lambda: next((s for s in sent if all(s in v for v in self.got.values())), None)
+        done = lambda: next((s for s in sent if all(s in v for v in self.got.values()) and
+                             (not lidar or self.status.get(s, ("",))[0] == "lidar")), None)
         for attempt in range(40):
             if before:
                 before(stamp)
@@ -230,22 +237,29 @@ class NodeTest(NodeRun):
         f0, stamp = self.publish_until_fused(FRAMES[0], 10**9)
         self.check_frame(stamp, FRAMES[0], f0)
 
-        # A broken cloud is skipped, with the reason in the log, and the next set fused. (The sensor-data QoS is best
+        # A broken cloud: its images fused as stereo alone (the matcher in MODE_SGM without a sparse map), the
+        # reason in the log and on fusion_status; the next set fused with its LiDAR. (The sensor-data QoS is best
         # effort, as on a robot: a message may be lost under load, so each is sent again under a later stamp until
         # its effect shows.)
         broken = 2 * 10**9
         for attempt in range(40):
             self.publish(FRAMES[0], broken, break_cloud=True)
             try:
-                wait_for(self.node, lambda: "skipped: the point cloud has no x/y/z field" in self.node_log(), 3, "")
+                wait_for(self.node, lambda: self.status.get(broken) == ("stereo alone", "bad message"), 3, "")
                 break
             except AssertionError:
                 broken += 10**7
         f1, stamp = self.publish_until_fused(FRAMES[1], 3 * 10**9)
         self.check_frame(stamp, FRAMES[1], f1)
-        self.assertIn("frame at %d.%09d skipped: the point cloud has no x/y/z field (fields: a, b, c, intensity, "
-                      "ring) (1 skipped, " % (broken // 10**9, broken % 10**9), self.node_log())
-        self.assertNotIn(broken, self.got["disparity"])
+        self.assertIn("fused as stereo alone: the cloud: the point cloud has no x/y/z field (fields: a, b, c, "
+                      "intensity, ring)", self.node_log())
+        sgm = cv2.lidarsgm.StereoLidarSGM.load(PARAMS)
+        sgm.setMode(cv2.lidarsgm.StereoLidarSGM_MODE_SGM)
+        sgm.setConsistencyCheck(cv2.lidarsgm.StereoLidarSGM_CHECK_STEREO)
+        d = self.got["disparity"][broken]
+        disp = np.frombuffer(bytes(d.image.data), np.float32).reshape(d.image.height, d.image.width)
+        np.testing.assert_array_equal(np.rint(disp * 16).astype(np.int16),
+                                      sgm.compute(f0.left, f0.right, np.zeros(f0.sparse.shape, np.float32)))
 
         # Images without their camera_info never make a set: the node says so, with what it received. (Its warnings
         # repeat while inputs wait; one may also come at the start, before discovery lets every topic through: the
@@ -295,7 +309,7 @@ class NodeTest(NodeRun):
         wrong = [float(v) for v in pitched(1.0, self.lidar_to_camera).ravel()]
         req = SetParameters.Request(parameters=[Parameter("lidar_to_camera", value=wrong).to_parameter_msg()])
         self.assertTrue(self.call(SetParameters, "set_parameters", req).results[0].successful)
-        self.publish_until_fused(FRAMES[1], 5 * 10**9)
+        self.publish_until_fused(FRAMES[1], 5 * 10**9, lidar=False)
         self.wait(lambda: "from where the images match" in self.node_log(), 10, "the calibration warning")
         r = float(re.search(r"the LiDAR lies ([\d.]+) px \(median\) from where the images match, more than 1 px",
                             self.node_log()).group(1))
@@ -307,7 +321,7 @@ class NodeTest(NodeRun):
                                                 Parameter("scan_rate", value=10.0).to_parameter_msg()])
         self.assertTrue(all(r.successful for r in self.call(SetParameters, "set_parameters", req).results))
         for k, fid in enumerate(FRAMES):
-            self.publish_until_fused(fid, (6 + k) * 10**9)
+            self.publish_until_fused(fid, (6 + k) * 10**9, lidar=False)
         self.wait(lambda: "switched to the corrected transform" in self.node_log(), 120, "the recalibration")
         m = re.search(r"correction from 2 sets: pitch ([-+\d.]+) \+- [\d.]+, .* calibration residual [\d.]+ -> "
                       r"([\d.]+) px; switched", self.node_log())
@@ -335,12 +349,12 @@ class NodeTfTest(NodeRun):
         self.tf_pub.publish(TFMessage(transforms=[transform_stamped("base_link", kitti.LIDAR_FRAME, base_to_lidar,
                                                                     stamp)]))
 
-    def fuse_with_tf(self, fid, stamp, base_to_lidar):
+    def fuse_with_tf(self, fid, stamp, base_to_lidar, lidar=True):
         """As publish_until_fused, the /tf sample of each stamp sent before its set."""
-        return self.publish_until_fused(fid, stamp, lambda t: self.publish_tf(base_to_lidar, t))
+        return self.publish_until_fused(fid, stamp, lambda t: self.publish_tf(base_to_lidar, t), lidar)
 
     def test_transform_from_tf(self):
-        # Without tf: a warning and no output.
+        # Without tf: stereo alone, with a warning.
         stamp = 10**9
         for attempt in range(40):
             self.publish(FRAMES[0], stamp + attempt * 10**7)
@@ -350,8 +364,10 @@ class NodeTfTest(NodeRun):
                 break
             except AssertionError:
                 pass
-        self.wait(lambda: "nothing is published until tf has one" in self.node_log(), 10, "the missing-tf warning")
-        self.assertEqual({k: len(v) for k, v in self.got.items()}, {k: 0 for k in self.got})
+        self.wait(lambda: "tf has none yet (/tf_static, /tf), or set lidar_to_camera" in self.node_log(), 10,
+                  "the missing-tf warning")
+        self.wait(lambda: self.status, 10, "a fusion_status")
+        self.assertEqual(set(self.status.values()), {("stereo alone", "calibration")})
 
         # The body frame: 1.2 m behind and 0.3 m left of the camera, x forward, z up (REP 103), the camera's optical
         # frame x right, y down, z forward (REP 105); the LiDAR from the KITTI calibration through it. tf carries
@@ -387,7 +403,7 @@ class NodeTfTest(NodeRun):
 
         # The LiDAR's link pitched by a degree on /tf at run time (a knocked mount, as a calibration node would
         # publish it): the next set is checked under it (the matching residual warning and the fail-safe).
-        self.fuse_with_tf(FRAMES[1], 4 * 10**9, base_to_camera @ pitched(1.0, rigid))
+        self.fuse_with_tf(FRAMES[1], 4 * 10**9, base_to_camera @ pitched(1.0, rigid), lidar=False)
         self.wait(lambda: "from where the images match" in self.node_log(), 10, "the calibration warning")
         self.wait(lambda: "fused as stereo alone; check lidar_to_camera" in self.node_log(), 10, "the fail-safe")
 

@@ -16,6 +16,12 @@ Raw images (--topic left/image_rect=.../image_raw): refused where their camera_i
 rotation, unless --rectify rectifies them with it. The LiDAR-to-camera transform ends in the left camera's optical
 frame (as tf gives it); the left camera_info's R then turns it into the rectified frame.
 
+An image pair that no scan pairs with (none of its stamp, or with --approximate-sync none within --tolerance,
+before the scans move past it or --lidar-timeout of images later; a bag without the points topic) is fused as stereo
+alone, as the node does: the same outputs, and <ns>/fusion_status (diagnostic_msgs/DiagnosticArray, one per set)
+says how each set was fused. A scan that cannot be read gives stereo alone too; a stamp that repeats or goes back
+(bags joined) restarts the synchroniser.
+
 The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar) is fused as stereo alone
 and the set's line says so (--trust-lidar fuses it anyway). Those sets are pooled, and the rotation is refined from
 the last --recalibration-sets of them (cv2.lidarsgm.LidarCalibration; --scan-rate for scans that are not
@@ -33,11 +39,14 @@ import cv2
 
 import numpy as np
 
+from . import health
 from .conversions import ConversionError, TransformBuffer, chain_transform, stamp_ns
-from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
+from .fusion import ALONE_CLASSES, CALIBRATION, MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages
 from .recalibration import Recalibration
-from .sync import ApproximateSync, ExactSync
+from .sync import ApproximateSync, ExactSync, LidarPairing
+
+STATUS_TYPE = "diagnostic_msgs/msg/DiagnosticArray"
 
 INPUTS = tuple(INPUT_TYPES)
 
@@ -66,7 +75,10 @@ def parse_args(argv):
                    help="the recalibration's LiDAR sweep rate for scans that are not motion-compensated (KITTI: 10)")
     p.add_argument("--approximate-sync", action="store_true")
     p.add_argument("--tolerance", type=float, default=0.05, help="approximate sync: widest stamp spread (s)")
-    p.add_argument("--queue-size", type=int, default=5)
+    p.add_argument("--queue-size", type=int, default=10, help="messages kept per input while waiting for a set")
+    p.add_argument("--lidar-timeout", type=float, default=0.5, metavar="S",
+                   help="an image pair that no scan pairs with before images S seconds newer is fused as stereo "
+                        "alone (default 0.5, the node's lidar_timeout)")
     p.add_argument("--depth-encoding", choices=("32FC1", "16UC1"), default="32FC1")
     p.add_argument("--confidence", action="store_true", help="also write <ns>/confidence")
     p.add_argument("--with-inputs", action="store_true", help="also copy the five inputs into the output")
@@ -80,6 +92,8 @@ def parse_args(argv):
         if name not in topics or not topic:
             p.error("--topic takes NAME=TOPIC with NAME one of %s, not '%s'" % (", ".join(INPUTS), item))
         topics[name] = topic
+    if not args.lidar_timeout > 0:
+        p.error("--lidar-timeout must be > 0 seconds")
     if args.segment_frames < 1:
         p.error("--segment-frames must be at least 1")
     if args.recalibration_sets == 1 or args.recalibration_sets < 0:
@@ -174,15 +188,20 @@ def main(argv=None):
         return 1
     try:
         by_topic = {c.topic: c for c in reader.connections}
-        missing = [t for t in args.topics.values() if t not in by_topic]
+        missing = [t for n, t in args.topics.items() if t not in by_topic and n != "points"]
         if missing:
             print("lidarsgm_bag: %s has no topic %s (it has: %s)" % (args.input, ", ".join(missing),
                   ", ".join(sorted(by_topic))), file=sys.stderr)
             return 1
+        if args.topics["points"] not in by_topic:
+            print("lidarsgm_bag: %s has no topic %s: every set is fused as stereo alone" % (
+                args.input, args.topics["points"]), file=sys.stderr)
         tf_edges = None if fusion.lidar_to_camera is not None else static_transforms(reader)
         index = {args.topics[n]: i for i, n in enumerate(INPUTS)}
-        sync = ApproximateSync(len(INPUTS), args.queue_size, int(args.tolerance * 1e9)) if args.approximate_sync \
-            else ExactSync(len(INPUTS), args.queue_size)
+        tol = int(args.tolerance * 1e9) if args.approximate_sync else 0
+        images = ApproximateSync(len(INPUTS) - 1, args.queue_size, tol) if args.approximate_sync \
+            else ExactSync(len(INPUTS) - 1, args.queue_size)
+        sync = LidarPairing(images, tol, int(args.lidar_timeout * 1e9), args.queue_size)
         total = by_topic[args.topics["left/image_rect"]].msgcount
         ns = args.namespace.rstrip("/")
         raw_images = any(args.topics[n].endswith("image_raw") for n in ("left/image_rect", "right/image_rect"))
@@ -193,12 +212,13 @@ def main(argv=None):
             return 2
         if segments.done:
             print("resuming: %d complete segment(s) of %d sets kept" % (segments.done, args.segment_frames))
-        counts = {"sets": 0, "fused": 0, "skipped": 0, "alone": 0}
+        counts = {"sets": 0, "fused": 0, "skipped": 0, "alone": 0, "misplaced": 0, "points": 0}
+        counts.update({cls: 0 for cls in ALONE_CLASSES})
         # The recalibration's correction, applied on top of the transform from /tf_static (4x4).
         state = {"correction": np.eye(4), "switched": []}
         residuals = []  # each fused set's matching residual (px), where the images can tell
         raw_of = {}
-        conns = [by_topic[t] for t in args.topics.values()]
+        conns = [by_topic[t] for t in args.topics.values() if t in by_topic]
         t_start = time.perf_counter()
 
         def process(stamp, msgs):
@@ -209,32 +229,46 @@ def main(argv=None):
             left, left_info, right, right_info, cloud = msgs
             t0 = time.perf_counter()
             try:
-                if tf_edges is not None:
-                    fusion.set_lidar_to_camera(state["correction"] @ chain_transform(
-                        tf_edges, cloud.header.frame_id, left.header.frame_id or left_info.header.frame_id))
+                alone = None
+                if tf_edges is not None and cloud is not None:
+                    try:
+                        fusion.set_lidar_to_camera(state["correction"] @ chain_transform(
+                            tf_edges, cloud.header.frame_id, left.header.frame_id or left_info.header.frame_id))
+                    except ConversionError as e:
+                        alone = (CALIBRATION, "no transform from the scan's frame in /tf_static (%s)" % e)
                 result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence,
-                                     raw=raw_images)
+                                     raw=raw_images, alone=alone)
                 out = output_messages(kit, fusion, result, left.header.frame_id, stamp_ns(left), args.depth_encoding)
             except (ConversionError, ValueError) as e:
                 counts["skipped"] += 1
                 print("set %d of ~%d (stamp %d.%09d) skipped: %s" % (number + 1, total, stamp // 1000000000,
                                                                      stamp % 1000000000, e))
                 return
+            level, text = health.set_status(result)
+            status = health.diagnostic_array(kit._new, out[0][1].header, level, text,
+                                             [("source", "stereo alone" if result.stereo_alone else "lidar"),
+                                              ("class", result.stereo_alone)])
             items = [(ns + "/" + name, OUTPUT_TYPES[name], stamp_ns(left),
                       typestore.serialize_cdr(m, OUTPUT_TYPES[name])) for name, m in out]
+            items.append((ns + "/" + health.FUSION_STATUS, STATUS_TYPE, stamp_ns(left),
+                          typestore.serialize_cdr(status, STATUS_TYPE)))
             if args.with_inputs:
-                items += [raw_of[id(m)] for m in msgs]
+                items += [raw_of[id(m)] for m in msgs if m is not None]
             segments.write(number, items)
             counts["fused"] += 1
+            counts["points"] += result.dropped_points
+            if result.stereo_alone:
+                counts[result.stereo_alone] += 1
             r = fusion.matching_residual(result)
             if r is not None:
                 residuals.append(r)
-            verdict = fusion.verdict(result)
+            verdict = fusion.verdict(result) or \
+                ("stereo alone: " + result.reason if result.stereo_alone else "")
             print("set %d of ~%d fused in %.0f ms, matching residual %s%s" % (
                 number + 1, total, 1000 * (time.perf_counter() - t0), "%.2f px" % r if r is not None else "-",
                 "; " + verdict if verdict else ""), flush=True)
-            if result.stereo_alone:
-                counts["alone"] += 1
+            if result.stereo_alone == CALIBRATION and result.points is not None:
+                counts["misplaced"] += 1
                 if recal is not None:
                     recal.add(result)
                     if recal.due():
@@ -261,22 +295,26 @@ def main(argv=None):
         segments.close()
     finally:
         reader.close()
-    print("%d sets fused, %d skipped, %d kept from before, %d %s dropped; %.1f s; output: %s"
+    print("%d sets fused, %d skipped, %d kept from before, %d %s dropped, %d restarts; %.1f s; output: %s"
           % (counts["fused"], counts["skipped"], min(counts["sets"], segments.done * args.segment_frames),
-             sync.dropped, sync.unit,
-             time.perf_counter() - t_start, args.output))
-    if counts["alone"] or state["switched"]:
-        print("%d sets fused as stereo alone (their LiDAR misplaced on the images)%s" % (
-            counts["alone"], "; the corrected transform taken after set %s" % ", ".join(map(str, state["switched"]))
+             sync.dropped, sync.unit, sync.restarts, time.perf_counter() - t_start, args.output))
+    alone = sum(counts[c] for c in ALONE_CLASSES)
+    if alone or state["switched"]:
+        print("%d sets fused as stereo alone (%s)%s" % (
+            alone, ", ".join("%d %s" % (counts[c], c) for c in ALONE_CLASSES),
+            "; the corrected transform taken after set %s" % ", ".join(map(str, state["switched"]))
             if state["switched"] else ""))
+    if counts["points"]:
+        print("%d non-finite points dropped from the scans" % counts["points"])
     if residuals:
         median, above = residual_summary(residuals)
         print("matching residual (the LiDAR against the images): median %.2f px over %d sets, %d above %.0f px%s"
               % (median, len(residuals), above, MAX_MATCHING_RESIDUAL,
                  ": the LiDAR pulls the fusion off the images there; check the transform" if above else ""))
-    if counts["sets"] == 0 and sync.dropped and not args.approximate_sync:
-        print("lidarsgm_bag: no five messages share a stamp: if the LiDAR is not triggered by the cameras, pass "
-              "--approximate-sync", file=sys.stderr)
+    if counts[ALONE_CLASSES[0]] and counts["fused"] == counts[ALONE_CLASSES[0]] and sync.unpaired_clouds \
+            and not args.approximate_sync:
+        print("lidarsgm_bag: no scan shares a stamp with the images: if the LiDAR is not triggered by the cameras, "
+              "pass --approximate-sync", file=sys.stderr)
     return 0 if counts["fused"] or segments.done else 1
 
 

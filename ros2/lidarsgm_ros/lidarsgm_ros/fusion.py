@@ -11,6 +11,10 @@ import numpy as np
 from . import conversions as cv_ros
 from .conversions import ConversionError
 
+class CalibrationError(ConversionError):
+    """The cloud was read, but the transform puts none of it on the images (or there is none)."""
+
+
 MODES = ("sgm", "dsgm", "sdsgm")  # the mode parameter's values: StereoLidarSGM_MODE_SGM, _DSGM, _SDSGM
 
 # The node's parameters that set the matcher: ROS name -> (matcher property, Python type). The first six carry
@@ -31,10 +35,19 @@ MATCHER_PARAMETERS = {
 # disparity (the tool warns at the same value).
 MAX_MATCHING_RESIDUAL = 1.0
 
-# sparse: the LiDAR's map; points: the cloud (N x 3, its own frame); check: cv2.lidarsgm.checkLidar's verdict (None
-# where the images cannot tell); stereo_alone: the set was fused without the LiDAR, its map misplaced on the images.
+# Why a set went as stereo alone (the fail-safe's path: MODE_SGM with the left-right check, no sparse map): the
+# classes the node's diagnostics count, each with its own text in Result.reason.
+NO_CLOUD = "no cloud"          # none paired with the images within the LiDAR timeout
+CALIBRATION = "calibration"    # no transform, or the LiDAR lands misplaced on the images (checkLidar)
+BAD_CLOUD = "bad message"      # the cloud could not be read
+ALONE_CLASSES = (NO_CLOUD, CALIBRATION, BAD_CLOUD)
+
+# sparse: the LiDAR's map (None without one); points: the cloud (N x 3, its own frame; None without one); check:
+# cv2.lidarsgm.checkLidar's verdict (None where the images cannot tell or there is no map); stereo_alone: the class
+# (one of ALONE_CLASSES) of a set fused without the LiDAR, else ""; reason: what happened, for a log line;
+# dropped_points: the cloud's non-finite points (not projected).
 Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse left_grey right_grey points check "
-                              "stereo_alone")
+                              "stereo_alone reason dropped_points")
 
 
 def rectified_transform(geometry, lidar_to_camera):
@@ -128,6 +141,8 @@ class Fusion:
         if self._stereo is None:
             self._stereo = _from_text(self.cv2, _to_text(self.cv2, self.sgm))
             self._stereo.setMode(self._mode("sgm"))
+            # Without a map the LiDAR's part of any check keeps nothing: the left-right check alone, said so.
+            self._stereo.setConsistencyCheck(self.cv2.lidarsgm.StereoLidarSGM_CHECK_STEREO)
         return self._stereo
 
     def _mode(self, name):
@@ -151,11 +166,12 @@ class Fusion:
 
     # -- one frame
     def sparse(self, geometry, cloud):
-        """The projected scan: CV_32F disparities of the rectified left view, 0 = none."""
+        """The projected scan (CV_32F disparities of the rectified left view, 0 = none), the points and how many
+        non-finite points were dropped."""
         if self.lidar_to_camera is None:
-            raise ConversionError("no LiDAR-to-camera transform: set the lidar_to_camera parameter")
-        points, _ = cv_ros.cloud_to_points(cloud)
-        return self.project(geometry, points), points
+            raise CalibrationError("no LiDAR-to-camera transform: set the lidar_to_camera parameter")
+        points, _, dropped = cv_ros.cloud_points(cloud)
+        return self.project(geometry, points), points, dropped
 
     def project(self, geometry, points):
         """The sparse map of N x 3 float32 points (raises ConversionError where none lands in the image)."""
@@ -164,7 +180,7 @@ class Fusion:
                                                             geometry.focal_baseline, geometry.size)
         if not self.cv2.countNonZero(sparse):
             # Stereo alone under a wrong transform would pass for a fusion: say so instead.
-            raise ConversionError("none of the cloud's %d points projects into the left image (is lidar_to_camera "
+            raise CalibrationError("none of the cloud's %d points projects into the left image (is lidar_to_camera "
                                   "the transform from the cloud's frame to the left optical frame?)" % len(points))
         return sparse
 
@@ -178,9 +194,13 @@ class Fusion:
         mx, my = self._maps[key]
         return self.cv2.remap(image, mx, my, self.cv2.INTER_LINEAR, borderMode=self.cv2.BORDER_CONSTANT)
 
-    def fuse(self, left, left_info, right, right_info, cloud, confidence=False, raw=False):
-        """Fuses one synchronised set; raises ConversionError (the reason) where it cannot. raw: the images come on
-        image_raw topics (refused unless rectify where they differ from their rectified view)."""
+    def fuse(self, left, left_info, right, right_info, cloud, confidence=False, raw=False, alone=None):
+        """Fuses one synchronised set; raises ConversionError (the reason) where the images cannot be fused. raw: the
+        images come on image_raw topics (refused unless rectify where they differ from their rectified view).
+
+        The images are fused as stereo alone, Result.stereo_alone saying why, where there is no cloud (cloud None),
+        alone = (class, reason) says so (no transform), the cloud cannot be read, or its LiDAR lands misplaced on
+        the images (the fail-safe, unless trust_lidar)."""
         cv2 = self.cv2
         geometry = cv_ros.stereo_geometry(left_info, right_info)
         size = geometry.size
@@ -204,15 +224,30 @@ class Fusion:
         if grey_l.dtype != grey_r.dtype:
             raise ConversionError("the left image is %s, the right %s: send both with one bit depth"
                                   % (left.encoding, right.encoding))
-        sparse, points = self.sparse(geometry, cloud)
-        try:
-            check = cv2.lidarsgm.checkLidar(grey_l, grey_r, sparse, MAX_MATCHING_RESIDUAL)
-        except cv2.error as e:
-            raise ConversionError(cv_message(cv2, e))
-        if check.residual != check.residual:
-            check = None  # NaN: the images cannot tell
-        alone = check is not None and not check.trusted and not self.trust_lidar
-        sgm, fused = (self.stereo_matcher(), np.zeros_like(sparse)) if alone else (self.sgm, sparse)
+        sparse, points, check, dropped = None, None, None, 0
+        kind, reason = alone if alone else ("", "")
+        if cloud is None and not kind:
+            kind, reason = NO_CLOUD, "no cloud"
+        if not kind:
+            try:
+                sparse, points, dropped = self.sparse(geometry, cloud)
+            except CalibrationError as e:
+                kind, reason = CALIBRATION, str(e)
+            except ConversionError as e:
+                kind, reason = BAD_CLOUD, "the cloud: %s" % e
+        if sparse is not None:
+            try:
+                check = cv2.lidarsgm.checkLidar(grey_l, grey_r, sparse, MAX_MATCHING_RESIDUAL)
+            except cv2.error as e:
+                raise ConversionError(cv_message(cv2, e))
+            if check.residual != check.residual:
+                check = None  # NaN: the images cannot tell
+            if check is not None and not check.trusted and not self.trust_lidar:
+                kind, reason = CALIBRATION, "the LiDAR misplaced on the images (%.2f px)" % check.residual
+        if kind:
+            sgm, fused = self.stereo_matcher(), np.zeros(grey_l.shape, np.float32)
+        else:
+            sgm, fused = self.sgm, sparse
         conf = None
         try:
             if self.use_cuda:
@@ -229,7 +264,7 @@ class Fusion:
         except cv2.error as e:
             raise ConversionError(cv_message(cv2, e))
         return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2) if left_bgr is None else left_bgr, sparse, grey_l,
-                      grey_r, points, check, alone)
+                      grey_r, points, check, kind, reason, dropped)
 
     @staticmethod
     def matching_residual(result):
@@ -249,24 +284,72 @@ class Fusion:
             "fused as stereo alone" if result.stereo_alone else "fused anyway (trust_lidar)")
 
     # -- outputs
-    def outputs(self, result, depth_encoding="32FC1", alloc=None):
+    def outputs(self, result, depth_encoding="32FC1", alloc=None, mark=None, bands=None):
         """(disparity pixels, valid window, depth image, organised x y z rgb records) of a Result. alloc(shape,
         dtype, name) gives the arrays to write them into: a MessageKit's, so that the messages take them without a
-        copy, and the next call writes into the same ones once the messages have gone out."""
+        copy, and the next call writes into the same ones once the messages have gone out.
+
+        bands: the rows go through in that many horizontal bands at the same time, on threads, so that numpy's and
+        OpenCV's single-threaded passes share the cores (default: conversions.output_bands of this process's CPUs
+        and cv2.getNumThreads()); 1: in turn. The arrays are the same byte for byte either way. mark(step), where
+        given, is called after each step (tools/ros2_latency.py times them): each of them with one band, else once
+        for them all."""
+        import os
+        from concurrent.futures import ThreadPoolExecutor, wait
         cv2, g = self.cv2, result.geometry
         alloc = alloc or (lambda shape, dtype, name: np.empty(shape, dtype))
+        mark = mark or (lambda step: None)
         d16, mind = result.disparity16, self.sgm.getMinDisparity()
         h, w = d16.shape
-        disp = cv_ros.disparity_image(d16, alloc((h, w), np.float32, "disparity"))
-        window = cv_ros.valid_window(d16, mind)
-        if depth_encoding == "32FC1":
-            depth = cv2.lidarsgm.disparityToDepth(d16, g.focal_baseline, alloc((h, w), np.float32, "depth"),
-                                                  minDisparity=mind)
-            depth = cv_ros.depth_image(depth, depth_encoding, out=depth)
-        else:
-            depth = cv_ros.depth_image(cv2.lidarsgm.disparityToDepth(d16, g.focal_baseline, minDisparity=mind),
-                                       depth_encoding, alloc((h, w), np.uint16, "depth"))
+        if depth_encoding not in ("32FC1", "16UC1"):
+            raise ConversionError("depth encoding must be 32FC1 (metres) or 16UC1 (millimetres), not '%s'"
+                                  % depth_encoding)
+        if result.left_bgr.shape[:2] != (h, w):  # (a band's rows of a larger image would pass unseen)
+            raise ConversionError("points are %s, the colour image %s" % ((h, w), result.left_bgr.shape[:2]))
+        disp = alloc((h, w), np.float32, "disparity")
+        # 32FC1: the metres in the message's own array, NaN set in place; 16UC1: the metres in a reused array.
+        metres = alloc((h, w), np.float32, "depth" if depth_encoding == "32FC1" else "depth metres")
+        depth = metres if depth_encoding == "32FC1" else alloc((h, w), np.uint16, "depth")
+        points, records = alloc((h, w, 3), np.float32, "points"), alloc((h, w, 4), np.float32, "points2")
+        colour = alloc((h, w, 4), np.uint8, "colour")
         q = cv2.lidarsgm.reprojectionMatrix(g.projection, g.focal_baseline)
-        points = cv2.lidarsgm.disparityToPoints(d16, q, alloc((h, w, 3), np.float32, "points"), minDisparity=mind)
-        return disp, window, depth, cv_ros.point_cloud_array(points, result.left_bgr, cv2,
-                                                              alloc((h, w, 4), np.float32, "points2"))
+        cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+        rows = cv_ros.row_bands(h, bands or cv_ros.output_bands(cpus, cv2.getNumThreads()))
+        qs = [cv_ros.band_reprojection(q, r0) for r0, _ in rows]
+        if len(rows) == 1 or any(b is None for b in qs):
+            rows, qs = [(0, h)], [q]
+
+        def into(a, out):  # OpenCV writes into out where it takes it as it is; else its own array is copied there
+            if a is not out and not np.shares_memory(a, out):
+                out[...] = a
+
+        def band(i, step=lambda name: None):
+            r = slice(*rows[i])
+            cv_ros.disparity_image(d16[r], disp[r])
+            step("disparity image")
+            m = metres[r]
+            into(cv2.lidarsgm.disparityToDepth(d16[r], g.focal_baseline, m, minDisparity=mind), m)
+            step("disparityToDepth")
+            cv_ros.depth_image(m, depth_encoding, out=m if depth is metres else depth[r])
+            step("depth image")
+            p = points[r]
+            into(cv2.lidarsgm.disparityToPoints(d16[r], qs[i], p, minDisparity=mind), p)
+            step("disparityToPoints")
+            into(cv_ros.point_cloud_array(p, result.left_bgr[r], cv2, records[r], colour[r]), records[r])
+            step("x y z rgb cloud")
+
+        if len(rows) == 1:
+            window = cv_ros.valid_window(d16, mind, cv2)
+            mark("valid window")
+            band(0, mark)
+        else:
+            pool = getattr(self, "_output_pool", None)
+            if pool is None or pool[1] < len(rows):
+                pool = self._output_pool = (ThreadPoolExecutor(len(rows), "lidarsgm_outputs"), len(rows))
+            jobs = [pool[0].submit(band, i) for i in range(len(rows))]
+            window = cv_ros.valid_window(d16, mind, cv2)  # meanwhile, here
+            wait(jobs)
+            for j in jobs:
+                j.result()  # a band's exception, raised here
+            mark("all %d bands at once" % len(rows))
+        return disp, window, depth, records

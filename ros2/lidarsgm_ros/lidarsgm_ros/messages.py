@@ -27,10 +27,11 @@ def rclpy_class(type_name):
     return getattr(importlib.import_module(pkg + ".msg"), typ)
 
 
-def output_messages(kit, fusion, result, header_frame, stamp, depth_encoding):
+def output_messages(kit, fusion, result, header_frame, stamp, depth_encoding, mark=None, bands=None):
     """[(output topic, message)] of one fused set: disparity, depth, points2, and confidence where the Result has
-    it; the arrays come from kit.alloc, so the messages must go out before the next call."""
-    disp, window, depth, records = fusion.outputs(result, depth_encoding, kit.alloc)
+    it; the arrays come from kit.alloc, so the messages must go out before the next call. mark(step): called after
+    each step (Fusion.outputs's, then 'messages'); bands: Fusion.outputs's."""
+    disp, window, depth, records = fusion.outputs(result, depth_encoding, kit.alloc, mark, bands)
     g, sgm = result.geometry, fusion.sgm
     header = kit.header(stamp, header_frame or g.frame_id)
     out = [("disparity", kit.disparity(header, disp, g.fx, g.baseline, sgm.getMinDisparity(),
@@ -39,6 +40,8 @@ def output_messages(kit, fusion, result, header_frame, stamp, depth_encoding):
            ("points2", kit.organised_cloud(header, records))]
     if result.confidence is not None:
         out.append(("confidence", kit.image(header, result.confidence, "32FC1")))
+    if mark is not None:
+        mark("messages")
     return out
 
 

@@ -24,12 +24,33 @@ and every pooled set's LiDAR is trusted under it, and logs the correction, its u
       -r left/image_rect:=/stereo/left/image_rect ...        # the transform from tf
   python3 -m lidarsgm_ros.node --ros-args -p lidar_to_camera:="[...16 numbers...]" ...  # or given
 
+The node never goes dark for want of the LiDAR: an image pair that no cloud pairs with within lidar_timeout (the
+LiDAR silent: a cable, a driver restart, a bag without the cloud) is fused as stereo alone, the fail-safe's path,
+and published on the same topics; fusion with the LiDAR resumes with the next cloud that pairs. A cloud that cannot
+be read, and a missing transform, give stereo alone too. Each set that goes out has its status on fusion_status
+(diagnostic_msgs/DiagnosticArray, the images' header, latched: OK fused with the LiDAR, WARN stereo alone and why),
+and /diagnostics has the node's state once a second (lidarsgm_ros.health gives the rules).
+
+Messages are taken as they arrive and fused by a worker thread: when sets complete faster than they are fused,
+the newest wins and the older ones waiting are skipped and counted, so no queue grows (the sets that one message
+releases together, such as the pairs a returning cloud lets go, are fused in order). A stamp that repeats or goes
+back (a bag played in a loop, a clock reset) restarts the synchroniser. A set whose images cannot be fused (a
+camera_info of another size, an unknown encoding) is logged with the reason and skipped.
+
 Every parameter but params_file can be changed while the node runs; a value the module refuses is refused with
-its message and the old value stays. A set of messages that cannot be fused is logged with the reason and skipped.
+its message and the old value stays.
+
+Fast DDS: the node runs with the package's profile (config/fastdds_large_data.xml: 32 MiB shared-memory segments)
+unless FASTDDS_DEFAULT_PROFILES_FILE or FASTDDS_BUILTIN_TRANSPORTS say otherwise. On the wheels' defaults a process
+loses most messages of a megabyte and more that it publishes (a 512 KiB segment); the drivers that feed the node need
+the profile too (doc/design.md, section 9).
 """
+import os
+import statistics
 import sys
 import threading
 import time
+from collections import deque
 
 import cv2
 import numpy as np
@@ -38,19 +59,22 @@ import rclpy.exceptions
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from diagnostic_msgs.msg import DiagnosticArray
 from tf2_msgs.msg import TFMessage
 
+from . import health
 from .conversions import ConversionError, TransformBuffer, stamp_ns
-from .fusion import MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
+from .fusion import CALIBRATION, MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, NO_CLOUD, Fusion, residual_summary
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class
 from .recalibration import Recalibration
-from .sync import ApproximateSync, ExactSync
+from .sync import ApproximateSync, ExactSync, LidarPairing
 
 
 class StereoLidarNode(Node):
     def __init__(self, **kwargs):
         super().__init__("lidarsgm", **kwargs)
+        self.fusion_lock = threading.Lock()  # the matcher's settings: parameter changes wait for a fusion to end
         # The transform: the parameter's where given, else tf's; the recalibration's correction on top of either.
         self.param_transform, self.correction = None, np.eye(4)
         try:
@@ -66,14 +90,28 @@ class StereoLidarNode(Node):
         queue = self.get_parameter("queue_size").value
         tol = self.get_parameter("approximate_sync_tolerance_seconds").value
         n = len(INPUT_TYPES)
-        self.sync = ApproximateSync(n, queue, int(tol * 1e9)) if approx else ExactSync(n, queue)
-        qos = QoSProfile(depth=queue) if self.get_parameter("use_system_default_qos").value \
-            else qos_profile_sensor_data
+        self.lidar_timeout = self.get_parameter("lidar_timeout").value
+        images = ApproximateSync(n - 1, queue, int(tol * 1e9)) if approx else ExactSync(n - 1, queue)
+        self.sync = LidarPairing(images, int(tol * 1e9) if approx else 0, int(self.lidar_timeout * 1e9), queue)
+        # The executor thread only takes messages; the worker fuses (cv2 lets go of the GIL while it computes).
+        self.lock = threading.Condition()
+        self.ready = deque()  # the sets released and not yet fused: (stamp, msgs, base transform or alone, t)
+        self.fusing = False   # the worker is in a fusion
+        self.health = health.Health()
+        # Best effort, as camera drivers publish: it takes best-effort and reliable publishers alike (a reliable
+        # subscription hears nothing from a best-effort one).
+        qos = QoSProfile(depth=queue) if self.get_parameter("use_system_default_qos").value else QoSProfile(
+            depth=max(queue, 5), history=HistoryPolicy.KEEP_LAST, reliability=ReliabilityPolicy.BEST_EFFORT,
+            durability=DurabilityPolicy.VOLATILE)
         self.subs = [self.create_subscription(rclpy_class(t), topic, self._callback(i), qos)
                      for i, (topic, t) in enumerate(INPUT_TYPES.items())]
         # Images remapped to image_raw topics (fixed once subscribed): refused or rectified (Fusion.fuse).
         self.raw_images = any(self.subs[i].topic_name.endswith("image_raw") for i in (0, 2))
         self.pubs = {topic: self.create_publisher(rclpy_class(t), topic, 1) for topic, t in OUTPUT_TYPES.items()}
+        self.status_pub = self.create_publisher(DiagnosticArray, health.FUSION_STATUS, QoSProfile(
+            depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE))
+        self.diagnostics_pub = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
+        self.points_topic = self.subs[4].topic_name
         # tf as tf2_ros's listener subscribes: /tf_static latched (transient local), /tf reliable, 100 deep.
         self.tf = TransformBuffer(int(self.get_parameter("tf_tolerance_seconds").value * 1e9))
         self.tf_subs = [
@@ -83,8 +121,9 @@ class StereoLidarNode(Node):
         self.no_transform = 0  # sets not fused for want of a transform
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
-        self.residuals = []  # the matching residuals measured (px)
-        self.alone = 0  # sets fused as stereo alone
+        self.residuals = deque(maxlen=10000)  # the matching residuals measured (px), the newest
+        self.latencies = deque(maxlen=10000)  # seconds from each output's stamp to its publication, the newest
+        self.tf_received = None  # when the last /tf or /tf_static message came (the node's clock, s)
         self.recal, self.refining = None, None  # the pool and the background refinement (a thread)
         self.busy = 0.0  # seconds spent fusing and publishing
         # Messages that never make a set (a camera_info not published, stamps that never match) leave the node
@@ -93,8 +132,14 @@ class StereoLidarNode(Node):
         self.waiting = 0                        # messages received since the last complete set
         self.quiet_since = self._now()          # the last complete set, or the last warning
         self.create_timer(self.get_parameter("sync_warning_seconds").value / 4, self._check_sync)
-        self.get_logger().info("fusing %s with %s sync (queue %d)"
-                               % (", ".join(INPUT_TYPES), "approximate" if approx else "exact", queue))
+        self.create_timer(min(self.lidar_timeout / 4, 0.1), self._poll)
+        self.create_timer(self.health.period, self._report)
+        self.running = True
+        self.worker = threading.Thread(target=self._work, name="lidarsgm_fusion", daemon=True)
+        self.worker.start()
+        self.get_logger().info("fusing %s with %s sync (queue %d); stereo alone when no cloud pairs within %.2f s"
+                               % (", ".join(INPUT_TYPES), "approximate" if approx else "exact", queue,
+                                  self.lidar_timeout))
 
     # -- parameters
     def _declare(self):
@@ -124,9 +169,11 @@ class StereoLidarNode(Node):
             ("scan_rate", 0.0, "the recalibration's LiDAR sweep rate (Hz) for scans that are not motion-compensated"),
             ("approximate_sync", False, "match the five inputs by nearest stamps rather than equal ones"),
             ("approximate_sync_tolerance_seconds", 0.05, "the widest spread of stamps in one approximate set"),
-            ("queue_size", 5, "messages kept per input while waiting for a set"),
+            ("queue_size", 10, "messages kept per input while waiting for a set (and the subscriptions' depth)"),
             ("use_system_default_qos", False, "subscribe with the system default QoS, not the sensor-data QoS"),
             ("sync_warning_seconds", 5.0, "warn when messages arrive but no set is complete for this long"),
+            ("lidar_timeout", 0.5, "an image pair that no cloud pairs with for this long (s) is fused as stereo "
+             "alone; while the LiDAR stays silent a pair then waits only for the next (read when the node starts)"),
         ]
         for name, default, text in declared:
             self.declare_parameter(name, default, ParameterDescriptor(description=text or "see StereoLidarSGM"))
@@ -160,8 +207,11 @@ class StereoLidarNode(Node):
                     raise ValueError("scan_rate must be a number of Hz")
                 elif p.name == "tf_tolerance_seconds" and not p.value >= 0:
                     raise ValueError("tf_tolerance_seconds must be >= 0")
+                elif p.name == "lidar_timeout" and not p.value > 0:
+                    raise ValueError("lidar_timeout must be > 0 seconds, not %s" % p.value)
                 elif p.name in ("approximate_sync", "queue_size", "use_system_default_qos", "sync_warning_seconds",
-                                "approximate_sync_tolerance_seconds", "tf_tolerance_seconds") and hasattr(self, "sync"):
+                                "approximate_sync_tolerance_seconds", "tf_tolerance_seconds",
+                                "lidar_timeout") and hasattr(self, "sync"):
                     raise ValueError("%s is read when the node starts" % p.name)
             except ValueError as e:
                 problems.append("%s: %s" % (p.name, e))
@@ -184,7 +234,8 @@ class StereoLidarNode(Node):
         return out
 
     def _on_set(self, params):
-        problems = self._apply(params)
+        with self.fusion_lock:
+            problems = self._apply(params)
         for msg in problems:
             self.get_logger().warning("parameter refused, the old value stays: " + msg)
         return SetParametersResult(successful=not problems, reason="; ".join(problems))
@@ -194,13 +245,18 @@ class StereoLidarNode(Node):
         return self.get_clock().now().nanoseconds * 1e-9
 
     def summary(self):
-        text = ("%d sets fused (%.1f ms each, conversions and publishing included), %d skipped, %d %s dropped by the "
-                "synchroniser" % (self.fused, 1000 * self.busy / max(self.fused, 1), self.skipped, self.sync.dropped,
-                                  self.sync.unit))
-        if self.no_transform:
-            text += "; %d sets not fused for want of a LiDAR-to-camera transform" % self.no_transform
-        if self.alone:
-            text += "; %d sets fused as stereo alone (their LiDAR misplaced on the images)" % self.alone
+        t = self.health.totals
+        alone = sum(t["alone:" + c] for c in (NO_CLOUD, CALIBRATION, "bad message"))
+        text = ("%d sets fused (%.1f ms each, conversions and publishing included), %d with the LiDAR, %d as stereo "
+                "alone (%d no cloud, %d calibration, %d bad message); %d skipped (%d bad message, %d overload); %d %s "
+                "dropped by the synchroniser, %d restarts" % (
+                    self.fused, 1000 * self.busy / max(self.fused, 1), t["lidar"], alone, t["alone:" + NO_CLOUD],
+                    t["alone:" + CALIBRATION], t["alone:bad message"], self.skipped + t["skipped:overload"],
+                    self.skipped, t["skipped:overload"], self.sync.dropped, self.sync.unit, self.sync.restarts))
+        if self.latencies:
+            e2e = sorted(self.latencies)
+            text += "; stamp to outputs median %.1f ms, p99 %.1f ms, max %.1f ms" % (
+                1000 * statistics.median(e2e), 1000 * e2e[min(len(e2e) - 1, int(0.99 * len(e2e)))], 1000 * e2e[-1])
         if self.residuals:
             median, above = residual_summary(self.residuals)
             text += "; matching residual median %.2f px over %d checks, %d above %.0f px" % (
@@ -215,6 +271,7 @@ class StereoLidarNode(Node):
         if r is None:
             return
         self.residuals.append(r)
+        self.health.residual = r
         if r > MAX_MATCHING_RESIDUAL:
             self.get_logger().warning(
                 "the LiDAR lies %.2f px (median) from where the images match, more than %.0f px: the fusion is pulled "
@@ -222,6 +279,7 @@ class StereoLidarNode(Node):
                 "cv2.lidarsgm.LidarCalibration)" % (r, MAX_MATCHING_RESIDUAL), throttle_duration_sec=10.0)
 
     def _on_tf(self, msg, static):
+        self.tf_received = self._now()
         try:
             self.tf.add(msg.transforms, static)
         except ConversionError as e:
@@ -241,9 +299,8 @@ class StereoLidarNode(Node):
         verdict = self.fusion.verdict(result)
         if verdict:
             self.get_logger().warning(verdict + "; check lidar_to_camera", throttle_duration_sec=5.0)
-        if not result.stereo_alone:
+        if result.stereo_alone != CALIBRATION or result.points is None:
             return
-        self.alone += 1
         sets = self.get_parameter("recalibration_sets").value
         if sets <= 0 or (self.refining is not None and self.refining.is_alive()):
             return
@@ -282,52 +339,161 @@ class StereoLidarNode(Node):
                    "check the stamps and the tolerance" if isinstance(self.sync, ApproximateSync)
                    else "every input needs the same stamp; approximate_sync takes the nearest"))
 
+    # -- sets: taken in the executor's thread, fused in the worker's
     def _callback(self, index):
         def on_message(msg):
             self.received[index] += 1
             self.waiting += 1
-            for stamp, msgs in self.sync.add(index, stamp_ns(msg), msg):
-                self.waiting, self.quiet_since = 0, self._now()
-                self._fuse(stamp, msgs)
+            now = self._now()
+            self.health.message_in(now)
+            restarts = self.sync.restarts
+            released = self.sync.add(index, stamp_ns(msg), msg, int(now * 1e9))
+            if self.sync.restarts > restarts:
+                self.health.event(now, "restart", "stamp %.3f s on %s after %.3f s" % (
+                    stamp_ns(msg) * 1e-9, self.subs[index].topic_name, (self.sync.last[index] or 0) * 1e-9))
+                self.get_logger().warning("time went back on %s (a bag loop or a clock reset): the synchroniser "
+                                          "starts over" % self.subs[index].topic_name, throttle_duration_sec=5.0)
+            self._offer(released)
         return on_message
 
-    def _fuse(self, stamp, msgs):
+    def _poll(self):
+        self._offer(self.sync.poll(int(self._now() * 1e9)))
+
+    def _offer(self, released):
+        """Hands released sets to the worker: the newest win over sets still waiting from before."""
+        if not released:
+            return
+        self.waiting, self.quiet_since = 0, self._now()
+        items = [(stamp, msgs, self._lidar_for(msgs), time.perf_counter()) for stamp, msgs in released]
+        with self.lock:
+            # Overload is a fusion still running when newer sets come; sets the idle worker has yet to wake up for
+            # are not skipped.
+            if self.ready and self.fusing:
+                for _ in self.ready:
+                    self.health.event(self._now(), "skipped:overload", "input faster than the fusion")
+                self.ready.clear()
+            self.ready.extend(items)
+            self.lock.notify()
+
+    def _lidar_for(self, msgs):
+        """The transform (before the correction) for a set's cloud, or (class, reason) to fuse it as stereo alone."""
         left, left_info, cloud = msgs[0], msgs[1], msgs[4]
-        t0 = time.perf_counter()
+        if cloud is None:
+            return NO_CLOUD, "no cloud on %s within %.2f s" % (self.points_topic, self.lidar_timeout)
         try:
-            base = self._transform(left_info, cloud)
+            return self._transform(left_info, cloud)
         except ConversionError as e:
             self.no_transform += 1
-            self.get_logger().warning(
-                "no transform from the cloud's frame '%s' to the left camera's '%s' (%s): nothing is published until "
-                "tf has one (/tf_static, /tf), or set lidar_to_camera" % (cloud.header.frame_id,
-                                                                         left_info.header.frame_id, e),
-                throttle_duration_sec=5.0)
-            return
-        self.fusion.lidar_to_camera = self.correction @ base
+            return CALIBRATION, "no transform from the cloud's frame '%s' to the left camera's '%s' (%s): tf has " \
+                "none yet (/tf_static, /tf), or set lidar_to_camera" % (cloud.header.frame_id,
+                                                                       left_info.header.frame_id, e)
+
+    def _work(self):
+        while True:
+            with self.lock:
+                self.fusing = False
+                while self.running and not self.ready:
+                    self.lock.wait()
+                if not self.running:
+                    return
+                stamp, msgs, lidar, since = self.ready.popleft()
+                self.fusing = True
+            try:
+                with self.fusion_lock:
+                    self._fuse(stamp, msgs, lidar, since)
+            except Exception as e:  # never let one set stop the depth: log it and go on with the next
+                self.skipped += 1
+                self.get_logger().error("set at %d.%09d failed: %r" % (stamp // 1000000000, stamp % 1000000000, e))
+
+    def stop(self):
+        with self.lock:
+            self.running = False
+            self.lock.notify()
+        self.worker.join(30)
+
+    def _fuse(self, stamp, msgs, lidar, since):
+        left = msgs[0]
+        t0 = time.perf_counter()
+        alone = lidar if isinstance(lidar, tuple) else None
+        if alone is None:
+            self.fusion.lidar_to_camera = self.correction @ lidar
         try:
             result = self.fusion.fuse(*msgs, confidence=self.get_parameter("publish_confidence").value,
-                                      raw=self.raw_images)
+                                      raw=self.raw_images, alone=alone)
             out = output_messages(self.kit, self.fusion, result, left.header.frame_id, stamp_ns(left),
                                   self.get_parameter("depth_encoding").value)
         except ConversionError as e:
             self.skipped += 1
+            self.health.event(self._now(), "skipped:bad message", str(e))
             self.get_logger().warning("frame at %d.%09d skipped: %s (%d skipped, %d fused)"
                                       % (stamp // 1000000000, stamp % 1000000000, e, self.skipped, self.fused))
             return
+        level, text = health.set_status(result)
+        status = health.diagnostic_array(self.kit._new, out[0][1].header, level, text,
+                                         [("source", "stereo alone" if result.stereo_alone else "lidar"),
+                                          ("class", result.stereo_alone)], level_of=lambda v: bytes([v]))
         for topic, msg in out:
             self.pubs[topic].publish(msg)
+        self.status_pub.publish(status)
         self.fused += 1
-        self._check_calibration(result)
-        self._fail_safe(result, base)
-        self.busy += time.perf_counter() - t0
+        if result.check is None and result.stereo_alone:  # the fail-safe's verdict has its own line
+            self.get_logger().warning("fused as stereo alone: " + result.reason, throttle_duration_sec=5.0)
+        if result.check is not None:
+            self._check_calibration(result)
+        self._fail_safe(result, lidar if alone is None else None)
+        done = time.perf_counter()
+        self.busy += done - t0
+        now = self._now()
+        self.latencies.append(now - stamp * 1e-9)
+        self.health.output(now, result, done - since, now - stamp * 1e-9)
         if self.sync.dropped > self.reported_drops:
             self.get_logger().warning("%d incomplete message sets dropped so far (a topic missing or late: check the "
-                                      "stamps, or set approximate_sync)" % self.sync.dropped)
+                                      "stamps, or set approximate_sync)" % self.sync.dropped,
+                                      throttle_duration_sec=5.0)
             self.reported_drops = self.sync.dropped
+
+    def _report(self):
+        now = self._now()
+        level, text = self.health.level(now)
+        source = "parameter" if self.param_transform is not None else "tf"
+        age = now - self.tf_received if source == "tf" and self.tf_received is not None else None
+        extra = [("transform source", source), ("transform message age s", "-" if age is None else "%.1f" % age),
+                 ("lidar timeout s", "%.2f" % self.lidar_timeout)]
+        self.diagnostics_pub.publish(health.diagnostic_array(
+            self.kit._new, self.kit.header(int(now * 1e9), ""), level, text, self.health.values(now, extra),
+            level_of=lambda v: bytes([v])))
+
+
+def large_data_profile():
+    """The package's Fast DDS profile: installed (pip: <prefix>/share, colcon: the package's share folder) or in the
+    source tree; None where there is none."""
+    places = [os.path.join(sys.prefix, "share", "lidarsgm_ros", "config")]
+    try:
+        from ament_index_python.packages import get_package_share_directory
+        places.append(os.path.join(get_package_share_directory("lidarsgm_ros"), "config"))
+    except (ImportError, LookupError, OSError):  # a pip environment has no ament index
+        pass
+    places.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "config"))
+    return next((os.path.abspath(os.path.join(p, "fastdds_large_data.xml")) for p in places
+                 if os.path.isfile(os.path.join(p, "fastdds_large_data.xml"))), None)
+
+
+def apply_large_data_profile(environ=os.environ):
+    """Points Fast DDS at the package's profile before rclpy.init (it is read when the participant is made), unless
+    the user chose the transports (FASTDDS_DEFAULT_PROFILES_FILE, FASTDDS_BUILTIN_TRANSPORTS, a
+    DEFAULT_FASTDDS_PROFILES.xml here) or another middleware. Returns the profile applied, or None."""
+    if any(k in environ for k in ("FASTDDS_DEFAULT_PROFILES_FILE", "FASTDDS_BUILTIN_TRANSPORTS")) \
+            or environ.get("RMW_IMPLEMENTATION", "rmw_fastrtps_cpp") != "rmw_fastrtps_cpp" \
+            or os.path.exists("DEFAULT_FASTDDS_PROFILES.xml"):
+        return None
+    path = large_data_profile()
+    if path:
+        environ["FASTDDS_DEFAULT_PROFILES_FILE"] = path
+    return path
 
 
 def main(argv=None):
+    apply_large_data_profile()
     rclpy.init(args=argv if argv is not None else sys.argv)
     try:
         node = StereoLidarNode()
@@ -340,6 +506,7 @@ def main(argv=None):
     except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
         pass
     finally:
+        node.stop()
         print("lidarsgm_node: " + node.summary(), flush=True)  # the logger may be gone after a signal
         node.destroy_node()
         rclpy.try_shutdown()
