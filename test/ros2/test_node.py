@@ -11,7 +11,6 @@ run time with its message, the old value kept. A second node takes the transform
 (test_node_faults.py drives a node through the faults a robot meets.)
 """
 import os
-import random
 import re
 import signal
 import subprocess
@@ -23,13 +22,7 @@ import unittest
 import cv2
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-PACKAGE = os.path.join(HERE, "..", "..", "ros2", "lidarsgm_ros")
-sys.path.insert(0, PACKAGE)
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-# Megabyte messages between processes under the node's default (best-effort, sensor-data) QoS: the shipped profile.
-os.environ["FASTDDS_DEFAULT_PROFILES_FILE"] = os.path.join(PACKAGE, "config", "fastdds_large_data.xml")
-os.environ["ROS_DOMAIN_ID"] = os.environ.get("LIDARSGM_ROS_DOMAIN_ID", str(random.randint(100, 200)))
+from ros_env import HERE, PACKAGE  # noqa: E402  (before rclpy: the environment the tests run in)
 
 import rclpy  # noqa: E402
 from rcl_interfaces.srv import GetParameters, SetParameters  # noqa: E402

@@ -10,7 +10,6 @@ skipped sets have none; fusion_status says how each set went; /diagnostics repor
 fusion resumes after the gap. The same script written to a bag and fused by the bag command gives the same outputs.
 """
 import os
-import random
 import signal
 import subprocess
 import sys
@@ -22,12 +21,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-PACKAGE = os.path.join(HERE, "..", "..", "ros2", "lidarsgm_ros")
-sys.path.insert(0, PACKAGE)
-os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-os.environ["FASTDDS_DEFAULT_PROFILES_FILE"] = os.path.join(PACKAGE, "config", "fastdds_large_data.xml")
-os.environ["ROS_DOMAIN_ID"] = os.environ.get("LIDARSGM_ROS_DOMAIN_ID", str(random.randint(100, 200)))
+from ros_env import HERE, PACKAGE  # noqa: E402  (before rclpy: the environment the tests run in)
 
 import rclpy  # noqa: E402
 from diagnostic_msgs.msg import DiagnosticArray  # noqa: E402
