@@ -3,8 +3,9 @@
 # ROS 2 tests' flakiness is measured: tools/repeat_tests.sh 30 ros). Each failing run's log is kept in the output
 # folder, the others are removed.
 #   tools/repeat_tests.sh N REGEX [build dir, default build] [log folder, default /tmp/lidarsgm_repeat]
-# BUSY=1: with the machine busy, a build beside the tests: the module's C++ sources compiled again and again, one
-# compiler per core, without ccache and without touching a build tree (the objects go to /dev/null).
+# BUSY=1: with the machine busy, a build beside the tests: the C++ sources of the CUDA build tree's lidarsgm target
+# (OpenCV's and the module's, about 370) compiled again and again, one compiler per core, without ccache and without
+# touching a build tree (the objects go to /dev/null).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 N=${1:?runs}; R=${2:?ctest regex}; B=${3:-build}; L=${4:-/tmp/lidarsgm_repeat}
