@@ -212,7 +212,7 @@ def main(argv=None):
             return 2
         if segments.done:
             print("resuming: %d complete segment(s) of %d sets kept" % (segments.done, args.segment_frames))
-        counts = {"sets": 0, "fused": 0, "skipped": 0, "alone": 0, "misplaced": 0, "points": 0}
+        counts = {"sets": 0, "fused": 0, "skipped": 0, "points": 0}
         counts.update({cls: 0 for cls in ALONE_CLASSES})
         # The recalibration's correction, applied on top of the transform from /tf_static (4x4).
         state = {"correction": np.eye(4), "switched": []}
@@ -267,20 +267,18 @@ def main(argv=None):
             print("set %d of ~%d fused in %.0f ms, matching residual %s%s" % (
                 number + 1, total, 1000 * (time.perf_counter() - t0), "%.2f px" % r if r is not None else "-",
                 "; " + verdict if verdict else ""), flush=True)
-            if result.stereo_alone == CALIBRATION and result.points is not None:
-                counts["misplaced"] += 1
-                if recal is not None:
-                    recal.add(result)
-                    if recal.due():
-                        corrected, text = recal.refine(fusion.lidar_to_camera, fusion.sgm.getNumDisparities())
-                        print("  " + text, flush=True)
-                        if corrected is not None:
-                            state["correction"] = corrected @ np.linalg.inv(fusion.lidar_to_camera) @ \
-                                state["correction"]
-                            fusion.set_lidar_to_camera(corrected)
-                            state["switched"].append(number + 1)
-                            print("  switched to the corrected transform from set %d on: %s" % (
-                                number + 2, " ".join("%.9g" % v for v in corrected.ravel())), flush=True)
+            if result.stereo_alone == CALIBRATION and result.points is not None and recal is not None:
+                recal.add(result)
+                if recal.due():
+                    corrected, text = recal.refine(fusion.lidar_to_camera, fusion.sgm.getNumDisparities())
+                    print("  " + text, flush=True)
+                    if corrected is not None:
+                        state["correction"] = corrected @ np.linalg.inv(fusion.lidar_to_camera) @ \
+                            state["correction"]
+                        fusion.set_lidar_to_camera(corrected)
+                        state["switched"].append(number + 1)
+                        print("  switched to the corrected transform from set %d on: %s" % (
+                            number + 2, " ".join("%.9g" % v for v in corrected.ravel())), flush=True)
 
         for conn, t, raw in reader.messages(connections=conns):
             msg = reader.deserialize(raw, conn.msgtype)

@@ -65,7 +65,8 @@ from tf2_msgs.msg import TFMessage
 
 from . import health
 from .conversions import ConversionError, TransformBuffer, stamp_ns
-from .fusion import CALIBRATION, MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, NO_CLOUD, Fusion, residual_summary
+from .fusion import (ALONE_CLASSES, CALIBRATION, MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, NO_CLOUD, Fusion,
+                     residual_summary)
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class
 from .recalibration import Recalibration
 from .sync import ApproximateSync, ExactSync, LidarPairing
@@ -118,7 +119,6 @@ class StereoLidarNode(Node):
             self.create_subscription(TFMessage, "/tf_static", lambda m: self._on_tf(m, True), QoSProfile(
                 depth=100, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)),
             self.create_subscription(TFMessage, "/tf", lambda m: self._on_tf(m, False), QoSProfile(depth=100))]
-        self.no_transform = 0  # sets not fused for want of a transform
         self.kit = MessageKit.rclpy()
         self.fused, self.skipped, self.reported_drops = 0, 0, 0
         self.residuals = deque(maxlen=10000)  # the matching residuals measured (px), the newest
@@ -246,7 +246,7 @@ class StereoLidarNode(Node):
 
     def summary(self):
         t = self.health.totals
-        alone = sum(t["alone:" + c] for c in (NO_CLOUD, CALIBRATION, "bad message"))
+        alone = sum(t["alone:" + c] for c in ALONE_CLASSES)
         text = ("%d sets fused (%.1f ms each, conversions and publishing included), %d with the LiDAR, %d as stereo "
                 "alone (%d no cloud, %d calibration, %d bad message); %d skipped (%d bad message, %d overload); %d %s "
                 "dropped by the synchroniser, %d restarts" % (
@@ -383,7 +383,6 @@ class StereoLidarNode(Node):
         try:
             return self._transform(left_info, cloud)
         except ConversionError as e:
-            self.no_transform += 1
             return CALIBRATION, "no transform from the cloud's frame '%s' to the left camera's '%s' (%s): tf has " \
                 "none yet (/tf_static, /tf), or set lidar_to_camera" % (cloud.header.frame_id,
                                                                        left_info.header.frame_id, e)

@@ -174,7 +174,6 @@ class LidarPairing:
 
     def finish(self):
         """At the end of the input: every waiting set goes, with the cloud it can have."""
-        out = []
         for s, msgs in self.images.finish():
             self.waiting.append([s, msgs, None])
         out = self._release(None, final=True)
