@@ -4,6 +4,7 @@
 
 #include "opencv2/ts.hpp"
 #include "opencv2/lidarsgm.hpp"
+#include "opencv2/lidarsgm/datasets.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
 #if CV_VERSION_MAJOR >= 5

@@ -63,31 +63,85 @@ void disparityToDepth(InputArray disparity, double focalBaseline, OutputArray _d
     });
 }
 
-void disparityToPoints(InputArray disparity, InputArray _Q, OutputArray _points, int minDisparity)
+namespace {
+
+//! Q as 4x4 doubles, checked: what disparityToPoints and disparityToColoredPoints take.
+Matx44d reprojection(InputArray _Q, const char* fn)
 {
-    CV_INSTRUMENT_REGION();
-    const DisparityReader disp(disparity, minDisparity, "disparityToPoints");
     Mat q = _Q.getMat();
     if (q.rows != 4 || q.cols != 4 || q.channels() != 1 || (q.depth() != CV_32F && q.depth() != CV_64F))
-        LIDARSGM_Error(Error::StsBadArg, "lidarsgm::disparityToPoints: Q must be a 4x4 CV_32F or CV_64F matrix");
+        LIDARSGM_Error_(Error::StsBadArg, ("lidarsgm::%s: Q must be a 4x4 CV_32F or CV_64F matrix", fn));
     Matx44d Q;
     q.convertTo(Mat(4, 4, CV_64F, Q.val), CV_64F);
     for (int i = 0; i < 16; i++)
         if (!std::isfinite(Q.val[i]))
-            LIDARSGM_Error(Error::StsBadArg, "lidarsgm::disparityToPoints: Q has a NaN or infinite entry");
+            LIDARSGM_Error_(Error::StsBadArg, ("lidarsgm::%s: Q has a NaN or infinite entry", fn));
+    return Q;
+}
+
+//! The point of pixel (x, y): Q [x y d 1]^T over its fourth component; NaN where d is invalid or that is not positive.
+//! One division a point, not three: the points are compute-bound, and the reciprocal's rounding (in double) stays far
+//! below float's.
+inline Vec3f pointAt(const Matx44d& Q, const DisparityReader& disp, int x, int y)
+{
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const double d = disp.at(y, x);
+    const Vec4d h = d > 0 ? Q * Vec4d(x, y, d, 1.0) : Vec4d(0, 0, 0, 0);
+    if (!(h[3] > 0))
+        return Vec3f(nan, nan, nan);
+    const double w = 1.0 / h[3];
+    return Vec3f((float)(h[0] * w), (float)(h[1] * w), (float)(h[2] * w));
+}
+
+} // namespace
+
+void disparityToPoints(InputArray disparity, InputArray _Q, OutputArray _points, int minDisparity)
+{
+    CV_INSTRUMENT_REGION();
+    const DisparityReader disp(disparity, minDisparity, "disparityToPoints");
+    const Matx44d Q = reprojection(_Q, "disparityToPoints");
     _points.create(disp.m.size(), CV_32FC3);
     Mat points = _points.getMat();
-    const float nan = std::numeric_limits<float>::quiet_NaN();
     parallel_for_(Range(0, points.rows), [&](const Range& r) {
         for (int y = r.start; y < r.end; y++)
         {
             Vec3f* o = points.ptr<Vec3f>(y);
             for (int x = 0; x < points.cols; x++)
+                o[x] = pointAt(Q, disp, x, y);
+        }
+    });
+}
+
+void disparityToColoredPoints(InputArray disparity, InputArray _Q, InputArray _image, OutputArray _cloud,
+                              int minDisparity)
+{
+    CV_INSTRUMENT_REGION();
+    const DisparityReader disp(disparity, minDisparity, "disparityToColoredPoints");
+    const Matx44d Q = reprojection(_Q, "disparityToColoredPoints");
+    const Mat image = _image.getMat();
+    if (image.type() != CV_8UC3 && image.type() != CV_8UC1)
+        LIDARSGM_Error_(Error::StsUnsupportedFormat,
+                        ("lidarsgm::disparityToColoredPoints: the image must be CV_8UC3 (BGR) or CV_8UC1, got %s",
+                         image.empty() ? "an empty one" : typeToString(image.type()).c_str()));
+    if (image.size() != disp.m.size())
+        LIDARSGM_Error_(Error::StsUnmatchedSizes,
+                        ("lidarsgm::disparityToColoredPoints: the image is %dx%d, the disparity map %dx%d",
+                         image.cols, image.rows, disp.m.cols, disp.m.rows));
+    _cloud.create(disp.m.size(), CV_32FC4);
+    Mat cloud = _cloud.getMat();
+    const bool bgr = image.channels() == 3;
+    parallel_for_(Range(0, cloud.rows), [&](const Range& r) {
+        for (int y = r.start; y < r.end; y++)
+        {
+            Vec4f* o = cloud.ptr<Vec4f>(y);
+            const uchar* c = image.ptr<uchar>(y);
+            for (int x = 0; x < cloud.cols; x++)
             {
-                const double d = disp.at(y, x);
-                const Vec4d h = d > 0 ? Q * Vec4d(x, y, d, 1.0) : Vec4d(0, 0, 0, 0);
-                o[x] = h[3] > 0 ? Vec3f((float)(h[0] / h[3]), (float)(h[1] / h[3]), (float)(h[2] / h[3]))
-                                : Vec3f(nan, nan, nan);
+                const Vec3f p = pointAt(Q, disp, x, y);
+                const uint32_t b = bgr ? c[3 * x] : c[x], g = bgr ? c[3 * x + 1] : c[x], rr = bgr ? c[3 * x + 2] : c[x];
+                Cv32suf rgb;
+                rgb.u = (rr << 16) | (g << 8) | b;  // PCL's packed rgb: the float whose bits are 0x00RRGGBB
+                o[x] = Vec4f(p[0], p[1], p[2], rgb.f);
             }
         }
     });

@@ -8,7 +8,6 @@
 #include "projection.hpp"
 #include "matching_residual.simd.hpp"
 #include "matching_residual.simd_declarations.hpp"
-#include "opencv2/lidarsgm/calibration.hpp"
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -137,7 +136,10 @@ LidarCheck checkLidar(InputArray left, InputArray right, InputArray sparseDispar
     CV_INSTRUMENT_REGION();
     Mat l, r, sparse16;
     residualInputs(left, right, sparseDisparity, "checkLidar", l, r, sparse16);
-    LIDARSGM_Check(maxResidual > 0 && maxResidual < 64, "lidarsgm: checkLidar: maxResidual must be in (0, 64) pixels");
+    if (maxResidual == 0)
+        maxResidual = LidarFailSafe::maxResidual();
+    LIDARSGM_Check(maxResidual > 0 && maxResidual < 64,
+                   "lidarsgm: checkLidar: maxResidual must be in (0, 64) pixels (0: LidarFailSafe::maxResidual())");
     LIDARSGM_Check(maxShift >= 0 && maxShift <= 1024, "lidarsgm: checkLidar: maxShift must be in [0, 1024] pixels");
     if (maxShift == 0)
         maxShift = std::max(l.cols / detail::kLidarShiftFraction, 1);

@@ -87,6 +87,8 @@ struct PipelineParams
 
 //! A matcher's parameters as the stages take them (for the per-stage tests; the front class passes its own).
 CV_EXPORTS PipelineParams pipelineParamsOf(const StereoLidarSGM& matcher);
+//! Every setting of `from` (its parameter table) set on `to`: the fail-safe's stereo-alone copy of a matcher.
+void copySettings(const StereoLidarSGM& from, StereoLidarSGM& to);
 
 // ---- Rules shared by both backends --------------------------------------------------------------------------------
 

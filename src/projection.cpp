@@ -13,7 +13,13 @@ namespace detail {
 
 Matx34d toMatx34(InputArray m, const char* name)
 {
-    Mat a = m.getMat();
+    // Python's cv2.cuda entry points take every array as a GpuMat (the binding generator's rule), the small matrices
+    // too: those are read back here.
+    Mat a;
+    if (m.kind() == _InputArray::CUDA_GPU_MAT)
+        m.getGpuMat().download(a);
+    else
+        a = m.getMat();
     if (a.channels() != 1 || (a.depth() != CV_32F && a.depth() != CV_64F))
         LIDARSGM_Error_(Error::StsUnsupportedFormat, ("lidarsgm: %s must be a single-channel CV_32F or CV_64F matrix", name));
     Mat d;

@@ -2,7 +2,7 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // The checks of the inputs, shared by the matcher (src/stereo_lidar_sgm.cpp), the projection (src/projection.cpp) and
-// the calibration (src/calibration.cpp).
+// the calibration (src/addons/calibration.cpp).
 
 #ifndef OPENCV_LIDARSGM_PROJECTION_HPP
 #define OPENCV_LIDARSGM_PROJECTION_HPP

@@ -434,6 +434,13 @@ Ptr<StereoLidarSGM> StereoLidarSGM::load(const String& filename, const String& o
 
 namespace detail {
 
+void copySettings(const StereoLidarSGM& from, StereoLidarSGM& to)
+{
+#define LIDARSGM_COPY(type, Name, key, def, valid, range, what) to.set##Name(from.get##Name());
+    LIDARSGM_PARAMETERS(LIDARSGM_COPY)
+#undef LIDARSGM_COPY
+}
+
 PipelineParams pipelineParamsOf(const StereoLidarSGM& matcher)
 {
     const StereoLidarSGMImpl* impl = dynamic_cast<const StereoLidarSGMImpl*>(&matcher);

@@ -141,12 +141,9 @@ TEST(Lidarsgm_Aggregation, one_step_by_hand)
     p.w.census256 = 256;
     p.w.p1 = 3;
     p.w.p2 = 20;
-    AggregationInputs in;
-    in.censusL = cl;
-    in.censusR = cr;
     WinnerMaps w;
     Mat sum;
-    aggregateCosts(in, p, w, sum);
+    aggregateCosts(aggregationInputs(cl, cr), p, w, sum);
     // Pixel 1: left-to-right = C(1) + L(0) step with L(0) = C(0) = 0 everywhere: 1 + min(0, 3, 3, 20) - 0 = 1;
     // right-to-left starts at pixel 1 (= C = 1); vertical paths = C = 1. Sum = 4 at every d.
     for (int d = 0; d < D; d++)
@@ -185,13 +182,8 @@ TEST_P(Lidarsgm_AggregationRandom, matches_reference)
     Mat cost, ref, sum, e16, ei, er, enu;
     computeMatchingCost(cl, cr, prior, p, cost);
     referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref, image, thr, p.w.p2Edge);
-    AggregationInputs in;
-    in.censusL = cl;
-    in.censusR = cr;
-    in.prior16 = prior;
-    in.left = image;
     WinnerMaps w;
-    aggregateCosts(in, p, w, sum);
+    aggregateCosts(aggregationInputs(cl, cr, prior, image), p, w, sum);
     EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
     winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
     EXPECT_EQ(0, cvtest::norm(w.disp16, e16, NORM_INF));
@@ -276,11 +268,7 @@ TEST(Lidarsgm_Aggregation, copied_priors_take_their_weights)
     Mat ref, e16, ei, er, enu, sum;
     referenceAggregation(cost, sz.width, D, 8, p.w.p1, p.w.p2, ref);
     winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
-    AggregationInputs in;
-    in.censusL = cl;
-    in.censusR = cr;
-    in.prior16 = prior;
-    in.own16 = own;
+    AggregationInputs in = aggregationInputs(cl, cr, prior, Mat(), own);
     WinnerMaps w;
     aggregateCosts(in, p, w, sum);
     EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
@@ -313,10 +301,7 @@ TEST_P(Lidarsgm_AggregationThreads, same_as_reference)
     winnerTakesAll(ref, sz.width, p, e16, ei, er, enu);
     const int saved = getNumThreads();
     setNumThreads(threads);
-    AggregationInputs in;
-    in.censusL = cl;
-    in.censusR = cr;
-    in.prior16 = prior;
+    const AggregationInputs in = aggregationInputs(cl, cr, prior);
     WinnerMaps w;
     Mat sum;
     // Twice: the second call reuses the buffers the first one left.
@@ -367,13 +352,9 @@ TEST(Lidarsgm_Aggregation, stack_placement_does_not_change_results)
         int shift = 0;
         const auto check = [&]() {
             SCOPED_TRACE(cv::format("%d threads, stack shift %d", threads, shift));
-            AggregationInputs in;
-            in.censusL = cl;
-            in.censusR = cr;
-            in.prior16 = prior;
             WinnerMaps w;
             Mat sum;
-            aggregateCosts(in, p, w, sum);
+            aggregateCosts(aggregationInputs(cl, cr, prior), p, w, sum);
             EXPECT_EQ(0, cvtest::norm(sum, ref, NORM_INF));
             EXPECT_EQ(0, cvtest::norm(w.disp16, e16, NORM_INF));
             EXPECT_EQ(0, cvtest::norm(w.dispInt, ei, NORM_INF));
@@ -418,12 +399,7 @@ TEST_P(Lidarsgm_AggregationWindows, match_reference)
     referenceAggregation(cost, sz.width, D, numPaths, p.w.p1, p.w.p2, ref, image, thr, p.w.p2Edge, windows);
     referenceWinners(ref, windows, sz.width, p, e16, ei, er, enu);
     const int saved = getNumThreads();
-    AggregationInputs in;
-    in.censusL = cl;
-    in.censusR = cr;
-    in.prior16 = prior;
-    in.left = image;
-    in.windows = windows;
+    AggregationInputs in = aggregationInputs(cl, cr, prior, image, Mat(), windows);
     Ptr<AggregationState> kept;
     for (int threads : { 1, 2, 7 })
     {
@@ -566,16 +542,9 @@ TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
             expectSameAsCpu(coarse, gcoarse, what + " (coarse)");
             expectSameAsCpu(windows, gw, what + " (windows)");
 
-            AggregationInputs in;
-            in.censusL = c.censusL;
-            in.censusR = c.censusR;
-            in.prior16 = c.prior;
-            in.left = c.left;
-            in.own16 = c.own16;
-            in.windows = windows;
             WinnerMaps winners;
             Mat sum;
-            aggregateCosts(in, p, winners, sum);
+            aggregateCosts(aggregationInputs(c.censusL, c.censusR, c.prior, c.left, c.own16, windows), p, winners, sum);
             cuda::GpuMat gl, gr, gsum;
             cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), p, gl, gr);
             cuda_host::aggregateCosts(gl, gr, c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior),

@@ -347,7 +347,7 @@ TEST(Lidarsgm_CheckLidar, refusals)
     EXPECT_TRUE(cvIsNaN(c.residual));
     EXPECT_TRUE(cvIsNaN(c.shiftedResidual));
     EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, Mat()), cv::Exception);
-    EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse, 0), cv::Exception);
+    EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse, -1), cv::Exception);
     EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse, 1, -1), cv::Exception);
     EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse, 1, 1025), cv::Exception);
     EXPECT_THROW(cv::lidarsgm::checkLidar(left, right, sparse.colRange(0, 100)), cv::Exception);
@@ -360,6 +360,101 @@ TEST(Lidarsgm_CheckLidar, refusals)
     {
         EXPECT_NE(std::string::npos, e.err.find("maxResidual")) << e.err;
     }
+}
+
+TEST(Lidarsgm_FailSafe, decides_with_the_bound_and_falls_back_to_stereo_alone)
+{
+    Mat left, right, sparse;
+    slantedPair(0, left, right, sparse);
+    const Mat misplaced = moved(sparse, 5, -16);
+    EXPECT_EQ(1.0, cv::lidarsgm::LidarFailSafe::maxResidual());
+    // checkLidar's default band is the fail-safe's bound.
+    const cv::lidarsgm::LidarCheck byDefault = cv::lidarsgm::checkLidar(left, right, misplaced, 0, 24);
+    const cv::lidarsgm::LidarCheck atOne = cv::lidarsgm::checkLidar(left, right, misplaced, 1.0, 24);
+    EXPECT_EQ(atOne.residual, byDefault.residual);
+    EXPECT_EQ(atOne.shiftedResidual, byDefault.shiftedResidual);
+    EXPECT_EQ(atOne.shift, byDefault.shift);
+    EXPECT_FALSE(byDefault.stereoAlone);   // checkLidar measures; the fail-safe decides
+
+    cv::Ptr<cv::lidarsgm::LidarFailSafe> failSafe = cv::lidarsgm::LidarFailSafe::create();
+    EXPECT_FALSE(failSafe->getTrustLidar());
+    cv::lidarsgm::LidarCheck c = failSafe->check(left, right, sparse);
+    EXPECT_TRUE(c.trusted);
+    EXPECT_FALSE(c.stereoAlone);
+    c = failSafe->check(left, right, misplaced);
+    EXPECT_FALSE(c.trusted);
+    EXPECT_TRUE(c.stereoAlone);
+    EXPECT_EQ(cv::lidarsgm::checkLidar(left, right, misplaced).residual, c.residual);
+    failSafe->setTrustLidar(true);
+    c = failSafe->check(left, right, misplaced);
+    EXPECT_FALSE(c.trusted);
+    EXPECT_FALSE(c.stereoAlone);   // judged, reported, fused anyway
+    failSafe->setTrustLidar(false);
+    // Nothing to compare: the images cannot tell, and the LiDAR is fused.
+    c = failSafe->check(left, right, Mat::zeros(left.size(), CV_32FC1));
+    EXPECT_TRUE(cvIsNaN(c.residual));
+    EXPECT_FALSE(c.stereoAlone);
+
+    // compute(): the matcher on the LiDAR where it may be fused; else the stereo-alone matcher, on a map without
+    // values, bit for bit as that matcher called by hand.
+    cv::Ptr<cv::lidarsgm::StereoLidarSGM> m = cv::lidarsgm::StereoLidarSGM::create(0, 64);
+    m->setSearchWindow(4);
+    Mat d, ref;
+    c = failSafe->compute(m, left, right, sparse, d);
+    EXPECT_FALSE(c.stereoAlone);
+    m->compute(left, right, sparse, ref);
+    EXPECT_EQ(0, cvtest::norm(d, ref, NORM_INF));
+    c = failSafe->compute(m, left, right, misplaced, d);
+    EXPECT_TRUE(c.stereoAlone);
+    cv::Ptr<cv::lidarsgm::StereoLidarSGM> alone = cv::lidarsgm::LidarFailSafe::stereoAloneMatcher(m);
+    alone->compute(left, right, Mat::zeros(left.size(), CV_32FC1), ref);
+    EXPECT_EQ(0, cvtest::norm(d, ref, NORM_INF));
+    Mat withLidar;
+    m->compute(left, right, misplaced, withLidar);
+    EXPECT_GT(cvtest::norm(d, withLidar, NORM_INF), 0);   // the LiDAR was left out
+    // A changed setting reaches the stereo-alone matcher of the next call.
+    m->setUniquenessRatio(0.8);
+    failSafe->compute(m, left, right, misplaced, d);
+    cv::lidarsgm::LidarFailSafe::stereoAloneMatcher(m)->compute(left, right, Mat::zeros(left.size(), CV_32FC1), ref);
+    EXPECT_EQ(0, cvtest::norm(d, ref, NORM_INF));
+    EXPECT_THROW(failSafe->compute(cv::Ptr<cv::lidarsgm::StereoLidarSGM>(), left, right, sparse, d), cv::Exception);
+}
+
+TEST(Lidarsgm_FailSafe, the_stereo_alone_matcher)
+{
+    // Settings away from the defaults, kitti_best.yml's kind.
+    cv::Ptr<cv::lidarsgm::StereoLidarSGM> m = cv::lidarsgm::StereoLidarSGM::create(-4, 96, 8, 100, 4, 150, 0.6);
+    m->setNumPaths(4);
+    m->setSearchWindow(4);
+    m->setVisibilityRadiusX(2);
+    m->setVisibilityParallax(0.25);
+    m->setSemidenseWeight(0.5);
+    m->setRingGapFactor(1.5);
+    m->setEdgeThreshold(12);
+    m->setOutputType(CV_32F);
+    const int checks[4][2] = { { cv::lidarsgm::StereoLidarSGM::CHECK_NONE, cv::lidarsgm::StereoLidarSGM::CHECK_NONE },
+                               { cv::lidarsgm::StereoLidarSGM::CHECK_STEREO, cv::lidarsgm::StereoLidarSGM::CHECK_STEREO },
+                               { cv::lidarsgm::StereoLidarSGM::CHECK_CAMERA_LIDAR,
+                                 cv::lidarsgm::StereoLidarSGM::CHECK_STEREO },
+                               { cv::lidarsgm::StereoLidarSGM::CHECK_STEREO_LIDAR,
+                                 cv::lidarsgm::StereoLidarSGM::CHECK_STEREO } };
+    for (const auto& c : checks)
+    {
+        m->setConsistencyCheck(c[0]);
+        const cv::Ptr<cv::lidarsgm::StereoLidarSGM> a = cv::lidarsgm::LidarFailSafe::stereoAloneMatcher(m);
+        EXPECT_EQ(cv::lidarsgm::StereoLidarSGM::MODE_SGM, a->getMode());
+        EXPECT_EQ(c[1], a->getConsistencyCheck());
+        EXPECT_EQ(cv::lidarsgm::StereoLidarSGM::MODE_SDSGM, m->getMode());   // the matcher itself as it was
+        EXPECT_EQ(c[0], m->getConsistencyCheck());
+        // Every other setting as the matcher's: the two save the same text but for mode and check.
+        a->setMode(m->getMode());
+        a->setConsistencyCheck(m->getConsistencyCheck());
+        FileStorage fa(".yml", FileStorage::WRITE | FileStorage::MEMORY), fm(".yml", FileStorage::WRITE | FileStorage::MEMORY);
+        a->write(fa);
+        m->write(fm);
+        EXPECT_EQ(fm.releaseAndGetString(), fa.releaseAndGetString());
+    }
+    EXPECT_THROW(cv::lidarsgm::LidarFailSafe::stereoAloneMatcher(cv::Ptr<cv::lidarsgm::StereoLidarSGM>()), cv::Exception);
 }
 
 TEST(Lidarsgm_MatchingResidual, refuses_what_the_images_cannot_tell)

@@ -102,6 +102,22 @@ struct StageCase
     Mat out;                              //!< the consistency check's output
 };
 
+/** The aggregation stage's inputs (aggregateCosts): both views' census strings, and where given the prior, the
+image of the edge rule, the copied-prior map and the disparity windows (an empty Mat: that input off). */
+inline cv::lidarsgm::detail::AggregationInputs aggregationInputs(const Mat& censusL, const Mat& censusR,
+                                                                 const Mat& prior16 = Mat(), const Mat& left = Mat(),
+                                                                 const Mat& own16 = Mat(), const Mat& windows = Mat())
+{
+    cv::lidarsgm::detail::AggregationInputs in;
+    in.censusL = censusL;
+    in.censusR = censusR;
+    in.prior16 = prior16;
+    in.left = left;
+    in.own16 = own16;
+    in.windows = windows;
+    return in;
+}
+
 inline StageCase runCpuStages(const std::string& name, const Mat& l, const Mat& r, const Mat& s,
                               const Ptr<cv::lidarsgm::StereoLidarSGM>& m)
 {
@@ -128,14 +144,8 @@ inline StageCase runCpuStages(const std::string& name, const Mat& l, const Mat& 
         c.rings.valid = false;
     c.prior = p.semidense ? c.semidense16 : p.ddc ? c.sparse16 : Mat();
     c.own16 = p.weighCopies && c.scan ? c.sparse16 : Mat();
-    cv::lidarsgm::detail::AggregationInputs in;
-    in.censusL = c.censusL;
-    in.censusR = c.censusR;
-    in.prior16 = c.prior;
-    in.left = l;
-    in.own16 = c.own16;
     cv::lidarsgm::detail::WinnerMaps w;
-    aggregateCosts(in, p, w, c.sum);
+    aggregateCosts(aggregationInputs(c.censusL, c.censusR, c.prior, l, c.own16), p, w, c.sum);
     c.disp16 = w.disp16;
     c.dispInt = w.dispInt;
     c.dispRight = w.dispRight;

@@ -3,6 +3,7 @@
 // invalid value, minDisparity, the reprojection formula (the Python test compares with cv2.reprojectImageTo3D), and
 // the refusals of bad input.
 #include "test_precomp.hpp"
+#include <cstring>
 #include <fstream>
 
 namespace opencv_test { namespace {
@@ -63,6 +64,51 @@ TEST(Lidarsgm_Depth, points_match_the_reprojection_formula)
             EXPECT_NEAR((x - cx) * z / f, p[0], 1e-5 * z);
             EXPECT_NEAR((y - cy) * z / f, p[1], 1e-5 * z);
         }
+}
+
+TEST(Lidarsgm_Depth, coloured_points_are_the_points_and_packed_rgb)
+{
+    const Matx34d P2(721.5377, 0, 609.5593, 44.85728, 0, 721.5377, 172.854, 0.2163791, 0, 0, 1, 0.002745884);
+    const Mat Q = reprojectionMatrix(P2, 384.3815);
+    RNG rng(11);
+    Mat_<short> disp16(29, 41);
+    Mat bgr(disp16.size(), CV_8UC3), grey(disp16.size(), CV_8UC1);
+    rng.fill(bgr, RNG::UNIFORM, 0, 256);
+    rng.fill(grey, RNG::UNIFORM, 0, 256);
+    for (int y = 0; y < disp16.rows; y++)
+        for (int x = 0; x < disp16.cols; x++)
+            disp16(y, x) = rng.uniform(0, 4) == 0 ? (short)-16 : (short)rng.uniform(1, 128 * 16);
+    for (int minD : { 0, 20 })
+    {
+        Mat points, cloud, cloudGrey;
+        disparityToPoints(disp16, Q, points, minD);
+        disparityToColoredPoints(disp16, Q, bgr, cloud, minD);
+        disparityToColoredPoints(disp16, Q, grey, cloudGrey, minD);
+        ASSERT_EQ(CV_32FC4, cloud.type());
+        for (int y = 0; y < disp16.rows; y++)
+            for (int x = 0; x < disp16.cols; x++)
+            {
+                const Vec3f p = points.at<Vec3f>(y, x);
+                const Vec4f c = cloud.at<Vec4f>(y, x), g = cloudGrey.at<Vec4f>(y, x);
+                for (int k = 0; k < 3; k++)  // bit for bit, NaN included
+                {
+                    EXPECT_EQ(0, memcmp(&p[k], &c[k], 4)) << x << ", " << y;
+                    EXPECT_EQ(0, memcmp(&p[k], &g[k], 4)) << x << ", " << y;
+                }
+                const Vec3b b = bgr.at<Vec3b>(y, x);
+                const unsigned v = grey.at<uchar>(y, x);
+                unsigned rgb = 0, rgbGrey = 0;
+                memcpy(&rgb, &c[3], 4);
+                memcpy(&rgbGrey, &g[3], 4);
+                EXPECT_EQ(((unsigned)b[2] << 16) | ((unsigned)b[1] << 8) | b[0], rgb) << x << ", " << y;
+                EXPECT_EQ((v << 16) | (v << 8) | v, rgbGrey) << x << ", " << y;
+            }
+    }
+    Mat out;
+    EXPECT_THROW(disparityToColoredPoints(disp16, Q, bgr(Rect(0, 0, 40, 29)), out), cv::Exception);
+    EXPECT_THROW(disparityToColoredPoints(disp16, Q, Mat(disp16.size(), CV_8UC4, Scalar(0)), out), cv::Exception);
+    EXPECT_THROW(disparityToColoredPoints(disp16, Q, Mat(), out), cv::Exception);
+    EXPECT_THROW(disparityToColoredPoints(disp16, Mat::eye(3, 3, CV_64F), bgr, out), cv::Exception);
 }
 
 TEST(Lidarsgm_Depth, bad_input_is_refused)

@@ -4,6 +4,10 @@
 
 #include "opencv2/ts.hpp"
 #include "opencv2/lidarsgm.hpp"
+#include "opencv2/lidarsgm/calibration.hpp"
+#include "opencv2/lidarsgm/datasets.hpp"
+#include "opencv2/lidarsgm/evaluation.hpp"
+#include "opencv2/lidarsgm/rig.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
 #include <thread>

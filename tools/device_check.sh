@@ -31,7 +31,7 @@ else
   # and used by another crashes cv2 (imread's logging). The system's compiler links the shared libstdc++.
   if [ -x /usr/bin/g++ ]; then export CC=/usr/bin/gcc CXX=/usr/bin/g++ CUDAHOSTCXX=/usr/bin/g++; fi
   # PY=ON: the bindings' test dependencies the device's Python lacks, from the wheels make_opencv_trim.sh downloads.
-  [ "${PY:-OFF}" = ON ] && python3 -m pip install -q --no-index --find-links .device/wheels plyfile pypcd4
+  [ "${PY:-OFF}" = ON ] && python3 -m pip install -q --no-index --find-links .device/wheels plyfile pypcd4 mypy
   cmake -S . -B build-device -G Ninja -DLIDARSGM_CACHE_DIR=$CACHE -DLIDARSGM_WITH_PYTHON=${PY:-OFF} \
     -DLIDARSGM_WITH_RAY=OFF -DLIDARSGM_WITH_ROS2=OFF \
     -DLIDARSGM_OPENCV=$V -DLIDARSGM_OPENCV_ALSO= \
@@ -50,8 +50,9 @@ if [ "${PY:-OFF}" = ON ]; then
   # The ROS 2 package's fusion on the GPU (no ROS there: plain messages) and its conversions' cost.
   PYTHONPATH=$CACHE/build-cuda90/python_loader LIDARSGM_TESTDATA=$PWD/testdata \
     python3 -m unittest discover -v -s test/ros2 -p "test_conversions.py" 2>&1 | grep -E "cuda|^Ran|^OK|FAIL|Error"
-  PYTHONPATH=$CACHE/build-cuda90/python_loader python3 tools/ros2_latency.py --cuda --node-frames 0
-  PYTHONPATH=$CACHE/build-cuda90/python_loader python3 tools/ros2_latency.py --node-frames 0 --threads 16
+  # (each output also in $OUT, for doc/benchmarks/ros2_latency_<device>.txt)
+  PYTHONPATH=$CACHE/build-cuda90/python_loader python3 tools/ros2_latency.py --cuda --node-frames 0 | tee "$OUT/ros2_latency_cuda.txt"
+  PYTHONPATH=$CACHE/build-cuda90/python_loader python3 tools/ros2_latency.py --node-frames 0 | tee "$OUT/ros2_latency_cpu.txt"
 fi
 grep -E "^\[  FAILED|^\[  PASSED|^\[     SKIP|Failure" "$OUT/tests.log" | sort | uniq -c | head -40
 for id in 000002 000046; do

@@ -54,11 +54,9 @@ def tool_row(args, folder, extra, label):
 
 
 def stereo_alone(cv2, data, ids):
-    """(coverage %, total D1 %) over the frames of kitti_best.yml in MODE_SGM with the left-right check on the pair
-    alone, as the fail-safe fuses a condemned frame."""
-    m = cv2.lidarsgm.StereoLidarSGM.load(PARAMS)
-    m.setMode(cv2.lidarsgm.StereoLidarSGM_MODE_SGM)
-    m.setConsistencyCheck(cv2.lidarsgm.StereoLidarSGM_CHECK_STEREO)
+    """(coverage %, total D1 %) over the frames of kitti_best.yml on the pair alone, with the fail-safe's stereo-alone
+    matcher (MODE_SGM, the left-right check), as it fuses a condemned frame."""
+    m = cv2.lidarsgm.LidarFailSafe.stereoAloneMatcher(cv2.lidarsgm.StereoLidarSGM.load(PARAMS))
     est = bad = gt = 0
     for i in ids:
         f = cv2.lidarsgm.loadKittiFrame(data, i)

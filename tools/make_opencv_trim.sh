@@ -38,10 +38,13 @@ tar -C "$CACHE/src" -cJf "$OUTF" \
     "${paths[@]}"
 ls -l "$OUTF"
 # tools/device_check.sh PY=ON builds the Python bindings there; their tests read and write point clouds with plyfile
-# and pypcd4, which the device's Python (3.12) lacks: their wheels, and pypcd4's dependencies but numpy, travel in
-# .device/wheels.
+# and pypcd4 and check the typing stubs with mypy, which the device's Python (3.12) lacks: their wheels, and their
+# dependencies but numpy, travel in .device/wheels.
 python3 -m pip download -q --no-deps plyfile==1.1.5 -d .device/wheels
 python3 -m pip download -q --no-deps --only-binary=:all: --python-version 3.12 --implementation cp \
   --platform manylinux_2_28_x86_64 --platform manylinux_2_17_x86_64 --platform manylinux2014_x86_64 \
   --platform manylinux1_x86_64 -d .device/wheels pypcd4==1.5.1 pydantic==2.14.4 pydantic-core==2.50.5 \
   python-neo-lzf==0.3.5 annotated-types==0.8.0 typing-extensions==4.16.0 typing-inspection==0.4.5
+python3 -m pip download -q --only-binary=:all: --python-version 3.12 --implementation cp \
+  --platform manylinux_2_28_x86_64 --platform manylinux_2_17_x86_64 --platform manylinux2014_x86_64 \
+  -d .device/wheels mypy==2.4.1

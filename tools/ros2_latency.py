@@ -2,7 +2,7 @@
 """What the ROS 2 node adds to a fusion, and whether it keeps up with a 10 Hz LiDAR (doc/perf.md, "ROS 2 node").
 
   python3 tools/ros2_latency.py --kitti testdata/kitti --params doc/params/kitti_best.yml [--cuda] [--rounds 20]
-                                [--node-frames 100] [--threads 2]
+                                [--node-frames 100] [--threads N]
 
 1. In one process, per frame of the KITTI folder as ROS messages (lidarsgm_ros.kitti): the node's conversions in
    (CameraInfo pair, images to grey, PointCloud2 to points), the projection, the bare compute call (cv2, or GpuMat
@@ -35,8 +35,8 @@ import numpy as np
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 PACKAGE = os.path.join(ROOT, "ros2", "lidarsgm_ros")
 sys.path.insert(0, PACKAGE)
-from lidarsgm_ros import conversions as cr  # noqa: E402
-from lidarsgm_ros import kitti  # noqa: E402
+from lidarsgm_ros import camera_info, clouds, images, kitti  # noqa: E402
+from lidarsgm_ros.conversions import stamp_ns  # noqa: E402
 from lidarsgm_ros.fusion import Fusion, Result  # noqa: E402
 from lidarsgm_ros.messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class  # noqa: E402
 
@@ -87,8 +87,7 @@ class Steps:
 
 # sub-steps: (part, step names) in the order they run; the bytes each writes per pixel (32FC1 depth) for its GB/s
 IN_STEPS = ("camera_info pair", "images to grey", "left image to BGR", "PointCloud2 to points")
-OUT_BYTES = {"disparity image": 4, "disparityToDepth": 4, "depth image": 4, "disparityToPoints": 12,
-             "x y z rgb cloud": 16}
+OUT_BYTES = {"disparity image": 4, "disparityToDepth": 4, "depth image": 4, "x y z rgb cloud": 16}
 
 
 def plain_kit():
@@ -136,8 +135,9 @@ def in_process(args):
     kit = MessageKit.rclpy() if HAVE_RCLPY else plain_kit()
     print("1. per frame, median of %d rounds (%s messages, %s, %d OpenCV threads)"
           % (args.rounds, "rclpy" if HAVE_RCLPY else "plain", "CUDA" if args.cuda else "CPU", cv2.getNumThreads()))
-    print("| frame | conversions in | projection | compute | conversions out | conversions / compute |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    print("| frame | conversions in | projection | compute | conversions out | conversions / compute | in + out "
+          "| all but compute |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
     breakdown = []
     for fid, frame, m in frames(args, kit):
         fusion = Fusion(cv2, args.params, args.cuda, kitti.ros_calibration(frame.calibration)[3])
@@ -146,13 +146,13 @@ def in_process(args):
         for r in range(args.rounds + 1):
             steps.start()
             t0 = time.perf_counter()
-            g = cr.stereo_geometry(m["left/camera_info"], m["right/camera_info"])
+            g = camera_info.stereo_geometry(m["left/camera_info"], m["right/camera_info"])
             steps.mark("camera_info pair")
-            grey_l, grey_r = cr.to_grey(m["left/image_rect"], cv2), cr.to_grey(m["right/image_rect"], cv2)
+            grey_l, grey_r = images.to_grey(m["left/image_rect"], cv2), images.to_grey(m["right/image_rect"], cv2)
             steps.mark("images to grey")
-            bgr = cr.to_bgr(m["left/image_rect"], cv2)
+            bgr = images.to_bgr(m["left/image_rect"], cv2)
             steps.mark("left image to BGR")
-            points, _, _ = cr.cloud_points(m["points"])
+            points, _, _ = clouds.cloud_points(m["points"])
             steps.mark("PointCloud2 to points")
             t1 = time.perf_counter()
             sparse = fusion.project(g, points)
@@ -178,9 +178,10 @@ def in_process(args):
             t["compute"].append(t3 - t2)
             t["out"].append(t4 - t3)
         med = {k: 1000 * statistics.median(v) for k, v in t.items()}
-        print("| %s | %.2f ms | %.2f ms | %.2f ms | %.2f ms | %.1f %% |"
+        print("| %s | %.2f ms | %.2f ms | %.2f ms | %.2f ms | %.1f %% | %.2f ms | %.2f ms |"
               % (fid, med["in"], med["proj"], med["compute"], med["out"],
-                 100 * (med["in"] + med["out"]) / med["compute"]))
+                 100 * (med["in"] + med["out"]) / med["compute"], med["in"] + med["out"],
+                 med["in"] + med["proj"] + med["out"]))
         breakdown.append((fid, frame.left.shape[0] * frame.left.shape[1], steps, serial))
     print("\n1b. the conversions by sub-step, median of the same rounds: ms, minor page faults, and for the outputs "
           "the MB each writes and the GB/s that makes; 'out, one band' is each output step on its own, the outputs "
@@ -232,14 +233,14 @@ def node_rate(args):
     pubs = {k: node.create_publisher(rclpy_class(v), k, 10) for k, v in INPUT_TYPES.items()}
     sent, got = {}, {}
     node.create_subscription(rclpy_class(OUTPUT_TYPES["disparity"]), "disparity",
-                             lambda msg: got.setdefault(cr.stamp_ns(msg), time.perf_counter()), 10)
+                             lambda msg: got.setdefault(stamp_ns(msg), time.perf_counter()), 10)
     end = time.monotonic() + 60
     while time.monotonic() < end and not all(p.get_subscription_count() for p in pubs.values()):
         rclpy.spin_once(node, timeout_sec=0.05)
     period = 0.1
     start = time.perf_counter()
     for i in range(args.node_frames):
-        stamp = (i + 1) * 10**8
+        stamp = node.get_clock().now().nanoseconds  # the node's clock: its stamp-to-outputs latency is real
         _, _, msgs = data[i % len(data)]
         for topic, msg in msgs.items():
             msg.header.stamp = kit.time(stamp)
@@ -279,9 +280,12 @@ def main():
     p.add_argument("--cuda", action="store_true")
     p.add_argument("--rounds", type=int, default=20)
     p.add_argument("--node-frames", type=int, default=100)
-    p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--threads", type=int, default=0,
+                   help="OpenCV threads; 0 (default): cv2's own, one a CPU, as the node runs")
     args = p.parse_args()
-    cv2.setNumThreads(args.threads)
+    if args.threads > 0:
+        cv2.setNumThreads(args.threads)
+    args.threads = cv2.getNumThreads()
     cpu = ""
     if os.path.exists("/proc/cpuinfo"):
         cpu = open("/proc/cpuinfo").read().split("model name")[1].split("\n")[0].strip(": \t")

@@ -426,6 +426,25 @@ CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray project
                                            double focalBaseline, Size imageSize, OutputArray sparseDisparity,
                                            int dtype = CV_32F);
 
+/** @brief The number of laser rings of a Velodyne scan in the driver's order: a new ring starts where the azimuth,
+taken in [0, 360), falls back by more than 90 degrees (each ring sweeps once round from straight ahead).
+@param points N x 3 or more CV_32FC1 (x, y, z first), as readVelodyneScan returns them.
+ */
+CV_EXPORTS_W int countLidarRings(InputArray points);
+
+/** @brief Thins a Velodyne scan to every keepEvery-th laser ring, counted from the top, starting with ring firstRing.
+
+The rings come from the scan's order (countLidarRings) and are ranked by their median elevation angle (elevation
+alone does not separate them: near points of neighbouring rings overlap by up to a degree, as the lasers sit off the
+sensor's centre). keepEvery 2 and 4 simulate 32- and 16-line LiDARs from a 64-line scan, as the paper's Table VI
+does; the keepEvery offsets firstRing = 0 .. keepEvery - 1 split the scan into disjoint parts.
+@param points N x 3 or more CV_32FC1, in the driver's order.
+@param keepEvery >= 1; 1 returns the scan unchanged.
+@param firstRing in [0, keepEvery).
+@return the kept points (whole rings), a copy.
+ */
+CV_EXPORTS_W Mat selectLidarRings(InputArray points, int keepEvery, int firstRing = 0);
+
 //! @}
 
 }} // namespace cv::lidarsgm
@@ -465,10 +484,11 @@ CV_EXPORTS_W void projectPointsToDisparity(InputArray points, InputArray project
 
 }} // namespace cv::cuda
 
-#include "opencv2/lidarsgm/evaluation.hpp"
+// The core: the matcher, the projection, depth and points, the fail-safe. The add-ons have headers of their own, included
+// by name: opencv2/lidarsgm/datasets.hpp (KITTI and Middlebury readers, point-cloud files, writers),
+// opencv2/lidarsgm/evaluation.hpp (the KITTI devkit's metrics, colour maps, legends), opencv2/lidarsgm/calibration.hpp
+// (LidarCalibration) and opencv2/lidarsgm/rig.hpp (StereoRig).
 #include "opencv2/lidarsgm/depth.hpp"
-#include "opencv2/lidarsgm/calibration.hpp"
-#include "opencv2/lidarsgm/datasets.hpp"
-#include "opencv2/lidarsgm/rig.hpp"
+#include "opencv2/lidarsgm/fail_safe.hpp"
 
 #endif // OPENCV_LIDARSGM_HPP

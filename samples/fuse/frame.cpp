@@ -26,9 +26,10 @@ int runFrame(const Options& o, Frame& f)
     printResiduals({ std::make_pair(f.name, (const PassRows*)&lidarCheck) });
     for (const std::string& name : modes)
     {
-        // Stereo alone where the LiDAR lands misplaced (the fail-safe): plain SGM, its check without the LiDAR.
-        const int mode = lidarCheck.stereoAlone ? (int)Matcher::MODE_SGM : modeFromName(name);
-        Ptr<Matcher> m = makeMatcher(o, mode, check);
+        Ptr<Matcher> m = makeMatcher(o, modeFromName(name), check);
+        if (lidarCheck.stereoAlone)   // the LiDAR misplaced on the images
+            m = lidarsgm::LidarFailSafe::stereoAloneMatcher(m);
+        const int mode = m->getMode();
         const int minD = m->getMinDisparity();
         Mat disp, confidence;
         TickMeter tm;

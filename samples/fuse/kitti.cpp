@@ -11,6 +11,7 @@
 #include "opencv2/core/utils/filesystem.hpp"
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cstdio>
 #include <exception>
 #include <functional>
@@ -368,11 +369,11 @@ lidarsgm::KittiCalibration calibrationFromData(const Options& o, const lidarsgm:
            c.points, c.frames, tm.getTimeSec());
     // A LiDAR that stays more than one disparity step (the DDC's Q1 band) from the stereo match at most of its
     // points steers the fusion wrong instead of helping it: it is left out.
-    if (c.residualAfter > kMaxLidarResidual)
+    if (c.residualAfter > lidarsgm::LidarFailSafe::maxResidual())
     {
         printf("the corrected calibration still leaves the LiDAR %.3f px (median) from the stereo pairs, more than "
                "%.1f px: the LiDAR is left out: stereo alone (SGM, left-right check)\n", c.residualAfter,
-               kMaxLidarResidual);
+               lidarsgm::LidarFailSafe::maxResidual());
         stereoOnly = true;
     }
     lidarsgm::KittiCalibration refined = calib;
@@ -380,12 +381,17 @@ lidarsgm::KittiCalibration calibrationFromData(const Options& o, const lidarsgm:
     return refined;
 }
 
-//! The run's options with the LiDAR left out: plain SGM with the left-right check, and no sparse map.
+//! The run's options with the LiDAR left out: one row, the fail-safe's stereo-alone matcher on every frame.
 Options stereoAlone(const Options& o)
 {
     Options s = o;
-    s.kv["modes"] = "sgm";
-    s.kv["check"] = "stereo";
+    const int mode0 = modeFromName(o.list("modes", "sgm,dsgm,sdsgm").front());
+    const Ptr<Matcher> alone = lidarsgm::LidarFailSafe::stereoAloneMatcher(
+        makeMatcher(o, mode0, checkFromName(o.str("check", "stereo-lidar"))));
+    std::string mode = modeLabel(alone->getMode());
+    std::transform(mode.begin(), mode.end(), mode.begin(), [](char c) { return (char)std::tolower(c); });
+    s.kv["modes"] = mode;
+    s.kv["check"] = checkLabel(alone->getConsistencyCheck());
     s.kv[kLidarLeftOut] = "1";
     s.kv.erase("table5");
     return s;

@@ -70,20 +70,28 @@ Ptr<Matcher> FrameWorker::matcher(int mode, int check)
     return m;
 }
 
+Ptr<Matcher> FrameWorker::stereoAlone(const Ptr<Matcher>& m)
+{
+    Ptr<Matcher>& a = alone_[m.get()];
+    if (a.empty())
+        a = lidarsgm::LidarFailSafe::stereoAloneMatcher(m);
+    return a;
+}
+
 Mat checkFrameLidar(const Options& o, const Frame& f, PassRows& fr)
 {
     if (f.sparse.empty())
         return f.sparse;
-    const lidarsgm::LidarCheck c = lidarsgm::checkLidar(f.left, f.right, f.sparse, kMaxLidarResidual);
+    const lidarsgm::LidarCheck c = lidarsgm::LidarFailSafe::create(o.has("trust-lidar"))->check(f.left, f.right, f.sparse);
     fr.residual = c.residual;
     fr.shiftedResidual = c.shiftedResidual;
     fr.shift = c.shift;
     fr.turn = c.turn;
     fr.misplaced = !c.trusted;
-    fr.stereoAlone = (fr.misplaced && !o.has("trust-lidar")) || o.has(kLidarLeftOut);
+    fr.stereoAlone = c.stereoAlone || o.has(kLidarLeftOut);
     if (cvIsNaN(c.residual))
         fr.residualFailure = format("fewer than 200 LiDAR pixels can be compared with the images");
-    // No sparse value: every mode is stereo alone (DSGM and SDSGM without a prior are SGM, the checks left-right).
+    // A map without values, as LidarFailSafe::compute passes its stereo-alone matcher.
     return fr.stereoAlone ? Mat::zeros(f.sparse.size(), f.sparse.type()) : f.sparse;
 }
 
@@ -114,7 +122,7 @@ void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >&
             largest = v;
             worst = f.first;
         }
-        if (v > kMaxLidarResidual)
+        if (v > lidarsgm::LidarFailSafe::maxResidual())
             above += (above.empty() ? "" : ", ") + f.first;
     }
     if (r.size() == 1)
@@ -128,9 +136,9 @@ void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >&
     }
     if (!above.empty())
         printf("  above %.0f px, where the LiDAR pulls the fusion off the images (check the calibration: "
-               "--check-calibration, --refine-calibration): %s\n", kMaxLidarResidual, above.c_str());
+               "--check-calibration, --refine-calibration): %s\n", lidarsgm::LidarFailSafe::maxResidual(), above.c_str());
     if (!misplaced.empty())
-        printf("  the LiDAR misplaced on the images (cv::lidarsgm::checkLidar: moving the points lowers the residual by "
+        printf("  the LiDAR misplaced on the images (cv::lidarsgm::LidarFailSafe: moving the points lowers the residual by "
                "a fifth or more; check the calibration: --refine-calibration), %s: %s\n",
                alone ? "fused as stereo alone" : "fused anyway (--trust-lidar)", misplaced.c_str());
     if (!failed.empty())
@@ -148,12 +156,10 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
     for (size_t c = 0; c < fr.table5.size(); c++)
         jobs.push_back({ matcher(Matcher::MODE_SDSGM, (int)c), (int)c, false, Mat(), 0.0, Mat() });
     jobs.push_back({ matcher(Matcher::MODE_SDSGM, check), check, true, Mat(), 0.0, Mat() });
-    // Stereo alone: plain SGM with each job's check (DSGM and SDSGM weigh the census by 1 - alpha even without a
-    // prior: smoother than SGM, and worse).
-    const auto stereoAlone = [&]() {
+    const auto fuseAlone = [&]() {
         for (Job& j : jobs)
             if (!j.semidense)
-                j.m = matcher(Matcher::MODE_SGM, j.check);
+                j.m = stereoAlone(j.m);
     };
     const auto withConfidence = [&](size_t j) { return wantConfidence && j < modes.size(); };
     CV_Assert(jobs.size() <= (size_t)kMaxJobs);
@@ -194,7 +200,7 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
         if (fr.stereoAlone)
         {
             g.stream.waitForCompletion();   // the upload buffer of the sparse map is reused
-            stereoAlone();
+            fuseAlone();
             enqueue(fused, true);
         }
         g.stream.waitForCompletion();
@@ -210,7 +216,7 @@ void FrameWorker::compute(const Frame& f, const std::string& frameOut, PassRows&
     {
         const Mat fused = checkFrameLidar(o_, f, fr);
         if (fr.stereoAlone)
-            stereoAlone();
+            fuseAlone();
         for (size_t k = 0; k < jobs.size(); k++)
         {
             Job& j = jobs[k];

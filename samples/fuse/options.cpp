@@ -107,7 +107,7 @@ const OptionSpec kOptions[] = {
     { "lidar-ring-offset", 'i', "K", "(--lidar-lines 32 or 16) the first ring kept, counted from the top, modulo the "
       "2 or 4 (3 keeps the lowest ring at 16 lines)", "0, the top ring", nullptr },
     { "trust-lidar", 'f', nullptr, "(not --middlebury) fuse every frame with its LiDAR; without it a frame whose "
-      "LiDAR lands misplaced on its images (cv::lidarsgm::checkLidar: the matching residual above 1 px and lowered "
+      "LiDAR lands misplaced on its images (cv::lidarsgm::LidarFailSafe: the matching residual above 1 px and lowered "
       "by a fifth when the points are moved together: a LiDAR-to-camera transform that is off) is fused as stereo "
       "alone, and the run says so per frame", nullptr, nullptr },
     { nullptr, 0, nullptr, "Calibration from the data (--kitti, --kitti-raw):", nullptr, nullptr },

@@ -10,6 +10,10 @@
 #define LIDARSGM_FUSE_TOOL_HPP
 
 #include "opencv2/lidarsgm.hpp"
+#include "opencv2/lidarsgm/calibration.hpp"
+#include "opencv2/lidarsgm/datasets.hpp"
+#include "opencv2/lidarsgm/evaluation.hpp"
+#include "opencv2/lidarsgm/rig.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
 #include "files.hpp"
@@ -87,9 +91,6 @@ void printConfidence(const Row& row, const std::string& metric, const std::strin
 //! Whether the run writes the confidence map (--format confidence with --out), so its matchers compute it.
 bool writesConfidence(const Options& o, const std::string& out);
 
-/** The DDC's Q1 band (px): a LiDAR whose median residual against the stereo pairs exceeds it pulls the fusion off
-them by more than a disparity. Above it after refinement the LiDAR is left out; above it per frame the run warns. */
-const double kMaxLidarResidual = 1.0;
 /** Set (not a command-line option) where the calibration step leaves the LiDAR out of the whole run: every frame is
 fused as stereo alone, without its sparse map, which otherwise still draws the disparity windows of MODE_SGM. */
 const char* const kLidarLeftOut = "lidar-left-out";
@@ -114,9 +115,9 @@ struct PassRows
     bool stereoAlone = false;
     std::vector<Row*> all();
 };
-/** The fail-safe: a frame's LiDAR (f.sparse) checked against its images (cv::lidarsgm::checkLidar) into fr; none
+/** The fail-safe (cv::lidarsgm::LidarFailSafe): a frame's LiDAR (f.sparse) checked against its images into fr; none
 without a sparse map. Returns the sparse map to fuse: f.sparse, or one without values where fr.stereoAlone (then the
-run fuses with plain SGM: stereo alone). */
+run fuses with the fail-safe's stereo-alone matchers). */
 cv::Mat checkFrameLidar(const Options& o, const Frame& f, PassRows& fr);
 /** What a run prints about its frames' matching residuals (frame name, its rows): the median and the largest, the
 frames above the DDC's Q1 band (1 px), those whose LiDAR is misplaced (fused as stereo alone unless --trust-lidar)
@@ -137,10 +138,13 @@ private:
     FrameWorker(const FrameWorker&);
     FrameWorker& operator=(const FrameWorker&);
     cv::Ptr<Matcher> matcher(int mode, int check);
+    //! The fail-safe's stereo-alone matcher of m (one of matchers_), kept between frames as they are.
+    cv::Ptr<Matcher> stereoAlone(const cv::Ptr<Matcher>& m);
     struct Gpu;
     const Options& o_;
     Gpu* gpu_;
     std::map<int, cv::Ptr<Matcher> > matchers_;
+    std::map<const Matcher*, cv::Ptr<Matcher> > alone_;
 };
 //! The progress line of folder runs (stderr): frames done (computed, taken from an earlier run or failed), the rate
 //! of the computed ones, time left.

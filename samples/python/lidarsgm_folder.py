@@ -32,7 +32,7 @@ def row_labels(modes, check):
 
 def write_metrics(path, key, rows, check=None, stereo_alone=False):
     """metrics.yml as the C++ tool writes it: the options key, then per row the devkit's counts and the time, then the
-    frame's LiDAR check (cv.lidarsgm.checkLidar's result, None where the images could not tell) and whether the frame
+    frame's LiDAR check (cv.lidarsgm.LidarFailSafe's verdict, None where the images could not tell) and whether the frame
     was fused as stereo alone."""
     def write(tmp):
         fs = cv.FileStorage(tmp, cv.FILE_STORAGE_WRITE)

@@ -49,7 +49,8 @@ class FrameFuser:
                 return m
             self.matchers = [(mode, make(mode)) for mode in modes]
             self.sdsgm = make("sdsgm")
-            self.stereo = make("sgm")   # a frame whose LiDAR lands misplaced: stereo alone, as the tool fuses it
+            # a frame whose LiDAR lands misplaced: stereo alone, the fail-safe's matcher, as the tool fuses it
+            self.stereo = cv.lidarsgm.LidarFailSafe.stereoAloneMatcher(make("sgm"))
         finally:
             if path:
                 os.remove(path)
@@ -80,11 +81,11 @@ class FrameFuser:
             if name.startswith(".") and ".partial-" in name:
                 os.remove(os.path.join(frame_out, name))
 
-        # The tool's fail-safe: a LiDAR misplaced on the images (a transform that is off) is left out.
-        check = cv.lidarsgm.checkLidar(left, right, sparse, 1.0)
+        # The fail-safe, as the tool's: a LiDAR misplaced on the images (a transform that is off) is left out.
+        check = cv.lidarsgm.LidarFailSafe.create(trust_lidar).check(left, right, sparse)
         if check.residual != check.residual:
             check = None   # NaN: the images cannot tell
-        alone = check is not None and not check.trusted and not trust_lidar
+        alone = check is not None and check.stereoAlone
         fused = sparse * 0 if alone else sparse
         rows = []
         for (mode, m), label in zip(self.matchers, self.labels):
@@ -264,7 +265,7 @@ def main(argv):
         lfo.print_table("KITTI %s: %d frames, D1 (KITTI devkit rules), sums over frames, %d Ray workers (%s)"
                     % (folder, frames[folder], workers, "GPU" if gpus else "CPU"), sums[folder], times[folder])
     if alone:
-        print("the LiDAR misplaced on the images (cv.lidarsgm.checkLidar; check the calibration), fused as stereo alone: "
+        print("the LiDAR misplaced on the images (cv.lidarsgm.LidarFailSafe; check the calibration), fused as stereo alone: "
               + ", ".join(sorted(alone)))
     print("frames: %d computed, %d taken from earlier runs (--resume), %d failed" % (done, resumed, len(failures)))
     if failures:

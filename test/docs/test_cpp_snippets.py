@@ -24,7 +24,9 @@ BUILD = os.environ.get("LIDARSGM_OPENCV_BUILD", "")
 WORK = os.environ.get("LIDARSGM_WORK", "")
 CMAKE = os.environ.get("LIDARSGM_CMAKE", "cmake")
 # The includes doc/tutorial.md names for its blocks.
-FRAGMENT_HEADER = ("#include <opencv2/lidarsgm.hpp>\n#include <opencv2/imgcodecs.hpp>\n#include <opencv2/imgproc.hpp>\n\n"
+FRAGMENT_HEADER = ("#include <opencv2/lidarsgm.hpp>\n#include <opencv2/lidarsgm/datasets.hpp>\n"
+                   "#include <opencv2/lidarsgm/evaluation.hpp>\n#include <opencv2/lidarsgm/calibration.hpp>\n"
+                   "#include <opencv2/lidarsgm/rig.hpp>\n#include <opencv2/imgcodecs.hpp>\n#include <opencv2/imgproc.hpp>\n\n"
                    "int main()\n{\n")
 CONSUMER = """cmake_minimum_required(VERSION 3.16)
 project(lidarsgm_doc_snippets CXX)

@@ -1,4 +1,5 @@
-"""lidarsgm_ros.conversions and .sync on their own: numpy and cv2 only, no ROS installation needed.
+"""lidarsgm_ros's conversions (.camera_info, .images, .clouds, .transforms, .outputs) and .sync on their own: numpy
+and cv2 only, no ROS installation needed.
 
 Messages are plain objects with the fields of sensor_msgs' (the conversions read fields by name, as they do from
 rclpy's and rosbags' messages); the KITTI frame's are built by lidarsgm_ros.kitti as the node's tests publish them.
@@ -13,7 +14,7 @@ import cv2
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "ros2", "lidarsgm_ros"))
-from lidarsgm_ros import conversions as cr  # noqa: E402
+from lidarsgm_ros import camera_info, clouds, images, outputs, transforms  # noqa: E402
 from lidarsgm_ros import kitti  # noqa: E402
 from lidarsgm_ros.conversions import ConversionError  # noqa: E402
 from lidarsgm_ros.fusion import Fusion  # noqa: E402
@@ -52,7 +53,7 @@ class StereoGeometry(unittest.TestCase):
 
     def test_focal_baseline_from_the_right_tx(self):
         left, right = self.pair()
-        g = cr.stereo_geometry(info(left, frame="left_optical"), info(right))
+        g = camera_info.stereo_geometry(info(left, frame="left_optical"), info(right))
         self.assertAlmostEqual(g.focal_baseline, 378.0)
         self.assertAlmostEqual(g.baseline, 0.54)
         self.assertEqual(g.size, (1242, 375))
@@ -64,29 +65,29 @@ class StereoGeometry(unittest.TestCase):
         r = cv2.Rodrigues(np.array([0.01, -0.02, 0.005]))[0]
         li = info(left)
         li.r = list(r.ravel())
-        np.testing.assert_array_equal(cr.stereo_geometry(li, info(right)).rectification, r)
-        np.testing.assert_array_equal(cr.stereo_geometry(info(left), info(right)).rectification, np.eye(3))
+        np.testing.assert_array_equal(camera_info.stereo_geometry(li, info(right)).rectification, r)
+        np.testing.assert_array_equal(camera_info.stereo_geometry(info(left), info(right)).rectification, np.eye(3))
         li.r = list((2 * r).ravel())
         with self.assertRaises(ConversionError) as e:
-            cr.stereo_geometry(li, info(right))
+            camera_info.stereo_geometry(li, info(right))
         self.assertIn("left camera_info R is not a rotation", str(e.exception))
         # Raw: distortion, a rotation or K other than P's; the rectification maps of each distortion model.
         rect = Msg(width=64, height=48, d=[0.0] * 5, k=list(self.K.ravel()), r=list(np.eye(3).ravel()),
                    p=list(left.ravel()), distortion_model="plumb_bob")
-        self.assertFalse(cr.is_raw(rect))
+        self.assertFalse(camera_info.is_raw(rect))
         for change in (dict(d=[-0.2, 0, 0, 0, 0]), dict(r=list(r.ravel())), dict(k=list((self.K * 1.01).ravel()))):
-            self.assertTrue(cr.is_raw(Msg(**dict(vars(rect), **change))))
-        mx, my = cr.rectification_maps(cv2, rect, "left")
+            self.assertTrue(camera_info.is_raw(Msg(**dict(vars(rect), **change))))
+        mx, my = camera_info.rectification_maps(cv2, rect, "left")
         self.assertEqual(mx.shape, (48, 64))
         self.assertAlmostEqual(float(mx[10, 20]), 20.0, places=3)   # nothing to undo: the identity map
         fisheye = Msg(**dict(vars(rect), distortion_model="equidistant", d=[0.1, 0.0, 0.0, 0.0]))
-        self.assertEqual(cr.rectification_maps(cv2, fisheye, "left")[0].shape, (48, 64))
+        self.assertEqual(camera_info.rectification_maps(cv2, fisheye, "left")[0].shape, (48, 64))
         for change, text in ((dict(distortion_model="kannala"), "distortion model 'kannala' is not one of"),
                              (dict(distortion_model="equidistant"), "equidistant model needs 4 coefficients, got 5"),
                              (dict(d=[0.1, 0.2]), "has 2 distortion coefficients"),
                              (dict(k=[0.0] * 9), "has no camera matrix K")):
             with self.assertRaises(ConversionError) as e:
-                cr.rectification_maps(cv2, Msg(**dict(vars(rect), **change)), "right")
+                camera_info.rectification_maps(cv2, Msg(**dict(vars(rect), **change)), "right")
             self.assertIn(text, str(e.exception))
 
     def test_refusals_say_what_is_wrong(self):
@@ -105,23 +106,23 @@ class StereoGeometry(unittest.TestCase):
         cases.append(((info(left, w=0), info(right, w=0)), "no image size"))
         for (l, r), text in cases:
             with self.assertRaises(ConversionError) as e:
-                cr.stereo_geometry(l, r)
+                camera_info.stereo_geometry(l, r)
             self.assertIn(text, str(e.exception))
 
     def test_the_last_pair_is_kept(self):
         """The same pair's values again: the same StereoGeometry back, without the checks; any value changed, or a
         broken pair after a good one: worked out (or refused) anew."""
         left, right = self.pair()
-        g = cr.stereo_geometry(info(left), info(right))
-        self.assertIs(cr.stereo_geometry(info(left), info(right)), g)
+        g = camera_info.stereo_geometry(info(left), info(right))
+        self.assertIs(camera_info.stereo_geometry(info(left), info(right)), g)
         other = right.copy()
         other[0, 3] = -700 * 0.5
-        self.assertAlmostEqual(cr.stereo_geometry(info(left), info(other)).baseline, 0.5)
-        self.assertAlmostEqual(cr.stereo_geometry(info(left), info(right, frame="x")).baseline, 0.54)
+        self.assertAlmostEqual(camera_info.stereo_geometry(info(left), info(other)).baseline, 0.5)
+        self.assertAlmostEqual(camera_info.stereo_geometry(info(left), info(right, frame="x")).baseline, 0.54)
         with self.assertRaisesRegex(ConversionError, "no image size"):
-            cr.stereo_geometry(info(left, w=0), info(right, w=0))
-        self.assertIsNot(cr.stereo_geometry(info(left), info(right)), g)
-        self.assertEqual(cr.stereo_geometry(info(left), info(right)).focal_baseline, g.focal_baseline)
+            camera_info.stereo_geometry(info(left, w=0), info(right, w=0))
+        self.assertIsNot(camera_info.stereo_geometry(info(left), info(right)), g)
+        self.assertEqual(camera_info.stereo_geometry(info(left), info(right)).focal_baseline, g.focal_baseline)
 
     def test_broken_camera_info(self):
         """K or P of the wrong size, fx 0, NaN, no image size, values that are no numbers: each refused, saying what
@@ -157,7 +158,7 @@ class StereoGeometry(unittest.TestCase):
         ]
         for (l, r), text in cases:
             with self.assertRaises(ConversionError, msg=text) as e:
-                cr.stereo_geometry(l, r)
+                camera_info.stereo_geometry(l, r)
             self.assertIn(text, str(e.exception))
         # The rectification maps refuse NaN distortion and a camera_info without an image size.
         rect = Msg(width=64, height=48, d=[0.0] * 5, k=k, r=list(np.eye(3).ravel()), p=list(left.ravel()),
@@ -165,7 +166,7 @@ class StereoGeometry(unittest.TestCase):
         for change, text in ((dict(d=[np.nan, 0, 0, 0, 0]), "distortion coefficients hold NaN"),
                              (dict(width=0), "the left camera_info has no image size (0x48)")):
             with self.assertRaises(ConversionError) as e:
-                cr.rectification_maps(cv2, Msg(**dict(vars(rect), **change)), "left")
+                camera_info.rectification_maps(cv2, Msg(**dict(vars(rect), **change)), "left")
             self.assertIn(text, str(e.exception))
 
 
@@ -176,21 +177,21 @@ class Images(unittest.TestCase):
         padded = np.zeros((5, 24), np.uint8)
         padded[:, :21] = a.reshape(5, 21)
         msg = Msg(height=5, width=7, step=24, encoding="rgb8", is_bigendian=0, data=padded.tobytes())
-        np.testing.assert_array_equal(cr.image_to_array(msg), a)
-        np.testing.assert_array_equal(cr.to_grey(msg, cv2), cv2.cvtColor(a, cv2.COLOR_RGB2GRAY))
-        np.testing.assert_array_equal(cr.to_bgr(msg, cv2), a[..., ::-1])
+        np.testing.assert_array_equal(images.image_to_array(msg), a)
+        np.testing.assert_array_equal(images.to_grey(msg, cv2), cv2.cvtColor(a, cv2.COLOR_RGB2GRAY))
+        np.testing.assert_array_equal(images.to_bgr(msg, cv2), a[..., ::-1])
         b16 = rng.integers(0, 65535, (4, 3), dtype=np.uint16)
         big = Msg(height=4, width=3, step=6, encoding="mono16", is_bigendian=1, data=b16.astype(">u2").tobytes())
-        np.testing.assert_array_equal(cr.to_grey(big, cv2), b16)
+        np.testing.assert_array_equal(images.to_grey(big, cv2), b16)
 
     def test_bad_images(self):
         short = Msg(height=5, width=7, step=7, encoding="mono8", is_bigendian=0, data=bytes(30))
         with self.assertRaisesRegex(ConversionError, "image data holds 30 bytes"):
-            cr.image_to_array(short)
+            images.image_to_array(short)
         with self.assertRaisesRegex(ConversionError, "encoding 'yuv422' is not supported"):
-            cr.image_to_array(Msg(height=1, width=1, step=2, encoding="yuv422", is_bigendian=0, data=bytes(2)))
+            images.image_to_array(Msg(height=1, width=1, step=2, encoding="yuv422", is_bigendian=0, data=bytes(2)))
         with self.assertRaisesRegex(ConversionError, "32FC1 image cannot be matched"):
-            cr.to_grey(Msg(height=1, width=1, step=4, encoding="32FC1", is_bigendian=0, data=bytes(4)), cv2)
+            images.to_grey(Msg(height=1, width=1, step=4, encoding="32FC1", is_bigendian=0, data=bytes(4)), cv2)
 
     def test_image_size_step_and_data_must_agree(self):
         """len(data) = step x height exactly, step >= a row, width and height > 0; data of any buffer type."""
@@ -198,9 +199,9 @@ class Images(unittest.TestCase):
             m = dict(height=5, width=7, step=8, encoding="mono8", is_bigendian=0, data=bytes(40))
             m.update(kw)
             return Msg(**m)
-        self.assertEqual(cr.image_to_array(img()).shape, (5, 7))
-        self.assertEqual(cr.image_to_array(img(data=list(range(40)))).tolist()[1][:2], [8, 9])
-        self.assertEqual(cr.image_to_array(img(data=np.zeros(40, np.uint8))).shape, (5, 7))
+        self.assertEqual(images.image_to_array(img()).shape, (5, 7))
+        self.assertEqual(images.image_to_array(img(data=list(range(40)))).tolist()[1][:2], [8, 9])
+        self.assertEqual(images.image_to_array(img(data=np.zeros(40, np.uint8))).shape, (5, 7))
         for msg, text in (
                 (img(data=bytes(41)), "image data holds 41 bytes, a 7x5 mono8 image with step 8 needs step x height "
                                       "= 40"),
@@ -216,7 +217,7 @@ class Images(unittest.TestCase):
                 (img(data=[300] * 40), "the image's data is list, expected bytes"),
                 (img(encoding="mono10"), "image encoding 'mono10' is not supported (16UC1, 32FC1, 8UC1, bgr8")):
             with self.assertRaises(ConversionError, msg=text) as e:
-                cr.to_grey(msg, cv2)
+                images.to_grey(msg, cv2)
             self.assertIn(text, str(e.exception))
 
 
@@ -231,7 +232,7 @@ class Clouds(unittest.TestCase):
         rec = np.zeros(4, dt)
         rec["x"], rec["y"], rec["z"], rec["ring"] = self.xyz[:, 0], self.xyz[:, 1], self.xyz[:, 2], [3, 4, 5, 6]
         fields = [field("z", 0, 7), field("ring", 4, 4), field("x", 8, 8), field("y", 20, 7)]
-        xyz, ring = cr.cloud_to_points(cloud(rec.view(np.uint8).reshape(4, 32), fields, bigendian=True))
+        xyz, ring = clouds.cloud_to_points(cloud(rec.view(np.uint8).reshape(4, 32), fields, bigendian=True))
         np.testing.assert_array_equal(xyz, self.xyz[[0, 1, 3]])
         np.testing.assert_array_equal(ring, [3, 4, 6])
 
@@ -242,7 +243,7 @@ class Clouds(unittest.TestCase):
         rows[:, :32] = rec.view(np.uint8).reshape(2, 32)
         msg = Msg(height=2, width=2, fields=[field("x", 0, 7), field("y", 4, 7), field("z", 8, 7)], point_step=16,
                   row_step=40, data=rows.tobytes(), is_bigendian=False)
-        xyz, ring = cr.cloud_to_points(msg)
+        xyz, ring = clouds.cloud_to_points(msg)
         self.assertIsNone(ring)
         np.testing.assert_array_equal(xyz, self.xyz[[0, 1, 3]])
 
@@ -263,7 +264,7 @@ class Clouds(unittest.TestCase):
         cases.append((short, "data holds 35 bytes"))
         for msg, text in cases:
             with self.assertRaises(ConversionError) as e:
-                cr.cloud_to_points(msg)
+                clouds.cloud_to_points(msg)
             self.assertIn(text, str(e.exception))
 
     XYZ = [field("x", 0, 7), field("y", 4, 7), field("z", 8, 7)]
@@ -273,28 +274,28 @@ class Clouds(unittest.TestCase):
         rec = np.zeros((5, 4), np.float32)
         rec[:, :3] = xyz
         rec[:, 3].view(np.uint32)[:] = [0, 1, 2, 3, 4]
-        points, ring, dropped = cr.cloud_points(cloud(rec, self.XYZ + [field("ring", 12, 6)]))
+        points, ring, dropped = clouds.cloud_points(cloud(rec, self.XYZ + [field("ring", 12, 6)]))
         np.testing.assert_array_equal(points, xyz[[0, 4]])
         np.testing.assert_array_equal(ring, [0, 4])
         self.assertEqual(dropped, 3)
-        points, ring, dropped = cr.cloud_points(cloud(rec, self.XYZ))
+        points, ring, dropped = clouds.cloud_points(cloud(rec, self.XYZ))
         self.assertEqual((points.shape, ring, dropped), ((2, 3), None, 3))
-        self.assertEqual(cr.cloud_points(cloud(rec[[0, 4]], self.XYZ))[2], 0)
+        self.assertEqual(clouds.cloud_points(cloud(rec[[0, 4]], self.XYZ))[2], 0)
         # float64 beyond float32's range: infinite as float32, dropped and counted, no warning
         big = np.array([[1, 2, 3], [1e300, 0, 0]], np.float64)
         f64 = [field("x", 0, 8), field("y", 8, 8), field("z", 16, 8)]
         with np.errstate(all="raise"):
-            points, _, dropped = cr.cloud_points(cloud(big, f64))
+            points, _, dropped = clouds.cloud_points(cloud(big, f64))
         np.testing.assert_array_equal(points, [[1, 2, 3]])
         self.assertEqual(dropped, 1)
-        np.testing.assert_array_equal(cr.cloud_to_points(cloud(rec, self.XYZ))[0], xyz[[0, 4]])  # the old call
+        np.testing.assert_array_equal(clouds.cloud_to_points(cloud(rec, self.XYZ))[0], xyz[[0, 4]])  # the old call
         with self.assertRaisesRegex(ConversionError, r"no finite point \(5 points, all with a NaN or infinite"):
-            cr.cloud_points(cloud(np.full((5, 3), np.nan, np.float32), self.XYZ))
+            clouds.cloud_points(cloud(np.full((5, 3), np.nan, np.float32), self.XYZ))
 
     def test_numeric_coordinates_of_any_datatype(self):
         """x y z as int16 (a driver's millimetres, say) are read as their numbers, as float32."""
         rec = np.array([[1, -2, 3], [-300, 5, 32767]], np.int16)
-        points, _, dropped = cr.cloud_points(cloud(rec, [field("x", 0, 3), field("y", 2, 3), field("z", 4, 3)]))
+        points, _, dropped = clouds.cloud_points(cloud(rec, [field("x", 0, 3), field("y", 2, 3), field("z", 4, 3)]))
         np.testing.assert_array_equal(points, rec.astype(np.float32))
         self.assertEqual((points.dtype, dropped), (np.float32, 0))
 
@@ -307,12 +308,12 @@ class Clouds(unittest.TestCase):
             for k, v in kw.items():
                 setattr(m, k, v)
             return m
-        self.assertEqual(cr.cloud_points(c())[0].shape, (6, 3))
-        self.assertEqual(cr.cloud_points(c(data=list(c().data)))[0].shape, (6, 3))  # a list of byte values
+        self.assertEqual(clouds.cloud_points(c())[0].shape, (6, 3))
+        self.assertEqual(clouds.cloud_points(c(data=list(c().data)))[0].shape, (6, 3))  # a list of byte values
         # Left unset where the rest says it (drivers that make fields and clouds by hand): count 0 on x is one value,
         # row_step 0 with rows of width x point_step.
         for lenient in (c([field("x", 0, 7, count=0), field("y", 4, 7), field("z", 8, 7)]), c(row_step=0)):
-            np.testing.assert_array_equal(cr.cloud_points(lenient)[0], cr.cloud_points(c())[0])
+            np.testing.assert_array_equal(clouds.cloud_points(lenient)[0], clouds.cloud_points(c())[0])
         cases = [
             (c(point_step=0), "point_step is 0: expected the bytes of one point (> 0)"),
             (c(point_step=-16), "point_step is -16"),
@@ -351,15 +352,15 @@ class Clouds(unittest.TestCase):
         ]
         for msg, text in cases:
             with self.assertRaises(ConversionError, msg=text) as e:
-                cr.cloud_points(msg)
+                clouds.cloud_points(msg)
             self.assertIn(text, str(e.exception))
         bad_ring = rec.copy()
         bad_ring[1, 3] = np.nan
         with self.assertRaisesRegex(ConversionError, "point field 'ring' holds values that are not laser indices"):
-            cr.cloud_points(cloud(bad_ring, self.XYZ + [field("ring", 12, 7)]))
+            clouds.cloud_points(cloud(bad_ring, self.XYZ + [field("ring", 12, 7)]))
         # Padding fields without a name, repeated names we do not read and count-0 fields we do not read: allowed.
         ok = c(self.XYZ + [field("", 12, 2, count=4), field("t", 12, 7, count=0)])
-        self.assertEqual(cr.cloud_points(ok)[0].shape, (6, 3))
+        self.assertEqual(clouds.cloud_points(ok)[0].shape, (6, 3))
 
     def test_fuzz_every_outcome_is_a_result_or_a_refusal(self):
         """A good cloud's point_step, row_step, width, height, fields and data length mutated at random: every
@@ -429,7 +430,7 @@ class Clouds(unittest.TestCase):
                     need = m.row_step * m.height
                     m.data = (m.data * (need // max(len(m.data), 1) + 1))[:need]
             try:
-                points, ring, dropped = cr.cloud_points(m)
+                points, ring, dropped = clouds.cloud_points(m)
             except ConversionError:
                 outcomes["refused"] += 1
                 continue
@@ -446,34 +447,34 @@ class Clouds(unittest.TestCase):
 class Transforms(unittest.TestCase):
     def test_quaternion_round_trip(self):
         r = cv2.Rodrigues(np.array([0.3, -1.2, 2.0]))[0]
-        m = cr.transform_matrix((1, 2, 3), cr.rotation_quaternion(r))
+        m = transforms.transform_matrix((1, 2, 3), transforms.rotation_quaternion(r))
         np.testing.assert_allclose(m[:3, :3], r, atol=1e-12)
         np.testing.assert_array_equal(m[:3, 3], [1, 2, 3])
         with self.assertRaisesRegex(ConversionError, "not a unit quaternion"):
-            cr.transform_matrix((0, 0, 0), (0, 0, 0, 0))
+            transforms.transform_matrix((0, 0, 0), (0, 0, 0, 0))
 
     def test_chain_through_a_tree(self):
         rng = np.random.default_rng(2)
 
         def rigid():
-            return cr.transform_matrix(rng.normal(size=3), cr.rotation_quaternion(
+            return transforms.transform_matrix(rng.normal(size=3), transforms.rotation_quaternion(
                 cv2.Rodrigues(rng.normal(size=3))[0]))
         base_cam, cam_opt, base_lidar = rigid(), rigid(), rigid()  # child -> parent
         edges = [("base_link", "camera", base_cam), ("camera", "camera_optical", cam_opt),
                  ("/base_link", "velodyne", base_lidar)]
-        m = cr.chain_transform(edges, "velodyne", "camera_optical")
+        m = transforms.chain_transform(edges, "velodyne", "camera_optical")
         np.testing.assert_allclose(m, np.linalg.inv(base_cam @ cam_opt) @ base_lidar, atol=1e-12)
-        np.testing.assert_allclose(cr.chain_transform(edges, "camera_optical", "base_link"), base_cam @ cam_opt,
+        np.testing.assert_allclose(transforms.chain_transform(edges, "camera_optical", "base_link"), base_cam @ cam_opt,
                                    atol=1e-12)
-        np.testing.assert_allclose(cr.chain_transform(edges, "camera", "camera"), np.eye(4))
+        np.testing.assert_allclose(transforms.chain_transform(edges, "camera", "camera"), np.eye(4))
         with self.assertRaisesRegex(ConversionError, "no transform links frame 'velodyne' to 'map'"):
-            cr.chain_transform(edges, "velodyne", "map")
+            transforms.chain_transform(edges, "velodyne", "map")
 
     def test_transform_buffer_at_a_stamp(self):
         """/tf samples interpolated at the cloud's stamp (the rotation checked with cv2.Rodrigues: a turn about one
         axis, a fraction of the way), the nearest within the tolerance beyond them, /tf_static as it came."""
         def stamped(parent, child, m, stamp):
-            q = cr.rotation_quaternion(m[:3, :3])
+            q = transforms.rotation_quaternion(m[:3, :3])
             return Msg(header=Msg(frame_id=parent, stamp=Msg(sec=stamp // 10**9, nanosec=stamp % 10**9)),
                        child_frame_id=child, transform=Msg(translation=Msg(x=m[0, 3], y=m[1, 3], z=m[2, 3]),
                                                            rotation=Msg(x=q[0], y=q[1], z=q[2], w=q[3])))
@@ -486,7 +487,7 @@ class Transforms(unittest.TestCase):
             return m
         cam = np.eye(4)
         cam[:3, :3] = [[0, 0, 1], [-1, 0, 0], [0, -1, 0]]
-        buf = cr.TransformBuffer(tolerance_ns=10**8)
+        buf = transforms.TransformBuffer(tolerance_ns=10**8)
         with self.assertRaisesRegex(ConversionError, "nothing received on /tf_static or /tf yet"):
             buf.lookup("velodyne", "camera_optical", 0)
         buf.add([stamped("base_link", "camera_optical", cam, 0)], static=True)
@@ -527,21 +528,21 @@ def pack_rgb(bgr):
 class Outputs(unittest.TestCase):
     def test_disparity_depth_points(self):
         d16 = np.array([[-16, 0, 16], [160, 17, -16]], np.int16)
-        np.testing.assert_array_equal(cr.disparity_image(d16), [[-1, 0, 1], [10, 17 / 16, -1]])
-        self.assertEqual(cr.valid_window(d16, 0), (0, 0, 3, 2))
-        self.assertEqual(cr.valid_window(np.full((3, 4), -16, np.int16), 0), (0, 0, 0, 0))
-        self.assertEqual(cr.valid_window(np.array([[-16, -16], [-16, 32]], np.int16), 0), (1, 1, 1, 1))
+        np.testing.assert_array_equal(outputs.disparity_image(d16), [[-1, 0, 1], [10, 17 / 16, -1]])
+        self.assertEqual(outputs.valid_window(d16, 0), (0, 0, 3, 2))
+        self.assertEqual(outputs.valid_window(np.full((3, 4), -16, np.int16), 0), (0, 0, 0, 0))
+        self.assertEqual(outputs.valid_window(np.array([[-16, -16], [-16, 32]], np.int16), 0), (1, 1, 1, 1))
         depth = cv2.lidarsgm.disparityToDepth(d16, 100.0)  # 0 where invalid or d = 0
-        f32 = cr.depth_image(depth, "32FC1")
+        f32 = outputs.depth_image(depth, "32FC1")
         self.assertTrue(np.isnan(f32[0, 0]) and np.isnan(f32[0, 1]) and np.isnan(f32[1, 2]))
         self.assertAlmostEqual(float(f32[1, 0]), 10.0, places=5)
-        mm = cr.depth_image(depth, "16UC1")
+        mm = outputs.depth_image(depth, "16UC1")
         self.assertEqual(mm.dtype, np.uint16)
         self.assertEqual(mm[1, 0], 10000)
         self.assertEqual(mm[0, 2], 0)  # 100 m does not fit 16 bits of millimetres: invalid, not wrapped
         self.assertEqual(mm[0, 0], 0)
         with self.assertRaisesRegex(ConversionError, "depth encoding must be 32FC1"):
-            cr.depth_image(depth, "mono8")
+            outputs.depth_image(depth, "mono8")
 
     def test_cv2_window_is_the_same(self):
         """valid_window with cv2 (cv2.boundingRect of a comparison, what Fusion.outputs calls) against its numpy
@@ -549,11 +550,11 @@ class Outputs(unittest.TestCase):
         rng = np.random.default_rng(4)
         d16 = rng.integers(-40, 2000, (37, 53)).astype(np.int16)
         for mind in (-2, 0, 3, 200):
-            self.assertEqual(cr.valid_window(d16, mind, cv2), cr.valid_window(d16, mind))
+            self.assertEqual(outputs.valid_window(d16, mind, cv2), outputs.valid_window(d16, mind))
         sub = np.full((6, 9), -16, np.int16)
         sub[2:4, 5] = 40
-        self.assertEqual(cr.valid_window(sub, 0, cv2), (5, 2, 1, 2))
-        self.assertEqual(cr.valid_window(np.full((3, 4), -16, np.int16), 0, cv2), (0, 0, 0, 0))
+        self.assertEqual(outputs.valid_window(sub, 0, cv2), (5, 2, 1, 2))
+        self.assertEqual(outputs.valid_window(np.full((3, 4), -16, np.int16), 0, cv2), (0, 0, 0, 0))
 
     def test_packed_colour(self):
         bgr = np.array([[[1, 2, 3]]], np.uint8)
@@ -561,12 +562,21 @@ class Outputs(unittest.TestCase):
         self.assertEqual(int(packed[0, 0]), 0x030201)
         rng = np.random.default_rng(3)
         bgr = rng.integers(0, 256, (5, 7, 3), dtype=np.uint8)
-        pts = rng.normal(size=(5, 7, 3)).astype(np.float32)
-        pts[1, 2] = np.nan
-        rec = cr.point_cloud_array(pts, bgr, cv2)
-        self.assertEqual((rec.shape, rec.dtype), ((5, 7, 4), np.float32))
-        np.testing.assert_array_equal(rec[..., :3], pts)
-        np.testing.assert_array_equal(rec[..., 3].view(np.uint32), pack_rgb(bgr).view(np.uint32))
+        d16 = rng.integers(-16, 128 * 16, (5, 7)).astype(np.int16)
+        d16[1, 2] = -16
+        q = cv2.lidarsgm.reprojectionMatrix(np.array([[721.5, 0, 3.5, 0], [0, 721.5, 2.5, 0], [0, 0, 1, 0]]), 384.4)
+        for mind in (0, 5):
+            rec = outputs.point_cloud_array(d16, q, bgr, mind, cv2)
+            self.assertEqual((rec.shape, rec.dtype), ((5, 7, 4), np.float32))
+            np.testing.assert_array_equal(rec[..., :3], cv2.lidarsgm.disparityToPoints(d16, q, minDisparity=mind))
+            self.assertTrue(np.isnan(rec[1, 2, :3]).all())
+            np.testing.assert_array_equal(rec[..., 3].view(np.uint32), pack_rgb(bgr).view(np.uint32))
+        out = np.zeros((5, 7, 4), np.float32)  # written in place: the node's message array
+        self.assertIs(outputs.point_cloud_array(d16, q, bgr, 0, cv2, out), out)
+        np.testing.assert_array_equal(out.view(np.uint32),
+                                      outputs.point_cloud_array(d16, q, bgr, 0, cv2).view(np.uint32))
+        with self.assertRaises(ConversionError):
+            outputs.point_cloud_array(d16[:4], q, bgr, 0, cv2)
         self.assertEqual(struct.unpack("<I", pack_rgb(bgr)[0, 0].tobytes())[0],
                          (int(bgr[0, 0, 2]) << 16) | (int(bgr[0, 0, 1]) << 8) | int(bgr[0, 0, 0]))
 
@@ -581,9 +591,9 @@ class KittiMessages(unittest.TestCase):
             frame = cv2.lidarsgm.loadKittiFrame(os.path.join(TESTDATA, "kitti"), fid)
             points = cv2.lidarsgm.readVelodyneScan(os.path.join(TESTDATA, "kitti", "velodyne", fid + ".bin"))
             msgs = kitti.frame_messages(kit, frame, points, 10**9)
-            g = cr.stereo_geometry(msgs["left/camera_info"], msgs["right/camera_info"])
+            g = camera_info.stereo_geometry(msgs["left/camera_info"], msgs["right/camera_info"])
             self.assertAlmostEqual(g.focal_baseline, frame.calibration.focalBaseline, places=9)
-            xyz, ring = cr.cloud_to_points(msgs["points"])
+            xyz, ring = clouds.cloud_to_points(msgs["points"])
             np.testing.assert_array_equal(xyz, points[:, :3])
             self.assertEqual(len(np.unique(ring)), cv2.lidarsgm.countLidarRings(points))
             t = kitti.ros_calibration(frame.calibration)[3]
@@ -625,15 +635,15 @@ class FusionOfMessages(unittest.TestCase):
                     got = f.outputs(r, enc, alloc, bands=bands)
                     for a, b in zip(want, got):
                         self.assertEqual(np.array(b).tobytes(), a.tobytes(), (enc, bands))
-        self.assertEqual(cr.row_bands(375, 8), [(0, 46), (46, 93), (93, 140), (140, 187), (187, 234), (234, 281),
-                                                (281, 328), (328, 375)])
-        self.assertEqual(cr.row_bands(40, 8), [(0, 40)])
+        self.assertEqual(outputs.row_bands(375, 8), [(0, 46), (46, 93), (93, 140), (140, 187), (187, 234), (234, 281),
+                                                     (281, 328), (328, 375)])
+        self.assertEqual(outputs.row_bands(40, 8), [(0, 40)])
         q = cv2.lidarsgm.reprojectionMatrix(r.geometry.projection, r.geometry.focal_baseline)
-        self.assertEqual(cr.band_reprojection(q, 46)[1, 3], q[1, 3] + 46)
+        self.assertEqual(outputs.band_reprojection(q, 46)[1, 3], q[1, 3] + 46)
         q[1, 3] = -0.1  # -0.1 + 3 is not exact
-        self.assertIsNone(cr.band_reprojection(q, 3))
+        self.assertIsNone(outputs.band_reprojection(q, 3))
         q[3, 1] = 1e-3  # y in the fourth row: not a shift of cy alone
-        self.assertIsNone(cr.band_reprojection(q, 0))
+        self.assertIsNone(outputs.band_reprojection(q, 0))
 
     def test_same_as_the_module_call(self):
         r = self.fusion().fuse(*self.inputs(), confidence=True)

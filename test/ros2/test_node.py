@@ -33,8 +33,9 @@ from tf2_msgs.msg import TFMessage  # noqa: E402
 from geometry_msgs.msg import TransformStamped  # noqa: E402
 
 from lidarsgm_ros import kitti  # noqa: E402
-from lidarsgm_ros.conversions import rotation_quaternion, stamp_ns, transform_matrix  # noqa: E402
+from lidarsgm_ros.conversions import stamp_ns  # noqa: E402
 from lidarsgm_ros.messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, rclpy_class  # noqa: E402
+from lidarsgm_ros.transforms import rotation_quaternion, transform_matrix  # noqa: E402
 
 TESTDATA = os.environ["LIDARSGM_TESTDATA"]
 TOOL = os.environ["LIDARSGM_TOOL"]

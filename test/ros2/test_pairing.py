@@ -116,7 +116,7 @@ def result(alone="", reason=""):
 
 class Health(unittest.TestCase):
     def test_levels(self):
-        h = health.Health(report_seconds=1.0, dark_seconds=3.0)
+        h = health.Health(max_residual=2.0, report_seconds=1.0, dark_seconds=3.0)  # (the node's bound is the module's)
         self.assertEqual(h.level(0.0)[0], health.WARN)  # no input yet
         h.message_in(0.1)
         h.output(0.2, result(), 0.05, 0.08)
@@ -138,6 +138,12 @@ class Health(unittest.TestCase):
         self.assertEqual(h.level(5.8)[0], health.WARN)  # no input
         h.message_in(5.9)
         self.assertEqual(h.level(5.95)[0], health.OK)
+        h.residual = 1.5  # under the bound given
+        self.assertEqual(h.level(5.95)[0], health.OK)
+        h.residual = 2.5
+        self.assertEqual(h.level(5.95), (health.WARN, "the LiDAR lies 2.50 px from where the images match: check "
+                                                      "the calibration"))
+        h.residual = None
         h.event(6.0, "restart")
         self.assertIn("time went back", h.level(6.1)[1])
         values = dict(h.values(6.1))

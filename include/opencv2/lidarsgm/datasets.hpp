@@ -85,25 +85,6 @@ corrupt compressed stream.
  */
 CV_EXPORTS_W Mat readPointCloud(const String& path);
 
-/** @brief The number of laser rings of a Velodyne scan in the driver's order: a new ring starts where the azimuth,
-taken in [0, 360), falls back by more than 90 degrees (each ring sweeps once round from straight ahead).
-@param points N x 3 or more CV_32FC1 (x, y, z first), as readVelodyneScan returns them.
- */
-CV_EXPORTS_W int countLidarRings(InputArray points);
-
-/** @brief Thins a Velodyne scan to every keepEvery-th laser ring, counted from the top, starting with ring firstRing.
-
-The rings come from the scan's order (countLidarRings) and are ranked by their median elevation angle (elevation
-alone does not separate them: near points of neighbouring rings overlap by up to a degree, as the lasers sit off the
-sensor's centre). keepEvery 2 and 4 simulate 32- and 16-line LiDARs from a 64-line scan, as the paper's Table VI
-does; the keepEvery offsets firstRing = 0 .. keepEvery - 1 split the scan into disjoint parts.
-@param points N x 3 or more CV_32FC1, in the driver's order.
-@param keepEvery >= 1; 1 returns the scan unchanged.
-@param firstRing in [0, keepEvery).
-@return the kept points (whole rings), a copy.
- */
-CV_EXPORTS_W Mat selectLidarRings(InputArray points, int keepEvery, int firstRing = 0);
-
 /** @brief Reads a KITTI disparity PNG (uint16, disparity x 256, 0 = none) as CV_32FC1 pixels with -1 for none.
  */
 CV_EXPORTS_W Mat readKittiDisparity(const String& path);

@@ -43,6 +43,22 @@ Q [x y d 1]^T is not positive (no point in front of the camera) are NaN in all t
  */
 CV_EXPORTS_W void disparityToPoints(InputArray disparity, InputArray Q, OutputArray points, int minDisparity = 0);
 
+/** @brief An organised coloured point cloud of a disparity map: x, y, z and the pixel's colour, 16 bytes a point.
+
+The layout of a sensor_msgs/PointCloud2 with the float32 fields x, y, z, rgb at offsets 0, 4, 8, 12 (point step 16)
+and of PCL's packed rgb: the fourth float holds the bits 0x00RRGGBB of the pixel's colour (grey: R = G = B), on every
+pixel, so that its bytes in memory are B, G, R, 0. The points are disparityToPoints()'s, bit for bit. One pass over
+the map instead of disparityToPoints() and a merge with the image, which write the points twice.
+
+@param disparity CV_16SC1 (disparity x 16) or CV_32FC1 (pixels).
+@param Q 4x4 reprojection matrix (CV_32F or CV_64F), as for disparityToPoints().
+@param image the left image, CV_8UC3 (BGR, as cv::imread gives it) or CV_8UC1, the disparity map's size.
+@param cloud output, CV_32FC4 (x, y, z, packed rgb); x, y, z NaN where disparityToPoints() has no point.
+@param minDisparity the matcher's minDisparity.
+ */
+CV_EXPORTS_W void disparityToColoredPoints(InputArray disparity, InputArray Q, InputArray image, OutputArray cloud,
+                                           int minDisparity = 0);
+
 /** @brief The reprojection matrix Q of a rectified pair for disparityToPoints and cv::reprojectImageTo3D.
 
 Q = [1 0 0 -cx; 0 1 0 -cy; 0 0 0 f; 0 0 f/focalBaseline 0] with f = projection(0,0), cx = projection(0,2),

@@ -22,7 +22,7 @@ alone, as the node does: the same outputs, and <ns>/fusion_status (diagnostic_ms
 says how each set was fused. A scan that cannot be read gives stereo alone too; a stamp that repeats or goes back
 (bags joined) restarts the synchroniser.
 
-The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar) is fused as stereo alone
+The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.LidarFailSafe) is fused as stereo alone
 and the set's line says so (--trust-lidar fuses it anyway). Those sets are pooled, and the rotation is refined from
 the last --recalibration-sets of them (cv2.lidarsgm.LidarCalibration; --scan-rate for scans that are not
 motion-compensated); the command switches to the corrected transform once it brings the residual under 1 px and
@@ -40,11 +40,12 @@ import cv2
 import numpy as np
 
 from . import health
-from .conversions import ConversionError, TransformBuffer, chain_transform, stamp_ns
-from .fusion import ALONE_CLASSES, CALIBRATION, MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, Fusion, residual_summary
+from .conversions import ConversionError, stamp_ns
+from .fusion import ALONE_CLASSES, CALIBRATION, MATCHER_PARAMETERS, Fusion, residual_summary
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages
 from .recalibration import Recalibration
 from .sync import ApproximateSync, ExactSync, LidarPairing
+from .transforms import TransformBuffer, chain_transform
 
 STATUS_TYPE = "diagnostic_msgs/msg/DiagnosticArray"
 
@@ -305,9 +306,9 @@ def main(argv=None):
     if counts["points"]:
         print("%d non-finite points dropped from the scans" % counts["points"])
     if residuals:
-        median, above = residual_summary(residuals)
+        median, above = residual_summary(residuals, fusion.max_residual)
         print("matching residual (the LiDAR against the images): median %.2f px over %d sets, %d above %.0f px%s"
-              % (median, len(residuals), above, MAX_MATCHING_RESIDUAL,
+              % (median, len(residuals), above, fusion.max_residual,
                  ": the LiDAR pulls the fusion off the images there; check the transform" if above else ""))
     if counts[ALONE_CLASSES[0]] and counts["fused"] == counts[ALONE_CLASSES[0]] and sync.unpaired_clouds \
             and not args.approximate_sync:

@@ -8,7 +8,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from . import conversions as cv_ros
+from . import camera_info, clouds, images, outputs
 from .conversions import ConversionError
 
 class CalibrationError(ConversionError):
@@ -31,19 +31,15 @@ MATCHER_PARAMETERS = {
     "Q2": ("Q2", int),
 }
 
-# The DDC's Q1 band (px): a LiDAR whose matching residual exceeds it pulls the fusion off the images by more than a
-# disparity (the tool warns at the same value).
-MAX_MATCHING_RESIDUAL = 1.0
-
 # Why a set went as stereo alone (the fail-safe's path: MODE_SGM with the left-right check, no sparse map): the
 # classes the node's diagnostics count, each with its own text in Result.reason.
 NO_CLOUD = "no cloud"          # none paired with the images within the LiDAR timeout
-CALIBRATION = "calibration"    # no transform, or the LiDAR lands misplaced on the images (checkLidar)
+CALIBRATION = "calibration"    # no transform, or the LiDAR lands misplaced on the images (LidarFailSafe)
 BAD_CLOUD = "bad message"      # the cloud could not be read
 ALONE_CLASSES = (NO_CLOUD, CALIBRATION, BAD_CLOUD)
 
 # sparse: the LiDAR's map (None without one); points: the cloud (N x 3, its own frame; None without one); check:
-# cv2.lidarsgm.checkLidar's verdict (None where the images cannot tell or there is no map); stereo_alone: the class
+# cv2.lidarsgm.LidarFailSafe's verdict (None where the images cannot tell or there is no map); stereo_alone: the class
 # (one of ALONE_CLASSES) of a set fused without the LiDAR, else ""; reason: what happened, for a log line;
 # dropped_points: the cloud's non-finite points (not projected).
 Result = namedtuple("Result", "disparity16 confidence geometry left_bgr sparse left_grey right_grey points check "
@@ -65,11 +61,11 @@ def optical_transform(geometry, rectified):
     return r @ rectified
 
 
-def residual_summary(residuals):
-    """(median, how many above MAX_MATCHING_RESIDUAL) of matching residuals, the median as the module takes it
-    (the upper of two middle values)."""
+def residual_summary(residuals, bound):
+    """(median, how many above bound, cv2.lidarsgm.LidarFailSafe.maxResidual()) of matching residuals, the median as
+    the module takes it (the upper of two middle values)."""
     r = sorted(residuals)
-    return r[len(r) // 2], sum(v > MAX_MATCHING_RESIDUAL for v in r)
+    return r[len(r) // 2], sum(v > bound for v in r)
 
 
 def _to_text(cv2, sgm):
@@ -98,9 +94,10 @@ class Fusion:
         # rectify, refused otherwise where they differ from their rectified view.
         self.rectify = bool(rectify)
         self._maps = {}
-        # The fail-safe: a set whose LiDAR lands misplaced on its images (cv2.lidarsgm.checkLidar) is fused as
+        # The fail-safe (cv2.lidarsgm.LidarFailSafe): a set whose LiDAR lands misplaced on its images is fused as
         # stereo alone, unless trust_lidar.
         self.trust_lidar = bool(trust_lidar)
+        self.max_residual = cv2.lidarsgm.LidarFailSafe.maxResidual()
         self._stereo = None
         self.sgm = cv2.lidarsgm.StereoLidarSGM.load(params_file) if params_file else \
             cv2.lidarsgm.StereoLidarSGM.create()
@@ -136,13 +133,10 @@ class Fusion:
         self._stereo = None
 
     def stereo_matcher(self):
-        """The matcher's settings in MODE_SGM: stereo alone (DSGM and SDSGM weigh the census by 1 - alpha even
-        without a prior: smoother than SGM, and worse)."""
+        """The fail-safe's stereo-alone matcher of the matcher (cv2.lidarsgm.LidarFailSafe.stereoAloneMatcher),
+        kept until a setting changes."""
         if self._stereo is None:
-            self._stereo = _from_text(self.cv2, _to_text(self.cv2, self.sgm))
-            self._stereo.setMode(self._mode("sgm"))
-            # Without a map the LiDAR's part of any check keeps nothing: the left-right check alone, said so.
-            self._stereo.setConsistencyCheck(self.cv2.lidarsgm.StereoLidarSGM_CHECK_STEREO)
+            self._stereo = self.cv2.lidarsgm.LidarFailSafe.stereoAloneMatcher(self.sgm)
         return self._stereo
 
     def _mode(self, name):
@@ -170,7 +164,7 @@ class Fusion:
         non-finite points were dropped."""
         if self.lidar_to_camera is None:
             raise CalibrationError("no LiDAR-to-camera transform: set the lidar_to_camera parameter")
-        points, _, dropped = cv_ros.cloud_points(cloud)
+        points, _, dropped = clouds.cloud_points(cloud)
         return self.project(geometry, points), points, dropped
 
     def project(self, geometry, points):
@@ -190,7 +184,7 @@ class Fusion:
                int(info.width), int(info.height))
         if key not in self._maps:
             self._maps = {k: v for k, v in self._maps.items() if k[0] != side}
-            self._maps[key] = cv_ros.rectification_maps(self.cv2, info, side)
+            self._maps[key] = camera_info.rectification_maps(self.cv2, info, side)
         mx, my = self._maps[key]
         return self.cv2.remap(image, mx, my, self.cv2.INTER_LINEAR, borderMode=self.cv2.BORDER_CONSTANT)
 
@@ -202,7 +196,7 @@ class Fusion:
         alone = (class, reason) says so (no transform), the cloud cannot be read, or its LiDAR lands misplaced on
         the images (the fail-safe, unless trust_lidar)."""
         cv2 = self.cv2
-        geometry = cv_ros.stereo_geometry(left_info, right_info)
+        geometry = camera_info.stereo_geometry(left_info, right_info)
         size = geometry.size
         for side, img in (("left", left), ("right", right)):
             if (int(img.width), int(img.height)) != size:
@@ -210,17 +204,17 @@ class Fusion:
                                       % (side, img.width, img.height, size[0], size[1]))
         if self.rectify:
             # As the tool's --rig: the left image rectified in colour, then made grey.
-            left_bgr = self.rectified("left", left_info, cv_ros.to_bgr(left, cv2))
-            grey_l = cv2.cvtColor(left_bgr, cv2.COLOR_BGR2GRAY) if left.encoding in cv_ros.COLOUR_ENCODINGS else \
-                self.rectified("left", left_info, cv_ros.to_grey(left, cv2))
-            grey_r = self.rectified("right", right_info, cv_ros.to_grey(right, cv2))
+            left_bgr = self.rectified("left", left_info, images.to_bgr(left, cv2))
+            grey_l = cv2.cvtColor(left_bgr, cv2.COLOR_BGR2GRAY) if left.encoding in images.COLOUR_ENCODINGS else \
+                self.rectified("left", left_info, images.to_grey(left, cv2))
+            grey_r = self.rectified("right", right_info, images.to_grey(right, cv2))
         else:
-            if raw and (cv_ros.is_raw(left_info, "left") or cv_ros.is_raw(right_info, "right")):
+            if raw and (camera_info.is_raw(left_info, "left") or camera_info.is_raw(right_info, "right")):
                 raise ConversionError("the images come on image_raw and their camera_info has distortion (or a "
                                       "rectification): rectify them first (image_proc), or set rectify to rectify "
                                       "them here")
             left_bgr = None
-            grey_l, grey_r = cv_ros.to_grey(left, cv2), cv_ros.to_grey(right, cv2)
+            grey_l, grey_r = images.to_grey(left, cv2), images.to_grey(right, cv2)
         if grey_l.dtype != grey_r.dtype:
             raise ConversionError("the left image is %s, the right %s: send both with one bit depth"
                                   % (left.encoding, right.encoding))
@@ -237,12 +231,12 @@ class Fusion:
                 kind, reason = BAD_CLOUD, "the cloud: %s" % e
         if sparse is not None:
             try:
-                check = cv2.lidarsgm.checkLidar(grey_l, grey_r, sparse, MAX_MATCHING_RESIDUAL)
+                check = cv2.lidarsgm.LidarFailSafe.create(self.trust_lidar).check(grey_l, grey_r, sparse)
             except cv2.error as e:
                 raise ConversionError(cv_message(cv2, e))
             if check.residual != check.residual:
                 check = None  # NaN: the images cannot tell
-            if check is not None and not check.trusted and not self.trust_lidar:
+            if check is not None and check.stereoAlone:
                 kind, reason = CALIBRATION, "the LiDAR misplaced on the images (%.2f px)" % check.residual
         if kind:
             sgm, fused = self.stereo_matcher(), np.zeros(grey_l.shape, np.float32)
@@ -263,7 +257,7 @@ class Fusion:
                 disp = sgm.compute(grey_l, grey_r, fused)
         except cv2.error as e:
             raise ConversionError(cv_message(cv2, e))
-        return Result(disp, conf, geometry, cv_ros.to_bgr(left, cv2) if left_bgr is None else left_bgr, sparse, grey_l,
+        return Result(disp, conf, geometry, images.to_bgr(left, cv2) if left_bgr is None else left_bgr, sparse, grey_l,
                       grey_r, points, check, kind, reason, dropped)
 
     @staticmethod
@@ -290,7 +284,7 @@ class Fusion:
         copy, and the next call writes into the same ones once the messages have gone out.
 
         bands: the rows go through in that many horizontal bands at the same time, on threads, so that numpy's and
-        OpenCV's single-threaded passes share the cores (default: conversions.output_bands of this process's CPUs
+        OpenCV's single-threaded passes share the cores (default: outputs.output_bands of this process's CPUs
         and cv2.getNumThreads()); 1: in turn. The arrays are the same byte for byte either way. mark(step), where
         given, is called after each step (tools/ros2_latency.py times them): each of them with one band, else once
         for them all."""
@@ -310,12 +304,11 @@ class Fusion:
         # 32FC1: the metres in the message's own array, NaN set in place; 16UC1: the metres in a reused array.
         metres = alloc((h, w), np.float32, "depth" if depth_encoding == "32FC1" else "depth metres")
         depth = metres if depth_encoding == "32FC1" else alloc((h, w), np.uint16, "depth")
-        points, records = alloc((h, w, 3), np.float32, "points"), alloc((h, w, 4), np.float32, "points2")
-        colour = alloc((h, w, 4), np.uint8, "colour")
+        records = alloc((h, w, 4), np.float32, "points2")
         q = cv2.lidarsgm.reprojectionMatrix(g.projection, g.focal_baseline)
         cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-        rows = cv_ros.row_bands(h, bands or cv_ros.output_bands(cpus, cv2.getNumThreads()))
-        qs = [cv_ros.band_reprojection(q, r0) for r0, _ in rows]
+        rows = outputs.row_bands(h, bands or outputs.output_bands(cpus, cv2.getNumThreads()))
+        qs = [outputs.band_reprojection(q, r0) for r0, _ in rows]
         if len(rows) == 1 or any(b is None for b in qs):
             rows, qs = [(0, h)], [q]
 
@@ -325,21 +318,18 @@ class Fusion:
 
         def band(i, step=lambda name: None):
             r = slice(*rows[i])
-            cv_ros.disparity_image(d16[r], disp[r])
+            outputs.disparity_image(d16[r], disp[r])
             step("disparity image")
             m = metres[r]
             into(cv2.lidarsgm.disparityToDepth(d16[r], g.focal_baseline, m, minDisparity=mind), m)
             step("disparityToDepth")
-            cv_ros.depth_image(m, depth_encoding, out=m if depth is metres else depth[r])
+            outputs.depth_image(m, depth_encoding, out=m if depth is metres else depth[r])
             step("depth image")
-            p = points[r]
-            into(cv2.lidarsgm.disparityToPoints(d16[r], qs[i], p, minDisparity=mind), p)
-            step("disparityToPoints")
-            into(cv_ros.point_cloud_array(p, result.left_bgr[r], cv2, records[r], colour[r]), records[r])
+            into(outputs.point_cloud_array(d16[r], qs[i], result.left_bgr[r], mind, cv2, records[r]), records[r])
             step("x y z rgb cloud")
 
         if len(rows) == 1:
-            window = cv_ros.valid_window(d16, mind, cv2)
+            window = outputs.valid_window(d16, mind, cv2)
             mark("valid window")
             band(0, mark)
         else:
@@ -347,7 +337,7 @@ class Fusion:
             if pool is None or pool[1] < len(rows):
                 pool = self._output_pool = (ThreadPoolExecutor(len(rows), "lidarsgm_outputs"), len(rows))
             jobs = [pool[0].submit(band, i) for i in range(len(rows))]
-            window = cv_ros.valid_window(d16, mind, cv2)  # meanwhile, here
+            window = outputs.valid_window(d16, mind, cv2)  # meanwhile, here
             wait(jobs)
             for j in jobs:
                 j.result()  # a band's exception, raised here

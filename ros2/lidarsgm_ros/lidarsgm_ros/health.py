@@ -15,7 +15,7 @@ import statistics
 import threading
 from collections import Counter, deque
 
-from .fusion import ALONE_CLASSES, MAX_MATCHING_RESIDUAL
+from .fusion import ALONE_CLASSES
 
 OK, WARN, ERROR = 0, 1, 2
 LEVEL_NAMES = ("OK", "WARN", "ERROR")
@@ -46,7 +46,9 @@ def _ms(values):
 class Health:
     """The counts and the last report_seconds of events, and the level rules above."""
 
-    def __init__(self, report_seconds=1.0, dark_seconds=3.0):
+    def __init__(self, max_residual, report_seconds=1.0, dark_seconds=3.0):
+        """max_residual: the fail-safe's bound (cv2.lidarsgm.LidarFailSafe.maxResidual(), px)."""
+        self.max_residual = float(max_residual)
         self.period, self.dark = float(report_seconds), float(dark_seconds)
         self.totals = Counter()     # since the start: lidar, alone:<class>, skipped:<class>, restarts, ...
         self.recent = deque()       # (time, key) of the events of the last period
@@ -109,7 +111,7 @@ class Health:
             if recent[key]:
                 reason = self.reasons.get(key, "")
                 found.append((WARN, text + (": " + reason if reason else "")))
-        if self.residual is not None and self.residual > MAX_MATCHING_RESIDUAL:
+        if self.residual is not None and self.residual > self.max_residual:
             found.append((WARN, "the LiDAR lies %.2f px from where the images match: check the calibration"
                           % self.residual))
         if self.last_input is None or now - self.last_input >= self.period:

@@ -81,7 +81,7 @@ def write_bag(kitti_dir, out, storage="mcap", ids=None, period_ns=100000000, nam
     import cv2
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
-    from .conversions import rotation_quaternion
+    from .transforms import rotation_quaternion
 
     ts = get_typestore(Stores.ROS2_JAZZY)
     kit = MessageKit.rosbags(ts)

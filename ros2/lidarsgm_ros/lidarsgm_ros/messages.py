@@ -9,7 +9,7 @@ import importlib
 
 import numpy as np
 
-from .conversions import POINT_FIELDS
+from .outputs import POINT_FIELDS
 
 FLOAT32 = 7  # sensor_msgs/PointField.FLOAT32
 
@@ -137,7 +137,7 @@ class MessageKit:
                          point_step=step, row_step=step * w, data=self._bytes(records), is_dense=False)
 
     def organised_cloud(self, header, records):
-        """The x y z rgb cloud of conversions.point_cloud_array."""
+        """The x y z rgb cloud of outputs.point_cloud_array."""
         return self.cloud(header, records, [(n, o, FLOAT32) for n, o in POINT_FIELDS])
 
     def disparity(self, header, disparity, f, baseline, min_disparity, num_disparities, window):

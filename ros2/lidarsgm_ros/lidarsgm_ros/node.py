@@ -64,12 +64,94 @@ from diagnostic_msgs.msg import DiagnosticArray
 from tf2_msgs.msg import TFMessage
 
 from . import health
-from .conversions import ConversionError, TransformBuffer, stamp_ns
-from .fusion import (ALONE_CLASSES, CALIBRATION, MATCHER_PARAMETERS, MAX_MATCHING_RESIDUAL, NO_CLOUD, Fusion,
+from .conversions import ConversionError, stamp_ns
+from .fusion import (ALONE_CLASSES, CALIBRATION, MATCHER_PARAMETERS, NO_CLOUD, Fusion,
                      residual_summary)
 from .messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class
 from .recalibration import Recalibration
 from .sync import ApproximateSync, ExactSync, LidarPairing
+from .transforms import TransformBuffer
+
+MATCHER = object()  # a parameter's default: the matcher's value, from the params file (or the module's)
+
+
+def _matcher(node, p):
+    if p.value != node.fusion.value(p.name):
+        node.fusion.set(p.name, p.value)
+
+
+def _use_cuda(node, p):
+    node.fusion.set_use_cuda(p.value)
+
+
+def _lidar_to_camera(node, p):
+    if p.type_ != Parameter.Type.NOT_SET:
+        node.fusion.set_lidar_to_camera(list(p.value))
+
+
+def _flag(attribute):
+    """Applies a parameter as the Fusion attribute of that name (True or False)."""
+    def apply(node, p):
+        setattr(node.fusion, attribute, bool(p.value))
+    return apply
+
+
+def _check(valid, refusal):
+    """Refuses a value for which valid(value) is false, saying refusal % {"value": value}."""
+    def apply(node, p):
+        if not valid(p.value):
+            raise ValueError(refusal % {"value": p.value})
+    return apply
+
+
+def _at_start(check=None):
+    """A parameter read when the node starts: checked by `check` where given, and refused once the node runs."""
+    def apply(node, p):
+        if check is not None:
+            check(node, p)
+        if hasattr(node, "sync"):
+            raise ValueError("%s is read when the node starts" % p.name)
+    return apply
+
+
+# The node's parameters but params_file (declared first: the matcher is made from it), in the order they are declared
+# and applied: (name, default, description, apply). default: a value, whose type is the parameter's; a Parameter.Type
+# for none (unset until given); or MATCHER. apply(node, parameter) sets the value or raises ValueError with the
+# refusal the user sees; None where the value is read where it is used.
+PARAMETERS = tuple((name, MATCHER, None, _matcher) for name in MATCHER_PARAMETERS) + (
+    ("mode", MATCHER, "sgm, dsgm or sdsgm", _matcher),
+    ("use_cuda", False, "fuse on the GPU (a CUDA build of cv2)", _use_cuda),
+    ("lidar_to_camera", Parameter.Type.DOUBLE_ARRAY,
+     "4x4 (or 3x4) transform from the points' frame to the left optical frame, row by row; unset: from tf",
+     _lidar_to_camera),
+    ("tf_tolerance_seconds", 0.1, "how far from the cloud's stamp the nearest /tf sample may lie where none "
+     "lies on its other side (read when the node starts)",
+     _at_start(_check(lambda v: v >= 0, "tf_tolerance_seconds must be >= 0"))),
+    ("depth_encoding", "32FC1", "32FC1 (metres, NaN invalid) or 16UC1 (millimetres, 0 invalid)",
+     _check(lambda v: v in ("32FC1", "16UC1"), "depth_encoding must be 32FC1 or 16UC1, not '%(value)s'")),
+    ("publish_confidence", False, "publish each pixel's confidence (32FC1 in [0, 1]) on confidence", None),
+    ("check_calibration_every", 10, "every n-th fused set, measure the LiDAR against the images "
+     "(matchingResidual, about 3 % of a CPU fusion) and warn above 1 px; 0: never",
+     _check(lambda v: v >= 0, "check_calibration_every must be >= 0 (0: never), not %(value)d")),
+    ("rectify", False, "the images are raw (left/image_rect remapped to an image_raw topic): rectify them "
+     "with their camera_info's K, D, R and P", _flag("rectify")),
+    ("trust_lidar", False, "fuse every set with its LiDAR, also where it lands misplaced on the images",
+     _flag("trust_lidar")),
+    ("recalibration_sets", 8, "refine the rotation in the background from the last n sets fused as stereo "
+     "alone, and switch to it once it fits (0: never)",
+     _check(lambda v: not (v < 0 or v == 1), "recalibration_sets must be 0 (never) or at least 2, not %(value)d")),
+    ("scan_rate", 0.0, "the recalibration's LiDAR sweep rate (Hz) for scans that are not motion-compensated",
+     _check(lambda v: not v != v, "scan_rate must be a number of Hz")),
+    ("approximate_sync", False, "match the five inputs by nearest stamps rather than equal ones", _at_start()),
+    ("approximate_sync_tolerance_seconds", 0.05, "the widest spread of stamps in one approximate set", _at_start()),
+    ("queue_size", 10, "messages kept per input while waiting for a set (and the subscriptions' depth)", _at_start()),
+    ("use_system_default_qos", False, "subscribe with the system default QoS, not the sensor-data QoS", _at_start()),
+    ("sync_warning_seconds", 5.0, "warn when messages arrive but no set is complete for this long", _at_start()),
+    ("lidar_timeout", 0.5, "an image pair that no cloud pairs with for this long (s) is fused as stereo "
+     "alone; while the LiDAR stays silent a pair then waits only for the next (read when the node starts)",
+     _at_start(_check(lambda v: v > 0, "lidar_timeout must be > 0 seconds, not %(value)s"))),
+)
+APPLY = {name: apply for name, _, _, apply in PARAMETERS}
 
 
 class StereoLidarNode(Node):
@@ -98,7 +180,7 @@ class StereoLidarNode(Node):
         self.lock = threading.Condition()
         self.ready = deque()  # the sets released and not yet fused: (stamp, msgs, base transform or alone, t)
         self.fusing = False   # the worker is in a fusion
-        self.health = health.Health()
+        self.health = health.Health(self.fusion.max_residual)
         # Best effort, as camera drivers publish: it takes best-effort and reliable publishers alike (a reliable
         # subscription hears nothing from a best-effort one).
         qos = QoSProfile(depth=queue) if self.get_parameter("use_system_default_qos").value else QoSProfile(
@@ -149,35 +231,10 @@ class StereoLidarNode(Node):
         self.fusion = Fusion(cv2, params_file)
         # The matcher's parameters start from the params file's (or the module's) values; overrides go through the
         # same checks as later changes.
-        declared = [(name, self.fusion.value(name), None) for name in MATCHER_PARAMETERS]
-        declared += [
-            ("mode", self.fusion.value("mode"), "sgm, dsgm or sdsgm"),
-            ("use_cuda", False, "fuse on the GPU (a CUDA build of cv2)"),
-            ("lidar_to_camera", Parameter.Type.DOUBLE_ARRAY,
-             "4x4 (or 3x4) transform from the points' frame to the left optical frame, row by row; unset: from tf"),
-            ("tf_tolerance_seconds", 0.1, "how far from the cloud's stamp the nearest /tf sample may lie where none "
-             "lies on its other side (read when the node starts)"),
-            ("depth_encoding", "32FC1", "32FC1 (metres, NaN invalid) or 16UC1 (millimetres, 0 invalid)"),
-            ("publish_confidence", False, "publish each pixel's confidence (32FC1 in [0, 1]) on confidence"),
-            ("check_calibration_every", 10, "every n-th fused set, measure the LiDAR against the images "
-             "(matchingResidual, about 3 % of a CPU fusion) and warn above 1 px; 0: never"),
-            ("rectify", False, "the images are raw (left/image_rect remapped to an image_raw topic): rectify them "
-             "with their camera_info's K, D, R and P"),
-            ("trust_lidar", False, "fuse every set with its LiDAR, also where it lands misplaced on the images"),
-            ("recalibration_sets", 8, "refine the rotation in the background from the last n sets fused as stereo "
-             "alone, and switch to it once it fits (0: never)"),
-            ("scan_rate", 0.0, "the recalibration's LiDAR sweep rate (Hz) for scans that are not motion-compensated"),
-            ("approximate_sync", False, "match the five inputs by nearest stamps rather than equal ones"),
-            ("approximate_sync_tolerance_seconds", 0.05, "the widest spread of stamps in one approximate set"),
-            ("queue_size", 10, "messages kept per input while waiting for a set (and the subscriptions' depth)"),
-            ("use_system_default_qos", False, "subscribe with the system default QoS, not the sensor-data QoS"),
-            ("sync_warning_seconds", 5.0, "warn when messages arrive but no set is complete for this long"),
-            ("lidar_timeout", 0.5, "an image pair that no cloud pairs with for this long (s) is fused as stereo "
-             "alone; while the LiDAR stays silent a pair then waits only for the next (read when the node starts)"),
-        ]
-        for name, default, text in declared:
+        for name, default, text, _ in PARAMETERS:
+            default = self.fusion.value(name) if default is MATCHER else default
             self.declare_parameter(name, default, ParameterDescriptor(description=text or "see StereoLidarSGM"))
-        self.declared = ["params_file"] + [name for name, _, _ in declared]
+        self.declared = ["params_file"] + [name for name, _, _, _ in PARAMETERS]
 
     def _apply(self, params):
         """Applies the parameters to the matcher; returns the problems (nothing is changed where there is one)."""
@@ -186,33 +243,8 @@ class StereoLidarNode(Node):
         problems = []
         for p in params:
             try:
-                if p.name in MATCHER_PARAMETERS or p.name == "mode":
-                    if p.value != f.value(p.name):
-                        f.set(p.name, p.value)
-                elif p.name == "use_cuda":
-                    f.set_use_cuda(p.value)
-                elif p.name == "lidar_to_camera" and p.type_ != Parameter.Type.NOT_SET:
-                    f.set_lidar_to_camera(list(p.value))
-                elif p.name == "depth_encoding" and p.value not in ("32FC1", "16UC1"):
-                    raise ValueError("depth_encoding must be 32FC1 or 16UC1, not '%s'" % p.value)
-                elif p.name == "check_calibration_every" and p.value < 0:
-                    raise ValueError("check_calibration_every must be >= 0 (0: never), not %d" % p.value)
-                elif p.name == "trust_lidar":
-                    f.trust_lidar = bool(p.value)
-                elif p.name == "rectify":
-                    f.rectify = bool(p.value)
-                elif p.name == "recalibration_sets" and (p.value < 0 or p.value == 1):
-                    raise ValueError("recalibration_sets must be 0 (never) or at least 2, not %d" % p.value)
-                elif p.name == "scan_rate" and p.value != p.value:
-                    raise ValueError("scan_rate must be a number of Hz")
-                elif p.name == "tf_tolerance_seconds" and not p.value >= 0:
-                    raise ValueError("tf_tolerance_seconds must be >= 0")
-                elif p.name == "lidar_timeout" and not p.value > 0:
-                    raise ValueError("lidar_timeout must be > 0 seconds, not %s" % p.value)
-                elif p.name in ("approximate_sync", "queue_size", "use_system_default_qos", "sync_warning_seconds",
-                                "approximate_sync_tolerance_seconds", "tf_tolerance_seconds",
-                                "lidar_timeout") and hasattr(self, "sync"):
-                    raise ValueError("%s is read when the node starts" % p.name)
+                if APPLY.get(p.name) is not None:
+                    APPLY[p.name](self, p)
             except ValueError as e:
                 problems.append("%s: %s" % (p.name, e))
         if problems:
@@ -258,9 +290,9 @@ class StereoLidarNode(Node):
             text += "; stamp to outputs median %.1f ms, p99 %.1f ms, max %.1f ms" % (
                 1000 * statistics.median(e2e), 1000 * e2e[min(len(e2e) - 1, int(0.99 * len(e2e)))], 1000 * e2e[-1])
         if self.residuals:
-            median, above = residual_summary(self.residuals)
+            median, above = residual_summary(self.residuals, self.fusion.max_residual)
             text += "; matching residual median %.2f px over %d checks, %d above %.0f px" % (
-                median, len(self.residuals), above, MAX_MATCHING_RESIDUAL)
+                median, len(self.residuals), above, self.fusion.max_residual)
         return text
 
     def _check_calibration(self, result):
@@ -272,11 +304,11 @@ class StereoLidarNode(Node):
             return
         self.residuals.append(r)
         self.health.residual = r
-        if r > MAX_MATCHING_RESIDUAL:
+        if r > self.fusion.max_residual:
             self.get_logger().warning(
                 "the LiDAR lies %.2f px (median) from where the images match, more than %.0f px: the fusion is pulled "
                 "off the images; check lidar_to_camera (lidarsgm_fuse --refine-calibration, or "
-                "cv2.lidarsgm.LidarCalibration)" % (r, MAX_MATCHING_RESIDUAL), throttle_duration_sec=10.0)
+                "cv2.lidarsgm.LidarCalibration)" % (r, self.fusion.max_residual), throttle_duration_sec=10.0)
 
     def _on_tf(self, msg, static):
         self.tf_received = self._now()

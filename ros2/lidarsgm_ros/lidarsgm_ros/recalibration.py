@@ -1,17 +1,17 @@
 """The LiDAR-to-camera rotation refined from the sets whose LiDAR lands misplaced on their images, shared by the node
 (in the background) and the bag command (in order, so that its output does not depend on timing).
 
-Each set that Fusion fuses as stereo alone (cv2.lidarsgm.checkLidar condemned its LiDAR) is kept: its images, its
+Each set that Fusion fuses as stereo alone (cv2.lidarsgm.LidarFailSafe condemned its LiDAR) is kept: its images, its
 cloud and its camera geometry, the last `sets` of them. When the pool is full, and again after every `sets / 2` new
 ones, cv2.lidarsgm.LidarCalibration refines the rotation from the pool. The correction is taken only if it brings the
-calibration residual under 1 px (the DDC's Q1 band) and every pooled set's LiDAR is then trusted by checkLidar; the
+calibration residual under 1 px (the DDC's Q1 band) and every pooled set's LiDAR is then trusted by the fail-safe; the
 caller switches to it and logs it with its uncertainty.
 """
 from collections import deque
 
 import numpy as np
 
-from .fusion import MAX_MATCHING_RESIDUAL, optical_transform, rectified_transform
+from .fusion import optical_transform, rectified_transform
 
 
 class Recalibration:
@@ -54,14 +54,15 @@ class Recalibration:
         text = ("correction from %d sets: pitch %+.3f +- %.3f, yaw %+.3f +- %.3f, roll %+.3f +- %.3f degrees; "
                 "calibration residual %.2f -> %.2f px" % (len(pool), deg[0], std[0], deg[1], std[1], deg[2], std[2],
                                                           c.residualBefore, c.residualAfter))
-        if not c.residualAfter <= MAX_MATCHING_RESIDUAL:
-            return None, text + ": above %.0f px, not taken" % MAX_MATCHING_RESIDUAL
+        fail_safe = cv2.lidarsgm.LidarFailSafe.create()
+        if not c.residualAfter <= fail_safe.maxResidual():
+            return None, text + ": above %.0f px, not taken" % fail_safe.maxResidual()
         corrected = np.asarray(c.lidarToCamera, np.float64)
         for left, right, points, geometry in pool:
             sparse = cv2.lidarsgm.projectPointsToDisparity(points, geometry.projection, corrected,
                                                            geometry.focal_baseline, geometry.size)
             try:
-                ok = cv2.lidarsgm.checkLidar(left, right, sparse, MAX_MATCHING_RESIDUAL).trusted
+                ok = not fail_safe.check(left, right, sparse).stereoAlone
             except cv2.error:
                 ok = False
             if not ok:

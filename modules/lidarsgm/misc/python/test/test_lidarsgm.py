@@ -188,7 +188,23 @@ class lidarsgm_test(NewOpenCVTests):
         self.assertLess(c.shiftedResidual, 0.8 * c.residual)
         self.assertLessEqual(abs(c.shift[1] + 15), 3)
         with self.assertRaises(cv.error):
-            cv.lidarsgm.checkLidar(left, right, sparse, 0.0)
+            cv.lidarsgm.checkLidar(left, right, sparse, -1.0)
+        # The fail-safe decides with checkLidar at its bound, and fuses the condemned frame as stereo alone.
+        fail_safe = cv.lidarsgm.LidarFailSafe.create()
+        self.assertEqual(cv.lidarsgm.LidarFailSafe.maxResidual(), 1.0)
+        check = fail_safe.check(left, right, low)
+        self.assertTrue(check.stereoAlone)
+        self.assertEqual(check.residual, c.residual)
+        m = cv.lidarsgm.StereoLidarSGM.create(numDisparities=64)
+        check, disp = fail_safe.compute(m, left, right, low)
+        self.assertTrue(check.stereoAlone)
+        alone = cv.lidarsgm.LidarFailSafe.stereoAloneMatcher(m)
+        self.assertEqual((alone.getMode(), alone.getConsistencyCheck()),
+                         (cv.lidarsgm.StereoLidarSGM_MODE_SGM, cv.lidarsgm.StereoLidarSGM_CHECK_STEREO))
+        np.testing.assert_array_equal(disp, alone.compute(left, right, np.zeros_like(low)))
+        check, disp = cv.lidarsgm.LidarFailSafe.create(True).compute(m, left, right, low)
+        self.assertFalse(check.stereoAlone or check.trusted)
+        np.testing.assert_array_equal(disp, m.compute(left, right, low))
 
     def test_stereo_rig(self):
         K = np.array([[700.0, 0, 320], [0, 700, 240], [0, 0, 1]])
@@ -276,6 +292,15 @@ class lidarsgm_test(NewOpenCVTests):
         np.testing.assert_array_equal(gd.download(), cpu)
         semi = cv.cuda.semidensifyStereoLidarSGM(m, gl, gr, gs)
         np.testing.assert_array_equal(semi.download(), m.semidensify(left, right, sparse))
+        # The projection on the GPU: every array a GpuMat, as the binding generator makes cv2.cuda's entry points.
+        d = os.path.join(data_dir(), 'kitti')
+        f = cv.lidarsgm.loadKittiFrame(d, '000002')
+        c = f.calibration
+        pts = cv.lidarsgm.readVelodyneScan(os.path.join(d, 'velodyne', '000002.bin'))
+        g = cv.cuda.projectPointsToDisparity(cv.cuda_GpuMat(pts), cv.cuda_GpuMat(np.asarray(c.projection)),
+                                             cv.cuda_GpuMat(np.asarray(c.lidarToCamera)), c.focalBaseline, c.imageSize)
+        np.testing.assert_array_equal(g.download(), cv.lidarsgm.projectPointsToDisparity(
+            pts, c.projection, c.lidarToCamera, c.focalBaseline, c.imageSize))
 
     def test_bad_input(self):
         m = cv.lidarsgm.StereoLidarSGM.create()

@@ -4,7 +4,8 @@
 // LiDAR point clouds from files: PCD (PCL's format), PLY and KITTI's .bin, as N x 4 float (x, y, z, intensity).
 // Parsers of untrusted files: every size is checked against the bytes there before anything is read or allocated.
 
-#include "precomp.hpp"
+#include "../precomp.hpp"
+#include "opencv2/lidarsgm/datasets.hpp"
 #include <cerrno>
 #include <cmath>
 #include <cstdint>

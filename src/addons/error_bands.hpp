@@ -1,8 +1,8 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// The KITTI devkit's error scale, written once for colorizeDisparityError (src/evaluation.cpp) and the legend that
-// explains it (src/legend.cpp).
+// The KITTI devkit's error scale, written once for colorizeDisparityError (src/addons/evaluation.cpp) and the legend that
+// explains it (src/addons/legend.cpp).
 
 #ifndef OPENCV_LIDARSGM_ERROR_BANDS_HPP
 #define OPENCV_LIDARSGM_ERROR_BANDS_HPP

@@ -6,8 +6,8 @@
 // the one convention every output of the rig follows: the LiDAR moves as R1 * lidar_to_left into the rectified left
 // camera.
 
-#include "precomp.hpp"
-#include "projection.hpp"
+#include "../precomp.hpp"
+#include "../projection.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
 #include "opencv2/lidarsgm/rig.hpp"
 #include "opencv2/imgproc.hpp"

@@ -4,7 +4,8 @@
 // The KITTI stereo devkit's evaluation rules (D1 outliers, background interpolation, colour maps) and Middlebury's
 // bad-N, as public functions: the tool, the tests, the perf tests and the Python sample score with this one copy.
 
-#include "precomp.hpp"
+#include "../precomp.hpp"
+#include "opencv2/lidarsgm/evaluation.hpp"
 #include "error_bands.hpp"
 #include "opencv2/imgproc.hpp"
 

@@ -4,7 +4,8 @@
 // The legends below the colour pictures (opencv2/lidarsgm/evaluation.hpp): the tool and the Python samples draw them
 // with these, so a picture reads the same from every front end.
 
-#include "precomp.hpp"
+#include "../precomp.hpp"
+#include "opencv2/lidarsgm/evaluation.hpp"
 #include "error_bands.hpp"
 #include "opencv2/imgproc.hpp"
 

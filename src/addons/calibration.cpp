@@ -4,11 +4,11 @@
 // LiDAR-to-camera calibration from the data: each frame's stereo disparity map (the camera alone) against the
 // disparities the LiDAR points get through the transform (calibration.hpp says what is estimated and why).
 
-#include "precomp.hpp"
+#include "../precomp.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/lidarsgm/calibration.hpp"
-#include "pipeline.hpp"
-#include "projection.hpp"
+#include "../pipeline.hpp"
+#include "../projection.hpp"
 #include <mutex>
 
 namespace cv { namespace lidarsgm {
