@@ -211,9 +211,7 @@ inline const std::vector<StageCase>& stageCases()
     return cases;
 }
 
-} // namespace
-
-#endif/* What the module writes to OpenCV's log while it lives (warnings and notices for people), for the tests that check
+/* What the module writes to OpenCV's log while it lives (warnings and notices for people), for the tests that check
 what a user is told. One at a time. */
 class CapturedLog
 {
@@ -226,4 +224,6 @@ private:
     static void write(cv::utils::logging::LogLevel, const char* message) { text() += std::string(message) + "\n"; }
 };
 
+} // namespace opencv_test
 
+#endif

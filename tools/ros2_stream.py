@@ -50,6 +50,7 @@ PARAMS = os.path.abspath(os.path.join(ROOT, "doc", "params", "kitti_best.yml"))
 CONFIG = os.path.join(PACKAGE, "config", "lidarsgm.yaml")
 FRAMES = ("000002", "000046")
 sys.path.insert(0, PACKAGE)
+sys.path.append(os.path.join(ROOT, "test", "ros2"))  # ros_env: the stopping of the node, as the tests stop it
 
 # Fast DDS transport variants for the probe (written to a scratch folder); "shipped" is the package's profile.
 UDP_ONLY = """<?xml version="1.0" encoding="UTF-8"?>
@@ -482,16 +483,14 @@ def stream_to_node(a):
             time.sleep(3)
         rss["end"] = rss_kb(node_proc.pid)
     finally:
-        node_proc.send_signal(signal.SIGINT)
-        try:
-            node_proc.wait(30)
-        except subprocess.TimeoutExpired:
-            node_proc.kill()
+        # Imported only here: importing ros_env also sets the tests' ROS environment (a domain of its own among it),
+        # which must not reach the node and the publisher started above.
+        from ros_env import stop_node
+        text = stop_node(node_proc, 30, log)
         spinning.clear()
         spinner.join()
         node.destroy_node()
         rclpy.try_shutdown()
-    text = open(log.name).read()
     summary = [ln for ln in text.splitlines() if ln.startswith("lidarsgm_node: ")]
     lat = sorted((got[s] - s) / 1e6 for s in sent if s in got)
     result.update(sent=len(sent), answered=len(lat), stray=len(set(got) - set(sent)), rss_kb=rss,

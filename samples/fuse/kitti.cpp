@@ -388,9 +388,7 @@ Options stereoAlone(const Options& o)
     const int mode0 = modeFromName(o.list("modes", "sgm,dsgm,sdsgm").front());
     const Ptr<Matcher> alone = lidarsgm::LidarFailSafe::stereoAloneMatcher(
         makeMatcher(o, mode0, checkFromName(o.str("check", "stereo-lidar"))));
-    std::string mode = modeLabel(alone->getMode());
-    std::transform(mode.begin(), mode.end(), mode.begin(), [](char c) { return (char)std::tolower(c); });
-    s.kv["modes"] = mode;
+    s.kv["modes"] = modeName(alone->getMode());
     s.kv["check"] = checkLabel(alone->getConsistencyCheck());
     s.kv[kLidarLeftOut] = "1";
     s.kv.erase("table5");

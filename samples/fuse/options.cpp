@@ -366,6 +366,11 @@ int modeFromName(const std::string& s)
     CV_Error(Error::StsBadArg, "unknown mode '" + s + "' (sgm, dsgm, sdsgm)");
 }
 
+const char* modeName(int m)
+{
+    return m == Matcher::MODE_SGM ? "sgm" : m == Matcher::MODE_DSGM ? "dsgm" : "sdsgm";
+}
+
 const char* modeLabel(int m)
 {
     return m == Matcher::MODE_SGM ? "SGM" : m == Matcher::MODE_DSGM ? "DSGM" : "SDSGM";

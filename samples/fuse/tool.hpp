@@ -47,6 +47,8 @@ returns 2 for a bad command line, 1 for a --params file that cannot be read; 0 w
 int checkOptions(const Options& o);
 
 int modeFromName(const std::string& s);
+//! The --modes name of a mode (modeFromName's inverse); modeLabel: as the tables print it.
+const char* modeName(int mode);
 int checkFromName(const std::string& s);
 const char* modeLabel(int mode);
 const char* checkLabel(int check);

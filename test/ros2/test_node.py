@@ -12,7 +12,6 @@ run time with its message, the old value kept. A second node takes the transform
 """
 import os
 import re
-import signal
 import subprocess
 import sys
 import tempfile
@@ -22,7 +21,7 @@ import unittest
 import cv2
 import numpy as np
 
-from ros_env import HERE, PACKAGE  # noqa: E402  (before rclpy: the environment the tests run in)
+from ros_env import HERE, PACKAGE, log_text, stop_node  # noqa: E402  (before rclpy: the environment the tests run in)
 
 import rclpy  # noqa: E402
 from rcl_interfaces.srv import GetParameters, SetParameters  # noqa: E402
@@ -108,18 +107,12 @@ class NodeRun(unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
-        cls.proc.send_signal(signal.SIGINT)
-        try:
-            cls.proc.wait(20)
-        except subprocess.TimeoutExpired:
-            cls.proc.kill()
+        stop_node(cls.proc, 20)
         cls.node.destroy_node()
         rclpy.shutdown()
 
     def node_log(self):
-        self.log.flush()
-        self.log.seek(0)
-        return self.log.read()
+        return log_text(self.log)
 
     def publish(self, fid, stamp, break_cloud=False):
         frame = cv2.lidarsgm.loadKittiFrame(KITTI, fid)

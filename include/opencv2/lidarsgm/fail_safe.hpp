@@ -126,7 +126,7 @@ public:
     (residual NaN: fewer than 200 comparable pixels) is fused. CPU inputs (cv::Mat), as for checkLidar(). */
     CV_WRAP virtual LidarCheck check(InputArray left, InputArray right, InputArray sparseDisparity) const = 0;
     /** check(), then matcher->compute(): on the LiDAR where it may be fused, else as stereo alone (a
-    stereoAloneMatcher() of `matcher`, made again only when `matcher` or its settings change). Returns the verdict.
+    stereoAloneMatcher() kept by this object and given `matcher`'s settings on each call). Returns the verdict.
     CPU inputs and output (cv::Mat); on the CUDA path call check() on the host images and compute with the matcher
     it names. */
     CV_WRAP virtual LidarCheck compute(const Ptr<StereoLidarSGM>& matcher, InputArray left, InputArray right,

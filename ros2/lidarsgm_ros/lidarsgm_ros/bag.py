@@ -159,12 +159,9 @@ class Segments:
             self.writer = None
 
 
-def main(argv=None):
-    args, parser = parse_args(sys.argv[1:] if argv is None else argv)
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
-    from pathlib import Path
-
+def configured_fusion(args, parser):
+    """The fusion with the command line's matcher settings and transform, and the recalibration (None: off); a value
+    the module refuses ends the command as a bad command line."""
     try:
         fusion = Fusion(cv2, args.params_file, args.cuda, trust_lidar=args.trust_lidar, rectify=args.rectify)
         recal = Recalibration(cv2, args.scan_rate, args.recalibration_sets) \
@@ -178,143 +175,231 @@ def main(argv=None):
             fusion.set_lidar_to_camera(args.lidar_to_camera)
     except (ValueError, cv2.error) as e:
         parser.error(str(e.err if isinstance(e, cv2.error) else e))
+    return fusion, recal
 
-    typestore = get_typestore(Stores.ROS2_JAZZY)
-    kit = MessageKit.rosbags(typestore)
+
+def open_bag(path, typestore):
+    """The input bag, open; None (the reason printed) where it cannot be read."""
+    from pathlib import Path
+    from rosbags.highlevel import AnyReader
     try:
-        reader = AnyReader([Path(args.input)], default_typestore=typestore)
+        reader = AnyReader([Path(path)], default_typestore=typestore)
         reader.open()
     except Exception as e:  # rosbags raises its own error classes per storage; all mean an unreadable bag
-        print("lidarsgm_bag: cannot read %s: %s" % (args.input, e), file=sys.stderr)
-        return 1
+        print("lidarsgm_bag: cannot read %s: %s" % (path, e), file=sys.stderr)
+        return None
+    return reader
+
+
+def input_connections(reader, args):
+    """The bag's connections by topic; None (the reason printed) where an input other than the points is missing. A
+    bag without the points gets a warning: every set is fused as stereo alone."""
+    by_topic = {c.topic: c for c in reader.connections}
+    missing = [t for n, t in args.topics.items() if t not in by_topic and n != "points"]
+    if missing:
+        print("lidarsgm_bag: %s has no topic %s (it has: %s)" % (args.input, ", ".join(missing),
+              ", ".join(sorted(by_topic))), file=sys.stderr)
+        return None
+    if args.topics["points"] not in by_topic:
+        print("lidarsgm_bag: %s has no topic %s: every set is fused as stereo alone" % (
+            args.input, args.topics["points"]), file=sys.stderr)
+    return by_topic
+
+
+def synchroniser(args):
+    """The node's synchroniser: the images and their camera_info exactly (or approximately) in sync, a scan paired
+    with them."""
+    tol = int(args.tolerance * 1e9) if args.approximate_sync else 0
+    images = ApproximateSync(len(INPUTS) - 1, args.queue_size, tol) if args.approximate_sync \
+        else ExactSync(len(INPUTS) - 1, args.queue_size)
+    return LidarPairing(images, tol, int(args.lidar_timeout * 1e9), args.queue_size)
+
+
+def output_segments(args, typestore):
+    """The output folder's Segments; None (the reason printed) where it holds something and --resume is not given."""
     try:
-        by_topic = {c.topic: c for c in reader.connections}
-        missing = [t for n, t in args.topics.items() if t not in by_topic and n != "points"]
-        if missing:
-            print("lidarsgm_bag: %s has no topic %s (it has: %s)" % (args.input, ", ".join(missing),
-                  ", ".join(sorted(by_topic))), file=sys.stderr)
-            return 1
-        if args.topics["points"] not in by_topic:
-            print("lidarsgm_bag: %s has no topic %s: every set is fused as stereo alone" % (
-                args.input, args.topics["points"]), file=sys.stderr)
-        tf_edges = None if fusion.lidar_to_camera is not None else static_transforms(reader)
-        index = {args.topics[n]: i for i, n in enumerate(INPUTS)}
-        tol = int(args.tolerance * 1e9) if args.approximate_sync else 0
-        images = ApproximateSync(len(INPUTS) - 1, args.queue_size, tol) if args.approximate_sync \
-            else ExactSync(len(INPUTS) - 1, args.queue_size)
-        sync = LidarPairing(images, tol, int(args.lidar_timeout * 1e9), args.queue_size)
-        total = by_topic[args.topics["left/image_rect"]].msgcount
-        ns = args.namespace.rstrip("/")
-        raw_images = any(args.topics[n].endswith("image_raw") for n in ("left/image_rect", "right/image_rect"))
-        try:
-            segments = Segments(args.output, args.segment_frames, args.resume, typestore)
-        except SystemExit as e:
-            print(e, file=sys.stderr)
-            return 2
-        if segments.done:
-            print("resuming: %d complete segment(s) of %d sets kept" % (segments.done, args.segment_frames))
-        counts = {"sets": 0, "fused": 0, "skipped": 0, "points": 0}
-        counts.update({cls: 0 for cls in ALONE_CLASSES})
+        segments = Segments(args.output, args.segment_frames, args.resume, typestore)
+    except SystemExit as e:
+        print(e, file=sys.stderr)
+        return None
+    if segments.done:
+        print("resuming: %d complete segment(s) of %d sets kept" % (segments.done, args.segment_frames))
+    return segments
+
+
+class BagSets:
+    """The sets of one bag as the synchroniser gives them: each fused, written to its segment with its fusion_status
+    and its line printed; the sets fused as stereo alone for their calibration go to the recalibration. Keeps the
+    counts, the matching residuals and the sets after which a corrected transform was taken, for the summary."""
+
+    def __init__(self, args, fusion, recal, kit, typestore, segments, tf_edges, total):
+        self.args, self.fusion, self.recal, self.kit, self.ts = args, fusion, recal, kit, typestore
+        self.segments, self.tf_edges, self.total = segments, tf_edges, total
+        self.ns = args.namespace.rstrip("/")
+        self.raw_images = any(args.topics[n].endswith("image_raw") for n in ("left/image_rect", "right/image_rect"))
+        self.counts = {"sets": 0, "fused": 0, "skipped": 0, "points": 0}
+        self.counts.update({cls: 0 for cls in ALONE_CLASSES})
         # The recalibration's correction, applied on top of the transform from /tf_static (4x4).
-        state = {"correction": np.eye(4), "switched": []}
-        residuals = []  # each fused set's matching residual (px), where the images can tell
-        raw_of = {}
-        conns = [by_topic[t] for t in args.topics.values() if t in by_topic]
-        t_start = time.perf_counter()
+        self.correction = np.eye(4)
+        self.switched = []  # the sets after which the corrected transform was taken
+        self.residuals = []  # each fused set's matching residual (px), where the images can tell
+        self.raw_of = {}  # id of a message waiting for a set -> (topic, msgtype, timestamp, serialised bytes)
+        self.t_start = time.perf_counter()
 
-        def process(stamp, msgs):
-            number = counts["sets"]
-            counts["sets"] += 1
-            if segments.skip(number):
-                return
-            left, left_info, right, right_info, cloud = msgs
-            t0 = time.perf_counter()
-            try:
-                alone = None
-                if tf_edges is not None and cloud is not None:
-                    try:
-                        fusion.set_lidar_to_camera(state["correction"] @ chain_transform(
-                            tf_edges, cloud.header.frame_id, left.header.frame_id or left_info.header.frame_id))
-                    except ConversionError as e:
-                        alone = (CALIBRATION, "no transform from the scan's frame in /tf_static (%s)" % e)
-                result = fusion.fuse(left, left_info, right, right_info, cloud, confidence=args.confidence,
-                                     raw=raw_images, alone=alone)
-                out = output_messages(kit, fusion, result, left.header.frame_id, stamp_ns(left), args.depth_encoding)
-            except (ConversionError, ValueError) as e:
-                counts["skipped"] += 1
-                print("set %d of ~%d (stamp %d.%09d) skipped: %s" % (number + 1, total, stamp // 1000000000,
-                                                                     stamp % 1000000000, e))
-                return
-            level, text = health.set_status(result)
-            status = health.diagnostic_array(kit._new, out[0][1].header, level, text,
-                                             [("source", "stereo alone" if result.stereo_alone else "lidar"),
-                                              ("class", result.stereo_alone)])
-            items = [(ns + "/" + name, OUTPUT_TYPES[name], stamp_ns(left),
-                      typestore.serialize_cdr(m, OUTPUT_TYPES[name])) for name, m in out]
-            items.append((ns + "/" + health.FUSION_STATUS, STATUS_TYPE, stamp_ns(left),
-                          typestore.serialize_cdr(status, STATUS_TYPE)))
-            if args.with_inputs:
-                items += [raw_of[id(m)] for m in msgs if m is not None]
-            segments.write(number, items)
-            counts["fused"] += 1
-            counts["points"] += result.dropped_points
-            if result.stereo_alone:
-                counts[result.stereo_alone] += 1
-            r = fusion.matching_residual(result)
-            if r is not None:
-                residuals.append(r)
-            verdict = fusion.verdict(result) or \
-                ("stereo alone: " + result.reason if result.stereo_alone else "")
-            print("set %d of ~%d fused in %.0f ms, matching residual %s%s" % (
-                number + 1, total, 1000 * (time.perf_counter() - t0), "%.2f px" % r if r is not None else "-",
-                "; " + verdict if verdict else ""), flush=True)
-            if result.stereo_alone == CALIBRATION and result.points is not None and recal is not None:
-                recal.add(result)
-                if recal.due():
-                    corrected, text = recal.refine(fusion.lidar_to_camera, fusion.sgm.getNumDisparities())
-                    print("  " + text, flush=True)
-                    if corrected is not None:
-                        state["correction"] = corrected @ np.linalg.inv(fusion.lidar_to_camera) @ \
-                            state["correction"]
-                        fusion.set_lidar_to_camera(corrected)
-                        state["switched"].append(number + 1)
-                        print("  switched to the corrected transform from set %d on: %s" % (
-                            number + 2, " ".join("%.9g" % v for v in corrected.ravel())), flush=True)
-
+    def run(self, reader, by_topic, sync):
+        """Feeds the bag's inputs to sync in the bag's order and processes each set it gives, then those it holds at
+        the end; closes the last segment."""
+        index = {self.args.topics[n]: i for i, n in enumerate(INPUTS)}
+        conns = [by_topic[t] for t in self.args.topics.values() if t in by_topic]
         for conn, t, raw in reader.messages(connections=conns):
             msg = reader.deserialize(raw, conn.msgtype)
-            raw_of[id(msg)] = (conn.topic, conn.msgtype, t, raw)
+            self.raw_of[id(msg)] = (conn.topic, conn.msgtype, t, raw)
             for stamp, msgs in sync.add(index[conn.topic], stamp_ns(msg), msg):
-                process(stamp, msgs)
+                self.process(stamp, msgs)
             # Keep the raw bytes of the messages still waiting for a set only.
             live = set(id(m) for m in sync.held())
-            raw_of = {key: v for key, v in raw_of.items() if key in live}
+            self.raw_of = {key: v for key, v in self.raw_of.items() if key in live}
         for stamp, msgs in sync.finish():
-            process(stamp, msgs)
-        segments.close()
-    finally:
-        reader.close()
+            self.process(stamp, msgs)
+        self.segments.close()
+
+    def process(self, stamp, msgs):
+        """Fuses, writes and reports one set, unless it lies in a segment kept from before."""
+        number = self.counts["sets"]
+        self.counts["sets"] += 1
+        if self.segments.skip(number):
+            return
+        t0 = time.perf_counter()
+        fused = self.fuse(number, stamp, msgs)
+        if fused is None:
+            return
+        result, out = fused
+        self.write(number, msgs, result, out)
+        self.report(number, t0, result)
+        self.recalibrate(number, result)
+
+    def fuse(self, number, stamp, msgs):
+        """(the fusion's result, the output messages) of a set; None where it is skipped (the reason printed)."""
+        left, left_info, right, right_info, cloud = msgs
+        try:
+            alone = None
+            if self.tf_edges is not None and cloud is not None:
+                try:
+                    self.fusion.set_lidar_to_camera(self.correction @ chain_transform(
+                        self.tf_edges, cloud.header.frame_id, left.header.frame_id or left_info.header.frame_id))
+                except ConversionError as e:
+                    alone = (CALIBRATION, "no transform from the scan's frame in /tf_static (%s)" % e)
+            result = self.fusion.fuse(left, left_info, right, right_info, cloud, confidence=self.args.confidence,
+                                      raw=self.raw_images, alone=alone)
+            out = output_messages(self.kit, self.fusion, result, left.header.frame_id, stamp_ns(left),
+                                  self.args.depth_encoding)
+        except (ConversionError, ValueError) as e:
+            self.counts["skipped"] += 1
+            print("set %d of ~%d (stamp %d.%09d) skipped: %s" % (number + 1, self.total, stamp // 1000000000,
+                                                                 stamp % 1000000000, e))
+            return None
+        return result, out
+
+    def write(self, number, msgs, result, out):
+        """Writes a fused set's outputs and fusion_status (and with --with-inputs its inputs) to its segment."""
+        stamp = stamp_ns(msgs[0])
+        level, text = health.set_status(result)
+        status = health.diagnostic_array(self.kit._new, out[0][1].header, level, text,
+                                         [("source", "stereo alone" if result.stereo_alone else "lidar"),
+                                          ("class", result.stereo_alone)])
+        items = [(self.ns + "/" + name, OUTPUT_TYPES[name], stamp, self.ts.serialize_cdr(m, OUTPUT_TYPES[name]))
+                 for name, m in out]
+        items.append((self.ns + "/" + health.FUSION_STATUS, STATUS_TYPE, stamp,
+                      self.ts.serialize_cdr(status, STATUS_TYPE)))
+        if self.args.with_inputs:
+            items += [self.raw_of[id(m)] for m in msgs if m is not None]
+        self.segments.write(number, items)
+
+    def report(self, number, t0, result):
+        """Counts a fused set and prints its line: the time since t0, the matching residual, how it was fused."""
+        self.counts["fused"] += 1
+        self.counts["points"] += result.dropped_points
+        if result.stereo_alone:
+            self.counts[result.stereo_alone] += 1
+        r = self.fusion.matching_residual(result)
+        if r is not None:
+            self.residuals.append(r)
+        verdict = self.fusion.verdict(result) or ("stereo alone: " + result.reason if result.stereo_alone else "")
+        print("set %d of ~%d fused in %.0f ms, matching residual %s%s" % (
+            number + 1, self.total, 1000 * (time.perf_counter() - t0), "%.2f px" % r if r is not None else "-",
+            "; " + verdict if verdict else ""), flush=True)
+
+    def recalibrate(self, number, result):
+        """Pools a set fused as stereo alone for its calibration; when the pool is due, refines the rotation from it
+        and switches to the corrected transform where the refinement gives one."""
+        if result.stereo_alone != CALIBRATION or result.points is None or self.recal is None:
+            return
+        self.recal.add(result)
+        if not self.recal.due():
+            return
+        fusion = self.fusion
+        corrected, text = self.recal.refine(fusion.lidar_to_camera, fusion.sgm.getNumDisparities())
+        print("  " + text, flush=True)
+        if corrected is not None:
+            self.correction = corrected @ np.linalg.inv(fusion.lidar_to_camera) @ self.correction
+            fusion.set_lidar_to_camera(corrected)
+            self.switched.append(number + 1)
+            print("  switched to the corrected transform from set %d on: %s" % (
+                number + 2, " ".join("%.9g" % v for v in corrected.ravel())), flush=True)
+
+
+def print_summary(args, sets, sync):
+    """Prints the run's totals, the sets fused as stereo alone by class, the non-finite points dropped, the median
+    matching residual, and a hint where no scan shared a stamp with the images under exact sync."""
+    counts, switched = sets.counts, sets.switched
     print("%d sets fused, %d skipped, %d kept from before, %d %s dropped, %d restarts; %.1f s; output: %s"
-          % (counts["fused"], counts["skipped"], min(counts["sets"], segments.done * args.segment_frames),
-             sync.dropped, sync.unit, sync.restarts, time.perf_counter() - t_start, args.output))
+          % (counts["fused"], counts["skipped"], min(counts["sets"], sets.segments.done * args.segment_frames),
+             sync.dropped, sync.unit, sync.restarts, time.perf_counter() - sets.t_start, args.output))
     alone = sum(counts[c] for c in ALONE_CLASSES)
-    if alone or state["switched"]:
+    if alone or switched:
         print("%d sets fused as stereo alone (%s)%s" % (
             alone, ", ".join("%d %s" % (counts[c], c) for c in ALONE_CLASSES),
-            "; the corrected transform taken after set %s" % ", ".join(map(str, state["switched"]))
-            if state["switched"] else ""))
+            "; the corrected transform taken after set %s" % ", ".join(map(str, switched)) if switched else ""))
     if counts["points"]:
         print("%d non-finite points dropped from the scans" % counts["points"])
-    if residuals:
-        median, above = residual_summary(residuals, fusion.max_residual)
+    if sets.residuals:
+        max_residual = sets.fusion.max_residual
+        median, above = residual_summary(sets.residuals, max_residual)
         print("matching residual (the LiDAR against the images): median %.2f px over %d sets, %d above %.0f px%s"
-              % (median, len(residuals), above, fusion.max_residual,
+              % (median, len(sets.residuals), above, max_residual,
                  ": the LiDAR pulls the fusion off the images there; check the transform" if above else ""))
     if counts[ALONE_CLASSES[0]] and counts["fused"] == counts[ALONE_CLASSES[0]] and sync.unpaired_clouds \
             and not args.approximate_sync:
         print("lidarsgm_bag: no scan shares a stamp with the images: if the LiDAR is not triggered by the cameras, "
               "pass --approximate-sync", file=sys.stderr)
-    return 0 if counts["fused"] or segments.done else 1
+
+
+def main(argv=None):
+    """Runs the command; returns its exit code (0 done, 1 error, 2 bad command line)."""
+    args, parser = parse_args(sys.argv[1:] if argv is None else argv)
+    from rosbags.typesys import Stores, get_typestore
+    fusion, recal = configured_fusion(args, parser)
+    typestore = get_typestore(Stores.ROS2_JAZZY)
+    kit = MessageKit.rosbags(typestore)
+    reader = open_bag(args.input, typestore)
+    if reader is None:
+        return 1
+    try:
+        by_topic = input_connections(reader, args)
+        if by_topic is None:
+            return 1
+        tf_edges = None if fusion.lidar_to_camera is not None else static_transforms(reader)
+        sync = synchroniser(args)
+        segments = output_segments(args, typestore)
+        if segments is None:
+            return 2
+        sets = BagSets(args, fusion, recal, kit, typestore, segments, tf_edges,
+                       by_topic[args.topics["left/image_rect"]].msgcount)
+        sets.run(reader, by_topic, sync)
+    finally:
+        reader.close()
+    print_summary(args, sets, sync)
+    return 0 if sets.counts["fused"] or segments.done else 1
 
 
 if __name__ == "__main__":
