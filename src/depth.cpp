@@ -43,7 +43,8 @@ void checkFocalBaseline(double fb, const char* fn)
 
 } // namespace
 
-void disparityToDepth(InputArray disparity, double focalBaseline, OutputArray _depth, int minDisparity)
+void disparityToDepth(InputArray disparity, double focalBaseline, OutputArray _depth, int minDisparity,
+                      float invalidDepth)
 {
     CV_INSTRUMENT_REGION();
     checkFocalBaseline(focalBaseline, "disparityToDepth");
@@ -57,7 +58,7 @@ void disparityToDepth(InputArray disparity, double focalBaseline, OutputArray _d
             for (int x = 0; x < depth.cols; x++)
             {
                 const double d = disp.at(y, x);
-                o[x] = d > 0 ? (float)(focalBaseline / d) : 0.f;
+                o[x] = d > 0 ? (float)(focalBaseline / d) : invalidDepth;
             }
         }
     });

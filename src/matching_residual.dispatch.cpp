@@ -40,14 +40,22 @@ struct SparsePoints
 
     SparsePoints(const Mat& l, const Mat& r, const Mat& sparse16, int reach)
     {
-        const int H = sparse16.rows;
-        for (int y = 1; y < H - 1; y++)
-        {
-            const short* s = sparse16.ptr<short>(y);
-            for (int x = 0; x < sparse16.cols; x++)
-                if (s[x] != detail::NO_DISP)
-                    points.push_back(Point3i(x, y, s[x]));
-        }
+        // In bands of rows at once, each band's points then appended in turn: row-major order, as the medians'
+        // subsets (every k-th point) take them.
+        const int H = sparse16.rows, bands = std::max(1, std::min(16, (H - 2) / 16));
+        std::vector<std::vector<Point3i> > found(bands);
+        parallel_for_(Range(0, bands), [&](const Range& range) {
+            for (int b = range.start; b < range.end; b++)
+                for (int y = 1 + (H - 2) * b / bands; y < 1 + (H - 2) * (b + 1) / bands; y++)
+                {
+                    const short* s = sparse16.ptr<short>(y);
+                    for (int x = 0; x < sparse16.cols; x++)
+                        if (s[x] != detail::NO_DISP)
+                            found[b].push_back(Point3i(x, y, s[x]));
+                }
+        });
+        for (const std::vector<Point3i>& f : found)
+            points.insert(points.end(), f.begin(), f.end());
         if (points.empty())
             return;
         const int ry = detail::CENSUS_HEIGHT / 2;

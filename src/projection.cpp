@@ -116,35 +116,55 @@ void projectPointsToDisparity(InputArray _points, InputArray _projection, InputA
     int n = 0, stride = 0;
     pointLayout(pts.rows, pts.cols, pts.channels(), pts.depth(), pts.empty(), n, stride);
     if (n > 0)
-    {
-        pts = pts.reshape(1, n);
-        if (!pts.isContinuous())
-            pts = pts.clone();
-    }
+        pts = pts.reshape(1, n);   // one point a row; rows may be pitched (a view of a PointCloud2's records)
 
-    // Nearest point wins: keep the largest disparity per pixel.
-    Mat disp(imageSize, CV_32FC1, Scalar::all(0));
-    for (int i = 0; i < n; i++)
+    // Each point's pixel (-1: none) and disparity, in parallel; then the nearest point wins: the largest disparity
+    // per pixel, which no order of the points changes.
+    std::vector<int> pixel(n);
+    std::vector<float> value(n);
+    const int chunk = 8192;
+    parallel_for_(Range(0, (n + chunk - 1) / chunk), [&](const Range& chunks) {
+        for (int i = chunks.start * chunk, end = std::min(n, chunks.end * chunk); i < end; i++)
+        {
+            pixel[i] = -1;
+            const float* q = pts.ptr<float>(i);
+            const double X = q[0], Y = q[1], Z = q[2];
+            if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z))
+                continue;
+            const double z = detail::projectRow(PT.val + 8, X, Y, Z);
+            if (!(z > 0))
+                continue;
+            const double u = detail::projectRow(PT.val, X, Y, Z), v = detail::projectRow(PT.val + 4, X, Y, Z);
+            const double ui = detail::projectPixel(u, z), vi = detail::projectPixel(v, z);
+            if (ui < 0 || vi < 0 || ui >= imageSize.width || vi >= imageSize.height)
+                continue;
+            pixel[i] = (int)vi * imageSize.width + (int)ui;
+            value[i] = detail::projectDisparity(focalBaseline, z);
+        }
+    });
+    // Into the output itself where it is a continuous CV_32F Mat (the points are read by now, should it be theirs).
+    Mat disp;
+    if (dtype == CV_32F && _sparse.kind() == _InputArray::MAT)
     {
-        const float* q = pts.ptr<float>(i);
-        const double X = q[0], Y = q[1], Z = q[2];
-        if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z))
-            continue;
-        const double u = detail::projectRow(PT.val, X, Y, Z), v = detail::projectRow(PT.val + 4, X, Y, Z);
-        const double z = detail::projectRow(PT.val + 8, X, Y, Z);
-        if (!(z > 0))
-            continue;
-        const double ui = detail::projectPixel(u, z), vi = detail::projectPixel(v, z);
-        if (ui < 0 || vi < 0 || ui >= imageSize.width || vi >= imageSize.height)
-            continue;
-        const float d = detail::projectDisparity(focalBaseline, z);
-        float& dst = disp.at<float>((int)vi, (int)ui);
-        if (d > dst)
-            dst = d;
+        _sparse.create(imageSize, CV_32FC1);
+        disp = _sparse.getMat();
+        if (!disp.isContinuous())
+            disp = Mat();
     }
+    const bool direct = !disp.empty();
+    if (!direct)
+        disp = Mat(imageSize, CV_32FC1);
+    disp.setTo(Scalar::all(0));
+    float* map = disp.ptr<float>();
+    for (int i = 0; i < n; i++)
+        if (pixel[i] >= 0 && value[i] > map[pixel[i]])
+            map[pixel[i]] = value[i];
 
     if (dtype == CV_32F)
-        disp.copyTo(_sparse);
+    {
+        if (!direct)
+            disp.copyTo(_sparse);
+    }
     else
     {
         Mat out(imageSize, CV_16UC1);

@@ -34,6 +34,15 @@ TEST(Lidarsgm_Depth, x16_output_and_invalid_pixels)
     EXPECT_EQ(0.f, depth.at<float>(0, 2));
     EXPECT_EQ(0.f, depth.at<float>(1, 1));
     EXPECT_FLOAT_EQ((float)(fb / 32), depth.at<float>(1, 0));
+    // REP 118's NaN for the invalid pixels: the same depths elsewhere.
+    Mat zero, nan;
+    disparityToDepth(disp16, fb, zero);
+    disparityToDepth(disp16, fb, nan, 0, std::numeric_limits<float>::quiet_NaN());
+    for (int i = 0; i < 6; i++)
+        if (i < 2)
+            EXPECT_TRUE(cvIsNaN(nan.at<float>(0, i))) << i;
+        else
+            EXPECT_EQ(zero.at<float>(i / 3, i % 3), nan.at<float>(i / 3, i % 3)) << i;
 }
 
 TEST(Lidarsgm_Depth, points_match_the_reprojection_formula)

@@ -39,6 +39,37 @@ TEST(Lidarsgm_Projection, hand_case)
     EXPECT_EQ(0, cvtest::norm(disp, disp4, NORM_INF));
 }
 
+// Points in pitched rows (the x y z of wider records, as a view of a PointCloud2's data) and outputs that already
+// hold values, or are part of a larger matrix, give the map of the plain call.
+TEST(Lidarsgm_Projection, pitched_points_and_used_outputs)
+{
+    const std::string dir = cvtest::findDataDirectory("kitti");
+    cv::lidarsgm::KittiCalibration c = cv::lidarsgm::readKittiCalibration(dir + "/calib.txt");
+    Mat pts = cv::lidarsgm::readVelodyneScan(dir + "/velodyne/000002.bin");
+    ASSERT_GT(pts.rows, 100000);   // many chunks of the parallel pass
+    const Size size(1242, 375);
+    Mat ref;
+    projectPointsToDisparity(pts, c.projection, c.lidarToCamera, c.focalBaseline, size, ref);
+
+    Mat records(pts.rows, 8, CV_32F, Scalar::all(-7));
+    pts.copyTo(records.colRange(0, 4));
+    Mat pitched = records.colRange(0, 3), out;
+    ASSERT_FALSE(pitched.isContinuous());
+    projectPointsToDisparity(pitched, c.projection, c.lidarToCamera, c.focalBaseline, size, out);
+    EXPECT_EQ(0, cvtest::norm(ref, out, NORM_INF));
+
+    Mat used(size, CV_32F, Scalar::all(3));   // the right size and type: written over, its old values gone
+    projectPointsToDisparity(pts, c.projection, c.lidarToCamera, c.focalBaseline, size, used);
+    EXPECT_EQ(0, cvtest::norm(ref, used, NORM_INF));
+
+    Mat big(size.height + 2, size.width + 2, CV_32F, Scalar::all(5));
+    Mat roi = big(Rect(1, 1, size.width, size.height));
+    projectPointsToDisparity(pts, c.projection, c.lidarToCamera, c.focalBaseline, size, roi);
+    EXPECT_EQ(0, cvtest::norm(ref, roi, NORM_INF));
+    EXPECT_EQ(5.f, big.at<float>(0, 0));
+    EXPECT_EQ(5.f, big.at<float>(size.height + 1, size.width + 1));
+}
+
 TEST(Lidarsgm_Projection, non_finite_points_are_dropped)
 {
     Mat pts = (Mat_<float>(2, 3) << std::numeric_limits<float>::quiet_NaN(), 0, 10, 0, 0, 10);

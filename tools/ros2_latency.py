@@ -2,13 +2,16 @@
 """What the ROS 2 node adds to a fusion, and whether it keeps up with a 10 Hz LiDAR (doc/perf.md, "ROS 2 node").
 
   python3 tools/ros2_latency.py --kitti testdata/kitti --params doc/params/kitti_best.yml [--cuda] [--rounds 20]
-                                [--node-frames 100] [--threads N]
+                                [--node-frames 100] [--threads N] [--bands N]
 
 1. In one process, per frame of the KITTI folder as ROS messages (lidarsgm_ros.kitti): the node's conversions in
-   (CameraInfo pair, images to grey, PointCloud2 to points), the projection, the bare compute call (cv2, or GpuMat
+   (CameraInfo pair, images to grey, PointCloud2 to points), the projection, the fail-safe's check of the projected
+   scan (Fusion.check, as the node runs it on every set), the bare compute call (cv2, or GpuMat
    upload, compute and download with --cuda), and the conversions out (DisparityImage pixels and window, REP 118 depth,
-   the organised cloud, the three messages built), median over --rounds rounds. Target: conversions <= 10 % of the
-   compute on the CPU path at KITTI size. Then each conversion's sub-steps (median ms, minor page faults, MB written
+   the organised cloud, the three messages built), median over --rounds rounds; then the node's own call
+   (Fusion.fuse: all of it in, with --cuda the GPU's fusion beside the CPU's check) and its overhead, Fusion.fuse and
+   the conversions out less the bare compute. Targets at KITTI size: conversions <= 10 % of the compute on the CPU
+   path, node overhead <= 5 ms on the GPU host. Then each conversion's sub-steps (median ms, minor page faults, MB written
    and the GB/s that makes), and the host's memory for reference (NUMA nodes, transparent huge pages, a copy of the
    cloud's size into a reused buffer and into a fresh one): a host where fresh memory costs page faults, or whose
    memory bandwidth is low, shows it there. Without rclpy the messages are plain objects that keep their arrays as
@@ -135,13 +138,13 @@ def in_process(args):
     kit = MessageKit.rclpy() if HAVE_RCLPY else plain_kit()
     print("1. per frame, median of %d rounds (%s messages, %s, %d OpenCV threads)"
           % (args.rounds, "rclpy" if HAVE_RCLPY else "plain", "CUDA" if args.cuda else "CPU", cv2.getNumThreads()))
-    print("| frame | conversions in | projection | compute | conversions out | conversions / compute | in + out "
-          "| all but compute |")
-    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| frame | conversions in | projection | check | compute | conversions out | conversions / compute "
+          "| in + out | all but compute, in turn | the node's Fusion.fuse | node overhead |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     breakdown = []
     for fid, frame, m in frames(args, kit):
         fusion = Fusion(cv2, args.params, args.cuda, kitti.ros_calibration(frame.calibration)[3])
-        t = {k: [] for k in ("in", "proj", "compute", "out")}
+        t = {k: [] for k in ("in", "proj", "check", "compute", "out", "fuse")}
         steps, serial = Steps(), Steps()
         for r in range(args.rounds + 1):
             steps.start()
@@ -156,6 +159,8 @@ def in_process(args):
             steps.mark("PointCloud2 to points")
             t1 = time.perf_counter()
             sparse = fusion.project(g, points)
+            t1b = time.perf_counter()
+            fusion.check(grey_l, grey_r, sparse)
             t2 = time.perf_counter()
             if args.cuda:
                 disp = cv2.cuda.computeStereoLidarSGM(fusion.sgm, cv2.cuda_GpuMat(grey_l), cv2.cuda_GpuMat(grey_r),
@@ -163,25 +168,34 @@ def in_process(args):
             else:
                 disp = fusion.sgm.compute(grey_l, grey_r, sparse)
             t3 = time.perf_counter()
-            steps.mark("(projection and compute)")
+            steps.mark("(projection, check and compute)")
             result = Result(**dict(dict.fromkeys(Result._fields), disparity16=disp, geometry=g, left_bgr=bgr,
                                    sparse=sparse, left_grey=grey_l, right_grey=grey_r, points=points))
-            output_messages(kit, fusion, result, "camera", 10**9, "32FC1", steps.mark)
+            output_messages(kit, fusion, result, "camera", 10**9, "32FC1", steps.mark, bands=args.bands or None)
             t4 = time.perf_counter()
+            # The node's own call on the same messages: with --cuda the GPU fuses while the CPU checks.
+            t5 = time.perf_counter()
+            fusion.fuse(m["left/image_rect"], m["left/camera_info"], m["right/image_rect"], m["right/camera_info"],
+                        m["points"])
+            t6 = time.perf_counter()
             # The same outputs once more in one band, each step timed on its own (not in the totals above).
             serial.start()
             output_messages(kit, fusion, result, "camera", 10**9, "32FC1", serial.mark, bands=1)
             if r == 0:
                 continue  # warm-up
             t["in"].append(t1 - t0)
-            t["proj"].append(t2 - t1)
+            t["proj"].append(t1b - t1)
+            t["check"].append(t2 - t1b)
             t["compute"].append(t3 - t2)
             t["out"].append(t4 - t3)
+            t["fuse"].append(t6 - t5)
         med = {k: 1000 * statistics.median(v) for k, v in t.items()}
-        print("| %s | %.2f ms | %.2f ms | %.2f ms | %.2f ms | %.1f %% | %.2f ms | %.2f ms |"
-              % (fid, med["in"], med["proj"], med["compute"], med["out"],
+        print("| %s | %.2f ms | %.2f ms | %.2f ms | %.2f ms | %.2f ms | %.1f %% | %.2f ms | %.2f ms | %.2f ms "
+              "| %.2f ms |"
+              % (fid, med["in"], med["proj"], med["check"], med["compute"], med["out"],
                  100 * (med["in"] + med["out"]) / med["compute"], med["in"] + med["out"],
-                 med["in"] + med["proj"] + med["out"]))
+                 med["in"] + med["proj"] + med["check"] + med["out"], med["fuse"],
+                 med["fuse"] + med["out"] - med["compute"]))
         breakdown.append((fid, frame.left.shape[0] * frame.left.shape[1], steps, serial))
     print("\n1b. the conversions by sub-step, median of the same rounds: ms, minor page faults, and for the outputs "
           "the MB each writes and the GB/s that makes; 'out, one band' is each output step on its own, the outputs "
@@ -282,6 +296,9 @@ def main():
     p.add_argument("--node-frames", type=int, default=100)
     p.add_argument("--threads", type=int, default=0,
                    help="OpenCV threads; 0 (default): cv2's own, one a CPU, as the node runs")
+    p.add_argument("--bands", type=int, default=0,
+                   help="bands of rows the outputs are made in at once; 0 (default): the node's rule "
+                        "(lidarsgm_ros.outputs.output_bands)")
     args = p.parse_args()
     if args.threads > 0:
         cv2.setNumThreads(args.threads)

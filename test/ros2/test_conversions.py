@@ -292,6 +292,27 @@ class Clouds(unittest.TestCase):
         with self.assertRaisesRegex(ConversionError, r"no finite point \(5 points, all with a NaN or infinite"):
             clouds.cloud_points(cloud(np.full((5, 3), np.nan, np.float32), self.XYZ))
 
+    def test_aligned_records_are_viewed_not_copied(self):
+        """x y z intensity as float32, 16 bytes a point: the points are a view of the message's data; a NaN
+        intensity drops nothing, a NaN coordinate its point."""
+        rec = np.arange(20, dtype=np.float32).reshape(5, 4)
+        rec[1, 3] = np.nan
+        fields = self.XYZ + [field("intensity", 12, 7)]
+        msg = cloud(rec, fields)
+        points, _, dropped = clouds.cloud_points(msg)
+        np.testing.assert_array_equal(points, rec[:, :3])
+        self.assertEqual(dropped, 0)
+        self.assertTrue(np.shares_memory(points, clouds.cloud_fields(msg)))
+        # cv2 takes the pitched rows as they are: the projection of the view is that of a copy
+        P, T = np.array([[2.0, 0, 2, 0], [0, 2, 2, 0], [0, 0, 1, 0]]), np.eye(4)
+        view = cv2.lidarsgm.projectPointsToDisparity(points, P, T, 8.0, (5, 5))
+        np.testing.assert_array_equal(view, cv2.lidarsgm.projectPointsToDisparity(points.copy(), P, T, 8.0, (5, 5)))
+        self.assertGreater(np.count_nonzero(view), 0)
+        rec[2, 0] = np.nan
+        points, _, dropped = clouds.cloud_points(cloud(rec, fields))
+        np.testing.assert_array_equal(points, rec[[0, 1, 3, 4], :3])
+        self.assertEqual(dropped, 1)
+
     def test_numeric_coordinates_of_any_datatype(self):
         """x y z as int16 (a driver's millimetres, say) are read as their numbers, as float32."""
         rec = np.array([[1, -2, 3], [-300, 5, 32767]], np.int16)
@@ -536,6 +557,8 @@ class Outputs(unittest.TestCase):
         f32 = outputs.depth_image(depth, "32FC1")
         self.assertTrue(np.isnan(f32[0, 0]) and np.isnan(f32[0, 1]) and np.isnan(f32[1, 2]))
         self.assertAlmostEqual(float(f32[1, 0]), 10.0, places=5)
+        # What Fusion.outputs writes for 32FC1: the NaN set by the conversion, the same array
+        np.testing.assert_array_equal(cv2.lidarsgm.disparityToDepth(d16, 100.0, invalidDepth=np.nan), f32)
         mm = outputs.depth_image(depth, "16UC1")
         self.assertEqual(mm.dtype, np.uint16)
         self.assertEqual(mm[1, 0], 10000)
@@ -638,6 +661,9 @@ class FusionOfMessages(unittest.TestCase):
         self.assertEqual(outputs.row_bands(375, 8), [(0, 46), (46, 93), (93, 140), (140, 187), (187, 234), (234, 281),
                                                      (281, 328), (328, 375)])
         self.assertEqual(outputs.row_bands(40, 8), [(0, 40)])
+        # one band where OpenCV's threads fill half the cores or more (a thread a core: the node's default)
+        self.assertEqual([outputs.output_bands(c, t) for c, t in ((16, 16), (16, 8), (2, 1), (16, 2), (16, 6), (64, 8))],
+                         [1, 1, 1, 4, 2, 4])
         q = cv2.lidarsgm.reprojectionMatrix(r.geometry.projection, r.geometry.focal_baseline)
         self.assertEqual(outputs.band_reprojection(q, 46)[1, 3], q[1, 3] + 46)
         q[1, 3] = -0.1  # -0.1 + 3 is not exact
@@ -659,6 +685,30 @@ class FusionOfMessages(unittest.TestCase):
         gpu = self.fusion(use_cuda=True).fuse(*self.inputs(), confidence=True)
         np.testing.assert_array_equal(gpu.disparity16, cpu.disparity16)
         np.testing.assert_array_equal(gpu.confidence, cpu.confidence)
+
+    def test_misplaced_lidar_goes_stereo_alone(self):
+        """The LiDAR turned by 1.5 degrees about the camera's vertical: the fail-safe's stereo alone, the stereo-alone
+        matcher's output; on the GPU (which fuses with the LiDAR while the CPU checks, then computes again) the
+        same."""
+        a = np.radians(1.5)
+        turn = np.eye(4)
+        turn[0, 0] = turn[2, 2] = np.cos(a)
+        turn[0, 2], turn[2, 0] = np.sin(a), -np.sin(a)
+        wrong = (turn @ kitti.ros_calibration(self.frame.calibration)[3]).ravel()
+        f = self.fusion()
+        f.set_lidar_to_camera(wrong)
+        cpu = f.fuse(*self.inputs())
+        self.assertEqual(cpu.stereo_alone, fusion_module.CALIBRATION)
+        self.assertIn("the LiDAR misplaced on the images", cpu.reason)
+        alone = cv2.lidarsgm.LidarFailSafe.stereoAloneMatcher(cv2.lidarsgm.StereoLidarSGM.load(self.params))
+        np.testing.assert_array_equal(cpu.disparity16, alone.compute(
+            self.frame.left, self.frame.right, np.zeros(self.frame.left.shape, np.float32)))
+        if cv2.cuda.getCudaEnabledDeviceCount() > 0:
+            g = self.fusion(use_cuda=True)
+            g.set_lidar_to_camera(wrong)
+            gpu = g.fuse(*self.inputs())
+            self.assertEqual(gpu.stereo_alone, fusion_module.CALIBRATION)
+            np.testing.assert_array_equal(gpu.disparity16, cpu.disparity16)
 
     def test_sets_that_cannot_be_fused(self):
         f = self.fusion()

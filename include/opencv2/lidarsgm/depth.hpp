@@ -20,13 +20,14 @@ depth, and its invalid value -16 a point far behind the camera.)
 
 @param disparity CV_16SC1 (disparity x 16, a StereoLidarSGM or cv::StereoSGBM output) or CV_32FC1 (pixels).
 @param focalBaseline focal length in pixels times the baseline in metres, > 0 (KITTI: P2[0,3] - P3[0,3]).
-@param depth output, CV_32FC1, metres. Invalid pixels are 0: a disparity below minDisparity (the matchers' invalid
+@param depth output, CV_32FC1, metres. Invalid pixels are invalidDepth: a disparity below minDisparity (the matchers' invalid
 value is minDisparity - 1), not positive, or not finite. There is no huge depth for a tiny disparity other than
 focalBaseline / d itself.
 @param minDisparity the matcher's minDisparity.
+@param invalidDepth the value of invalid pixels: 0, or NaN as REP 118 (ROS) marks them in 32-bit depth images.
  */
 CV_EXPORTS_W void disparityToDepth(InputArray disparity, double focalBaseline, OutputArray depth,
-                                   int minDisparity = 0);
+                                   int minDisparity = 0, float invalidDepth = 0.f);
 
 /** @brief 3D points of a disparity map in the left camera's frame (x right, y down, z forward, metres).
 

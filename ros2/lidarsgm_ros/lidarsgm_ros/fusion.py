@@ -178,6 +178,40 @@ class Fusion:
                                   "the transform from the cloud's frame to the left optical frame?)" % len(points))
         return sparse
 
+    def check(self, grey_l, grey_r, sparse):
+        """The fail-safe's judgement of the set's sparse map (cv2.lidarsgm.LidarCheck), None where the images cannot
+        tell (residual NaN)."""
+        try:
+            check = self.cv2.lidarsgm.LidarFailSafe.create(self.trust_lidar).check(grey_l, grey_r, sparse)
+        except self.cv2.error as e:
+            raise ConversionError(cv_message(self.cv2, e))
+        return None if check.residual != check.residual else check
+
+    def compute(self, sgm, grey_l, grey_r, sparse, confidence=False):
+        """(disparity16, confidence or None) of the matcher on the host images: on the GPU where use_cuda, the
+        GpuMats uploaded and the outputs downloaded; ConversionError where OpenCV refuses."""
+        cv2 = self.cv2
+        try:
+            if self.use_cuda:
+                g = [cv2.cuda_GpuMat(a) for a in (grey_l, grey_r, sparse)]
+                if confidence:
+                    gd, gc = cv2.cuda.computeStereoLidarSGMWithConfidence(sgm, *g)
+                    return gd.download(), gc.download()
+                return cv2.cuda.computeStereoLidarSGM(sgm, *g).download(), None
+            if confidence:
+                disp, conf = sgm.computeWithConfidence(grey_l, grey_r, sparse)
+                return disp, conf
+            return sgm.compute(grey_l, grey_r, sparse), None
+        except cv2.error as e:
+            raise ConversionError(cv_message(cv2, e))
+
+    def _gpu_thread(self):
+        """The thread that runs the GPU's fusion beside the fail-safe's check (made on first use)."""
+        if getattr(self, "_gpu_pool", None) is None:
+            from concurrent.futures import ThreadPoolExecutor
+            self._gpu_pool = ThreadPoolExecutor(1, "lidarsgm_gpu")
+        return self._gpu_pool
+
     def rectified(self, side, info, image):
         """A raw image rectified with its camera_info (the maps kept while the camera_info stays the same)."""
         key = (side, info.distortion_model, tuple(info.d), tuple(info.k), tuple(info.r), tuple(info.p),
@@ -229,34 +263,29 @@ class Fusion:
                 kind, reason = CALIBRATION, str(e)
             except ConversionError as e:
                 kind, reason = BAD_CLOUD, "the cloud: %s" % e
+        pending = None
         if sparse is not None:
+            if self.use_cuda:
+                # The GPU fuses with the LiDAR while the CPU checks it (a thread of its own; cv2 lets go of the GIL):
+                # the check costs no time where it trusts the map, and a verdict of stereo alone computes again.
+                pending = self._gpu_thread().submit(self.compute, self.sgm, grey_l, grey_r, sparse, confidence)
             try:
-                check = cv2.lidarsgm.LidarFailSafe.create(self.trust_lidar).check(grey_l, grey_r, sparse)
-            except cv2.error as e:
-                raise ConversionError(cv_message(cv2, e))
-            if check.residual != check.residual:
-                check = None  # NaN: the images cannot tell
+                check = self.check(grey_l, grey_r, sparse)
+            except ConversionError:
+                if pending is not None:
+                    pending.exception()  # the GPU's call over before the set is given up
+                raise
             if check is not None and check.stereoAlone:
                 kind, reason = CALIBRATION, "the LiDAR misplaced on the images (%.2f px)" % check.residual
         if kind:
-            sgm, fused = self.stereo_matcher(), np.zeros(grey_l.shape, np.float32)
+            if pending is not None:
+                pending.exception()  # (the fusion with the LiDAR finished, unused, before the GPU computes again)
+            disp, conf = self.compute(self.stereo_matcher(), grey_l, grey_r, np.zeros(grey_l.shape, np.float32),
+                                      confidence)
+        elif pending is not None:
+            disp, conf = pending.result()
         else:
-            sgm, fused = self.sgm, sparse
-        conf = None
-        try:
-            if self.use_cuda:
-                g = [cv2.cuda_GpuMat(a) for a in (grey_l, grey_r, fused)]
-                if confidence:
-                    gd, gc = cv2.cuda.computeStereoLidarSGMWithConfidence(sgm, *g)
-                    disp, conf = gd.download(), gc.download()
-                else:
-                    disp = cv2.cuda.computeStereoLidarSGM(sgm, *g).download()
-            elif confidence:
-                disp, conf = sgm.computeWithConfidence(grey_l, grey_r, fused)
-            else:
-                disp = sgm.compute(grey_l, grey_r, fused)
-        except cv2.error as e:
-            raise ConversionError(cv_message(cv2, e))
+            disp, conf = self.compute(self.sgm, grey_l, grey_r, sparse, confidence)
         return Result(disp, conf, geometry, images.to_bgr(left, cv2) if left_bgr is None else left_bgr, sparse, grey_l,
                       grey_r, points, check, kind, reason, dropped)
 
@@ -321,10 +350,15 @@ class Fusion:
             outputs.disparity_image(d16[r], disp[r])
             step("disparity image")
             m = metres[r]
-            into(cv2.lidarsgm.disparityToDepth(d16[r], g.focal_baseline, m, minDisparity=mind), m)
-            step("disparityToDepth")
-            outputs.depth_image(m, depth_encoding, out=m if depth is metres else depth[r])
-            step("depth image")
+            if depth is metres:  # 32FC1: REP 118's NaN written by the conversion itself
+                into(cv2.lidarsgm.disparityToDepth(d16[r], g.focal_baseline, m, minDisparity=mind,
+                                                   invalidDepth=np.nan), m)
+                step("disparityToDepth")
+            else:
+                into(cv2.lidarsgm.disparityToDepth(d16[r], g.focal_baseline, m, minDisparity=mind), m)
+                step("disparityToDepth")
+                outputs.depth_image(m, depth_encoding, out=depth[r])
+                step("depth image")
             into(outputs.point_cloud_array(d16[r], qs[i], result.left_bgr[r], mind, cv2, records[r]), records[r])
             step("x y z rgb cloud")
 

@@ -66,11 +66,12 @@ def depth_image(depth_m, encoding, out=None):
 
 
 def output_bands(cpus, opencv_threads):
-    """How many bands of rows to convert at once (Fusion.outputs): none on two cores or fewer; else about as many as
-    leave the cores busy beside OpenCV's own threads, 2 to 4. Measured on a 16-core host at KITTI size (median
-    ms of the outputs in 1 / 2 / 4 / 8 bands): 2 OpenCV threads 6.3 / 5.1 / 3.4 / 3.5, 16 threads 3.9 / 3.3 / 4.0
-    / 5.3 (bands that each start OpenCV's parallel loops oversubscribe the cores)."""
-    if cpus <= 2:
+    """How many bands of rows to convert at once (Fusion.outputs): one where OpenCV's threads take half the cores
+    or more (its own parallel loops keep them busy; the node's default, a thread a core) or on two cores; else
+    about as many as leave the cores busy beside OpenCV's threads, 2 to 4. Measured on a 16-core host at KITTI size
+    (tools/ros2_latency.py --cuda, median ms of the outputs): 16 OpenCV threads 1.36-1.72 in one band against
+    1.76-2.24 in two; 2 OpenCV threads, in 1 / 2 / 4 / 8 bands, 6.3 / 5.1 / 3.4 / 3.5."""
+    if cpus <= 2 or 2 * opencv_threads >= cpus:
         return 1
     return max(2, min(4, cpus // max(1, opencv_threads)))
 
