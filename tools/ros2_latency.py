@@ -24,7 +24,6 @@ import argparse
 import glob
 import os
 import resource
-import signal
 import statistics
 import subprocess
 import sys
@@ -42,6 +41,8 @@ from lidarsgm_ros import camera_info, clouds, images, kitti  # noqa: E402
 from lidarsgm_ros.conversions import stamp_ns  # noqa: E402
 from lidarsgm_ros.fusion import Fusion, Result  # noqa: E402
 from lidarsgm_ros.messages import INPUT_TYPES, OUTPUT_TYPES, MessageKit, output_messages, rclpy_class  # noqa: E402
+sys.path.append(os.path.join(ROOT, "test", "ros2"))
+from node_process import stop_node  # noqa: E402  (the stopping of the node, as the tests stop it)
 
 try:
     import rclpy
@@ -265,8 +266,7 @@ def node_rate(args):
     end = time.perf_counter() + 5
     while time.perf_counter() < end and len(got) < len(sent):
         rclpy.spin_once(node, timeout_sec=0.05)
-    node_proc.send_signal(signal.SIGINT)
-    node_proc.wait(20)
+    stop_node(node_proc, 20)
     log.close()
     summary = [line for line in open(log.name) if line.startswith("lidarsgm_node: ")]
     node.destroy_node()

@@ -50,7 +50,8 @@ PARAMS = os.path.abspath(os.path.join(ROOT, "doc", "params", "kitti_best.yml"))
 CONFIG = os.path.join(PACKAGE, "config", "lidarsgm.yaml")
 FRAMES = ("000002", "000046")
 sys.path.insert(0, PACKAGE)
-sys.path.append(os.path.join(ROOT, "test", "ros2"))  # ros_env: the stopping of the node, as the tests stop it
+sys.path.append(os.path.join(ROOT, "test", "ros2"))
+from node_process import stop_node  # noqa: E402  (the stopping of the node, as the tests stop it)
 
 # Fast DDS transport variants for the probe (written to a scratch folder); "shipped" is the package's profile.
 UDP_ONLY = """<?xml version="1.0" encoding="UTF-8"?>
@@ -483,9 +484,6 @@ def stream_to_node(a):
             time.sleep(3)
         rss["end"] = rss_kb(node_proc.pid)
     finally:
-        # Imported only here: importing ros_env also sets the tests' ROS environment (a domain of its own among it),
-        # which must not reach the node and the publisher started above.
-        from ros_env import stop_node
         text = stop_node(node_proc, 30, log)
         spinning.clear()
         spinner.join()

@@ -21,7 +21,8 @@ import unittest
 import cv2
 import numpy as np
 
-from ros_env import HERE, PACKAGE, log_text, stop_node  # noqa: E402  (before rclpy: the environment the tests run in)
+from ros_env import HERE, PACKAGE  # noqa: E402  (before rclpy: the environment the tests run in)
+from node_process import log_text, stop_node  # noqa: E402
 
 import rclpy  # noqa: E402
 from rcl_interfaces.srv import GetParameters, SetParameters  # noqa: E402

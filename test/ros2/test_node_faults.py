@@ -20,7 +20,8 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ros_env import HERE, PACKAGE, log_text, stop_node  # noqa: E402  (before rclpy: the environment the tests run in)
+from ros_env import HERE, PACKAGE  # noqa: E402  (before rclpy: the environment the tests run in)
+from node_process import log_text, stop_node  # noqa: E402
 
 import rclpy  # noqa: E402
 from diagnostic_msgs.msg import DiagnosticArray  # noqa: E402

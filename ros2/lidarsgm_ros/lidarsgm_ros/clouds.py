@@ -110,7 +110,7 @@ def cloud_points(cloud):
     f32 = np.dtype("<f4")
     step, ox = rec.dtype.itemsize, fields["x"][1]
     side_by_side = all(fields[n][0] == f32 for n in "xyz") and fields["y"][1] == ox + 4 and fields["z"][1] == ox + 8
-    finite = None
+    known_finite = False
     if side_by_side and ox % 4 == 0 and step % 4 == 0 and rec.flags.c_contiguous:
         # x, y, z side by side as float32 (every driver we know): an N x 3 view of the records, no copy (the
         # projection reads pitched rows). Finite where the sum of every float of the records is; the sum is the
@@ -119,8 +119,7 @@ def cloud_points(cloud):
         rows = rec.view(np.uint8).view(f32).reshape(rec.shape[0], step // 4)
         xyz = rows[:, ox // 4:ox // 4 + 3]
         all_floats = sorted(v[1] for v in fields.values() if v[0] == f32) == list(range(0, step, 4))
-        if all_floats and np.isfinite(rows.sum()):
-            finite = True
+        known_finite = all_floats and bool(np.isfinite(rows.sum()))
     elif side_by_side:
         # One strided copy of their 12 bytes a point, as one 12-byte item (twice as fast as numpy's copy of 3 floats
         # a point at an odd stride; the same bytes).
@@ -133,7 +132,7 @@ def cloud_points(cloud):
                 xyz[:, i] = rec[n]
     ring = rec["ring"] if "ring" in names else None
     dropped = 0
-    if not finite and not np.isfinite(xyz).all():  # one pass over the whole array where every point is finite
+    if not known_finite and not np.isfinite(xyz).all():  # one pass over the whole array where every point is finite
         finite = np.isfinite(xyz).all(axis=1)
         dropped = int(finite.size - np.count_nonzero(finite))
         xyz = xyz[finite]

@@ -350,13 +350,11 @@ class Fusion:
             outputs.disparity_image(d16[r], disp[r])
             step("disparity image")
             m = metres[r]
-            if depth is metres:  # 32FC1: REP 118's NaN written by the conversion itself
-                into(cv2.lidarsgm.disparityToDepth(d16[r], g.focal_baseline, m, minDisparity=mind,
-                                                   invalidDepth=np.nan), m)
-                step("disparityToDepth")
-            else:
-                into(cv2.lidarsgm.disparityToDepth(d16[r], g.focal_baseline, m, minDisparity=mind), m)
-                step("disparityToDepth")
+            # 32FC1: REP 118's NaN written by the conversion itself; 16UC1: millimetres from the metres
+            into(cv2.lidarsgm.disparityToDepth(d16[r], g.focal_baseline, m, minDisparity=mind,
+                                               invalidDepth=np.nan if depth is metres else 0.0), m)
+            step("disparityToDepth")
+            if depth is not metres:
                 outputs.depth_image(m, depth_encoding, out=depth[r])
                 step("depth image")
             into(outputs.point_cloud_array(d16[r], qs[i], result.left_bgr[r], mind, cv2, records[r]), records[r])
