@@ -264,18 +264,277 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     step(std::false_type());
 }
 
-/* The path kernel over the disparity windows (windows: per tile lo | hi << 16): the lanes cover the pixel's window
- only. Lane t holds in group c the pair of disparities e = lo + 64 c + 2 t and e + 1, so a window of up to 64
- disparities takes one group whatever the range. Where the window moves along the line, the previous pixel's costs are
- shuffled to the new layout (a warp-uniform branch, at tile boundaries only); a disparity outside the previous
- window has no path cost there (BIG16: the CPU's sentinel), reached through the jump only. The census strings of the
- next pixel are loaded for its window. Sums: 64-bit reductions by the even lanes into the compact volume
- (windowPairOffset), each with its odd neighbour's pair (a window's ends are multiples of 16, so both are in it or
- out of it). NC: the range's groups (D / 64 rounded up). A line is walked in segments, one per tile it crosses: the
- window, the next segment's window and the sums' step are known when a segment starts, so its steps read no window
- and compute no address but one add. Each segment has code for the groups its window needs (K: 1, 2, 4 or NC),
- chosen once per segment, so that its steps have no branch and compute no group past the window. (Chosen per step
- instead: 137 warp instructions a step at 1080p / 256 / 4 paths against 125, ncu.) */
+/* One warp's walk of one line over the disparity windows (windows: per tile lo | hi << 16), windowPathKernel's body in
+ named steps: the lanes cover the pixel's window only. Lane t holds in group c the pair of disparities
+ e = lo + 64 c + 2 t and e + 1, so a window of up to 64 disparities takes one group whatever the range. Where the
+ window moves along the line, the previous pixel's costs are shuffled to the new layout (moveWindow: a warp-uniform
+ branch, at tile boundaries only); a disparity outside the previous window has no path cost there (BIG16: the CPU's
+ sentinel), reached through the jump only. The census strings of the next pixel are loaded for its window. Sums:
+ 64-bit reductions by the even lanes into the compact volume (windowPairOffset), each with its odd neighbour's pair (a
+ window's ends are multiples of 16, so both are in it or out of it). NC: the range's groups (D / 64 rounded up). A
+ line is walked in segments, one per tile it crosses (run): the window, the next segment's window and the sums' step
+ are known when a segment starts, so its steps read no window and compute no address but one add. Each segment has
+ code for the groups its window needs (K: 1, 2, 4 or NC), chosen once per segment, so that its steps have no branch
+ and compute no group past the window. (Chosen per step instead: 137 warp instructions a step at 1080p / 256 / 4
+ paths against 125, ncu.) */
+template <int NC, bool DDC, bool EDGES>
+struct WindowWalk
+{
+    const unsigned* ddcTable;
+    WindowMap windows;
+    unsigned* volume;
+    int lane, dir, dx, dy, x, y, n;
+    LineAddressing ad;
+    const char *oL, *oR, *oF;
+    int idx;   // of the pixel whose values are loaded
+    unsigned edgeMask;
+    PairWeights wk;
+    // The loaded pixel's census strings and facts; the previous pixel's facts.
+    unsigned l, f, fPrev, r[2 * NC];
+    // Path costs as pathKernel's, in the window's layout; positions past the window hold BIG16. mp2: the previous
+    // pixel's minimum, in both halves.
+    unsigned P[NC], mp2;
+    // The current segment [.., end) and its window; winNext: the next segment's (the last segment's own); prevWin:
+    // the window of the costs in P.
+    int end;
+    unsigned win, winNext, prevWin;
+    // The pixel's first sum in the compact volume: set where a segment starts, then moved by the segment's step.
+    unsigned* sums;
+    int sumStep;
+    // The edge pairs that the registers do not hold (set where the window moves, for the first step in it).
+    unsigned belowEdge, aboveEdge;
+
+    //! The warp's line and its first pixel's values; false past the last line.
+    __device__ __forceinline__ bool begin(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts,
+                                          int D, int minD, CostWeights w)
+    {
+        lane = threadIdx.x & 31;
+        const int W = censusL.cols, H = censusL.rows;
+        // The directions one after the other (in waves, warpLine: 4K 3.5 % slower, KITTI size and 1080p the same).
+        if (!warpLine(WARPS_PER_BLOCK, false, W, H, dir, dx, dy, x, y, n))
+            return false;
+        // Addresses as pathKernel's (pixel s at idx |step| bytes from an origin); the right census origin is the
+        // right pixel of disparity 2 t, moved by the window's lo at each pixel. The sums' addresses follow the compact
+        // volume's layout (windowPairOffset).
+        ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, 0, D);
+        oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
+        oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - minD - 2 * lane);
+        oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
+        idx = ad.idx;
+        edgeMask = edgeMaskOf(dir);
+        wk = pairWeights(w);
+        f = fPrev = 0;
+        end = segmentEnd(0);
+        win = windowAt(0);
+        winNext = end < n ? windowAt(end) : win;
+        prevWin = win;
+        load<NC, true>(win);
+        // Zero costs and minimum before the first pixel give its matching costs.
+#pragma unroll
+        for (int c = 0; c < NC; c++)
+            P[c] = 0;
+        mp2 = 0;
+        sums = volume;
+        sumStep = 0;
+        belowEdge = aboveEdge = BIG16X2;
+        return true;
+    }
+
+    // A line crosses the tiles in segments: pixel s lies at (x + s dx, y + s dy), its window is its tile's, and the
+    // segment that starts at s ends where the line leaves the tile (segmentEnd). Within a segment the window and the
+    // sums' step in the compact volume stay the same.
+    __device__ __forceinline__ int tileX(int s) const { return (int)((unsigned)(x + s * dx) / WINDOW_TILE); }
+    __device__ __forceinline__ int tileY(int s) const { return (int)((unsigned)(y + s * dy) / WINDOW_TILE); }
+    __device__ __forceinline__ unsigned windowAt(int s) const { return (unsigned)windows.tiles(tileY(s), tileX(s)); }
+    __device__ __forceinline__ int segmentEnd(int s) const
+    {
+        const unsigned cx = x + s * dx, cy = y + s * dy;
+        int len = n - s;
+        if (dx != 0)
+            len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
+        if (dy != 0)
+            len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
+        return s + len;
+    }
+
+    /* The values of pixel idx for window w: its first G groups, those the window reaches; REACH: w may reach fewer
+     (a group past it is skipped at once, a warp-uniform branch with no shuffle inside). */
+    template <int G, bool REACH> __device__ __forceinline__ void load(unsigned w)
+    {
+        l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
+        if (DDC || EDGES)
+            f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
+        const int* pR = (const int*)(oR + wideMul(idx, ad.stepR)) - (int)(w & 0xFFFFu);
+        const int pairs = (int)((w >> 16) - (w & 0xFFFFu)) >> 1;
+#pragma unroll
+        for (int c = 0; c < G; c++)
+        {
+            if (REACH && 32 * c >= pairs)
+                break;
+            if (32 * c + lane < pairs)
+            {
+                r[2 * c] = (unsigned)pR[-64 * c];
+                r[2 * c + 1] = (unsigned)pR[-64 * c - 1];
+            }
+        }
+    }
+
+    //! Where the window changes: the previous costs to the new layout.
+    __device__ __forceinline__ void moveWindow()
+    {
+        const int lo = (int)(win & 0xFFFFu), pairs = (int)((win >> 16) - (win & 0xFFFFu)) >> 1;
+        const int plo = (int)(prevWin & 0xFFFFu);
+        const int pPairs = (int)((prevWin >> 16) - (prevWin & 0xFFFFu)) >> 1;
+        const int delta = (lo - plo) >> 1;   // pairs, a multiple of 8
+        belowEdge = aboveEdge = BIG16X2;
+        prevWin = win;
+        if (delta == 0)
+            return;
+        // The old layout's pair at position i (warp-uniform), BIG16 outside the previous window. (The group selected
+        // by a mask, not by i >> 5 == k: the compiler folds that into an index of P, which keeps P in local memory.)
+        const auto oldPair = [&](int i) {
+            unsigned v = 0;
+#pragma unroll
+            for (int k = 0; k < NC; k++)
+                v |= P[k] & (0u - (unsigned)((i >> 5) == k));
+            v = __shfl_sync(0xFFFFFFFFu, v, i & 31);
+            return i >= 0 && i < pPairs ? v : BIG16X2;
+        };
+        belowEdge = oldPair(delta - 1);
+        aboveEdge = oldPair(pairs + delta);
+        // Position i of the new layout is position i + delta of the old one.
+        unsigned R[NC];
+#pragma unroll
+        for (int k = 0; k < NC; k++)
+            R[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + delta) & 31);
+#pragma unroll
+        for (int c = 0; c < NC; c++)
+        {
+            const int s = 32 * c + lane + delta;
+            unsigned v = BIG16X2;
+#pragma unroll
+            for (int k = 0; k < NC; k++)
+                if (s >= 32 * k && s < 32 * k + 32)
+                    v = R[k];
+            P[c] = s < pPairs ? v : BIG16X2;   // s < 0 matched no k: BIG16
+        }
+    }
+
+    /* One pixel of the line in a segment of K groups: K groups computed, one more shuffled (its lowest pair is the
+     neighbour above the window's top); then the next pixel's values are loaded: LAST false, for the segment's window;
+     LAST true (the segment's last step, s the next pixel), for the next segment's window, if there is a next pixel. */
+    template <int K, bool LAST> __device__ __forceinline__ void step(int s)
+    {
+        const int KS = K < NC ? K + 1 : NC;
+        const int lo = (int)(win & 0xFFFFu), pairs = (int)((win >> 16) - (win & 0xFFFFu)) >> 1;
+        // matchingCost in pairs: the census term, and the DDC term from the table (u: the pair's index from the one
+        // that holds k - 1, plus one, clamped to 2), added with the minimum's subtraction.
+        unsigned T[K], add[K];
+        const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
+        const unsigned* row = (const unsigned*)((const char*)ddcTable +
+                                                (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
+#pragma unroll
+        for (int c = 0; c < K; c++)
+        {
+            const unsigned h = __byte_perm(popcount32(l ^ r[2 * c]), popcount32(l ^ r[2 * c + 1]), 0x5410);
+            T[c] = censusTermPair(h, wk.c256lo, wk.c256hi);
+            add[c] = DDC ? row[::min(a - (unsigned)((lo >> 1) + 32 * c + lane), 2u)] - mp2 : 0u - mp2;
+        }
+        unsigned jump = mp2 + wk.p2x2;
+        if (EDGES)
+            jump = mp2 + ((f | fPrev << 16) & edgeMask ? wk.p2Edgex2 : wk.p2x2);
+        fPrev = f;
+        unsigned* const S = sums;
+        sums += sumStep;
+        if (!LAST)
+        {
+            idx += ad.dIdx;
+            load<K, false>(win);
+        }
+        else if (s < n)
+        {
+            idx += ad.dIdx;
+            load<NC, true>(winNext);
+        }
+        // Neighbours across lanes by rotating shuffles, as pathKernel's; the positions just above the window hold the
+        // previous pixel's costs there (or BIG16), which the window's top pair reads.
+        unsigned up[KS], down[KS];
+#pragma unroll
+        for (int c = 0; c < KS; c++)
+        {
+            up[c] = __shfl_sync(0xFFFFFFFFu, P[c], (lane + 31) & 31);
+            down[c] = __shfl_sync(0xFFFFFFFFu, P[c], (lane + 1) & 31);
+        }
+        unsigned m = BIG16X2;
+#pragma unroll
+        for (int c = 0; c < K; c++)
+        {
+            const unsigned below = lane > 0 ? up[c] : c > 0 ? up[c - 1] : belowEdge;
+            const unsigned above = lane < 31 ? down[c] : c + 1 < KS ? down[c + 1] : aboveEdge;
+            const unsigned lm = __byte_perm(below, P[c], 0x5432);
+            const unsigned lp = __byte_perm(P[c], above, 0x5432);
+            const unsigned best = vmin2(vmin2(P[c], jump), vmin2(lm, lp) + wk.p1x2);
+            const unsigned v = T[c] + best + add[c];
+            P[c] = 32 * c + lane < pairs ? v : BIG16X2;
+            m = vmin2(m, P[c]);
+        }
+        // The groups past K lie past the window: no cost there for the next pixel.
+#pragma unroll
+        for (int c = K; c < NC; c++)
+            P[c] = BIG16X2;
+        mp2 = __reduce_min_sync(0xFFFFFFFFu, vmin2(m, __byte_perm(m, 0, 0x1032)));
+#pragma unroll
+        for (int c = 0; c < K; c++)
+        {
+            const unsigned next = __shfl_down_sync(0xFFFFFFFFu, P[c], 1);
+            const int i = 32 * c + lane;
+            if ((lane & 1) == 0 && i < pairs)
+                atomicAdd((unsigned long long*)(S + i), (unsigned long long)P[c] | (unsigned long long)next << 32);
+        }
+        belowEdge = aboveEdge = BIG16X2;
+    }
+
+    /* The steps of the segment that starts after pixel s, in K groups. All but the last load the next pixel for the
+     segment's own window: a loop that tests no flag and reads no other window (steps that chose the window and
+     whether to load took 108 SASS instructions a one-group step, with a branch around the loads that put divergence
+     checks before every shuffle). The last loads for the next segment's window, or nothing at the line's end. */
+    template <int K> __device__ __forceinline__ void run(int& s)
+    {
+        while (s + 1 < end)
+            step<K, false>(++s);
+        step<K, true>(++s);
+    }
+
+    //! The line, segment by segment: the layout moved, the sums' address set, the segment's steps in K groups.
+    __device__ __forceinline__ void walk()
+    {
+        for (int s = 0; s < n;)
+        {
+            if (win != prevWin)
+                moveWindow();
+            const int lo = (int)(win & 0xFFFFu), hi = (int)(win >> 16);
+            sums = volume + windowPairOffset(windows.base(tileX(s), tileY(s)), x + s * dx, y + s * dy, lo, hi);
+            sumStep = (dy * WINDOW_TILE + dx) * ((hi - lo) >> 1);
+            const int groups = (hi - lo + 63) >> 6;
+            if (groups <= 1)
+                run<1>(s);
+            else if (groups <= 2 || NC <= 2)
+                run<(NC < 2 ? NC : 2)>(s);
+            else if (groups <= 4 || NC <= 4)
+                run<(NC < 4 ? NC : 4)>(s);
+            else
+                run<NC>(s);
+            if (s < n)
+            {
+                win = winNext;
+                end = segmentEnd(s);
+                winNext = end < n ? windowAt(end) : win;
+            }
+        }
+    }
+};
+
+//! The path kernel over the disparity windows: one warp walks one line (WindowWalk).
 template <int NC, bool DDC, bool EDGES>
 __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
 windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
@@ -290,226 +549,12 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
             ddcTable[i / 3 * ROW_WORDS + i % 3] = ddcPairTerm(i / 3, i % 3, 0, p.w, p.wCopy);
         __syncthreads();
     }
-    const int lane = threadIdx.x & 31;
-    const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
-    int dir, dx, dy, x, y, n;
-    // The directions one after the other (in waves, warpLine: 4K 3.5 % slower, KITTI size and 1080p the same).
-    if (!warpLine(WARPS_PER_BLOCK, false, W, H, dir, dx, dy, x, y, n))
-        return;
-    // Addresses as pathKernel's (pixel s at idx |step| bytes from an origin); the right census origin is the right
-    // pixel of disparity 2 t, moved by the window's lo at each pixel. The sums' addresses follow the compact
-    // volume's layout (windowPairOffset).
-    const LineAddressing ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, 0, D);
-    const char* const oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
-    const char* const oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - minD - 2 * lane);
-    const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
-    int idx = ad.idx;
-
-    const unsigned edgeMask = edgeMaskOf(dir);
-    const PairWeights wk = pairWeights(p.w);
-
-    // A line crosses the tiles in segments: pixel s lies at (x + s dx, y + s dy), its window is its tile's, and the
-    // segment that starts at s ends where the line leaves the tile (segmentEnd). Within a segment the window and the
-    // sums' step in the compact volume stay the same.
-    const auto tileX = [&](int s) { return (int)((unsigned)(x + s * dx) / WINDOW_TILE); };
-    const auto tileY = [&](int s) { return (int)((unsigned)(y + s * dy) / WINDOW_TILE); };
-    const auto windowAt = [&](int s) { return (unsigned)windows.tiles(tileY(s), tileX(s)); };
-    const auto segmentEnd = [&](int s) {
-        const unsigned cx = x + s * dx, cy = y + s * dy;
-        int len = n - s;
-        if (dx != 0)
-            len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
-        if (dy != 0)
-            len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
-        return s + len;
-    };
-
-    // The loaded pixel's census strings and facts, for window w (the next pixel's, which the step after loads for).
-    unsigned l, f = 0, fPrev = 0, r[2 * NC];
-    auto load = [&](unsigned w) {
-        l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
-        if (DDC || EDGES)
-            f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
-        const int* pR = (const int*)(oR + wideMul(idx, ad.stepR)) - (int)(w & 0xFFFFu);
-        const int pairs = (int)((w >> 16) - (w & 0xFFFFu)) >> 1;
-        // Group by group while the window reaches it (a warp-uniform branch, no shuffle inside): a one-group window
-        // skips the others' predicated loads at once.
-#pragma unroll
-        for (int c = 0; c < NC; c++)
-        {
-            if (32 * c >= pairs)
-                break;
-            if (32 * c + lane < pairs)
-            {
-                r[2 * c] = (unsigned)pR[-64 * c];
-                r[2 * c + 1] = (unsigned)pR[-64 * c - 1];
-            }
-        }
-    };
-    // The current segment [.., end) and its window; winNext: the next segment's (the last segment's own).
-    int end = segmentEnd(0);
-    unsigned win = windowAt(0), winNext = end < n ? windowAt(end) : win;
-    load(win);
-
-    // Path costs as pathKernel's, in the window's layout; positions past the window hold BIG16. Zero costs and
-    // minimum before the first pixel give its matching costs.
-    unsigned P[NC];
-#pragma unroll
-    for (int c = 0; c < NC; c++)
-        P[c] = 0;
-    unsigned mp2 = 0, prevWin = win;
-    // The pixel's first sum in the compact volume (windowPairOffset): set where a segment starts, then moved by the
-    // segment's step.
-    unsigned* sums = volume;
-    int sumStep = 0;
-    // The edge pairs that the registers do not hold (set where the window moves, for the first step in it).
-    unsigned belowEdge = BIG16X2, aboveEdge = BIG16X2;
-    // Where the window changes: the previous costs to the new layout. A loop level of its own (below), so that the
-    // steps in between have no branch around their shuffles.
-    const auto moveWindow = [&]() {
-        const unsigned here = win;
-        const int lo = (int)(here & 0xFFFFu), pairs = (int)((here >> 16) - (here & 0xFFFFu)) >> 1;
-        belowEdge = aboveEdge = BIG16X2;
-        {
-            const int plo = (int)(prevWin & 0xFFFFu);
-            const int pPairs = (int)((prevWin >> 16) - (prevWin & 0xFFFFu)) >> 1;
-            const int delta = (lo - plo) >> 1;   // pairs, a multiple of 8
-            if (delta != 0)
-            {
-                // The old layout's pair at position i (warp-uniform), BIG16 outside the previous window.
-                const auto oldPair = [&](int i) {
-                    unsigned v = BIG16X2;
-#pragma unroll
-                    for (int k = 0; k < NC; k++)
-                        if ((i >> 5) == k)
-                            v = P[k];
-                    v = __shfl_sync(0xFFFFFFFFu, v, i & 31);
-                    return i >= 0 && i < pPairs ? v : BIG16X2;
-                };
-                belowEdge = oldPair(delta - 1);
-                aboveEdge = oldPair(pairs + delta);
-                // Position i of the new layout is position i + delta of the old one.
-                unsigned R[NC];
-#pragma unroll
-                for (int k = 0; k < NC; k++)
-                    R[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + delta) & 31);
-#pragma unroll
-                for (int c = 0; c < NC; c++)
-                {
-                    const int s = 32 * c + lane + delta;
-                    unsigned v = BIG16X2;
-#pragma unroll
-                    for (int k = 0; k < NC; k++)
-                        if (s >= 32 * k && s < 32 * k + 32)
-                            v = R[k];
-                    P[c] = s < pPairs ? v : BIG16X2;   // s < 0 matched no k: BIG16
-                }
-            }
-            prevWin = here;
-        }
-    };
-    auto step = [&](bool loadNext, unsigned nextWin, auto Kc) {
-        const unsigned here = win;
-        const int lo = (int)(here & 0xFFFFu), pairs = (int)((here >> 16) - (here & 0xFFFFu)) >> 1;
-        {
-            // K groups computed, one more shuffled (its lowest pair is the neighbour above the window's top).
-            const int K = decltype(Kc)::value, KS = K < NC ? K + 1 : NC;
-            // matchingCost in pairs: the census term, and the DDC term from the table (u: the pair's index from the
-            // one that holds k - 1, plus one, clamped to 2), added with the minimum's subtraction.
-            unsigned T[K], add[K];
-            const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
-            const unsigned* row = (const unsigned*)((const char*)ddcTable +
-                                                    (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
-#pragma unroll
-            for (int c = 0; c < K; c++)
-            {
-                const unsigned h = __byte_perm(popcount32(l ^ r[2 * c]), popcount32(l ^ r[2 * c + 1]), 0x5410);
-                T[c] = censusTermPair(h, wk.c256lo, wk.c256hi);
-                add[c] = DDC ? row[::min(a - (unsigned)((lo >> 1) + 32 * c + lane), 2u)] - mp2 : 0u - mp2;
-            }
-            unsigned jump = mp2 + wk.p2x2;
-            if (EDGES)
-                jump = mp2 + ((f | fPrev << 16) & edgeMask ? wk.p2Edgex2 : wk.p2x2);
-            fPrev = f;
-            unsigned* const S = sums;
-            sums += sumStep;
-            if (loadNext)
-            {
-                idx += ad.dIdx;
-                load(nextWin);
-            }
-            // Neighbours across lanes by rotating shuffles, as pathKernel's; the positions just above the window
-            // hold the previous pixel's costs there (or BIG16), which the window's top pair reads.
-            unsigned up[KS], down[KS];
-#pragma unroll
-            for (int c = 0; c < KS; c++)
-            {
-                up[c] = __shfl_sync(0xFFFFFFFFu, P[c], (lane + 31) & 31);
-                down[c] = __shfl_sync(0xFFFFFFFFu, P[c], (lane + 1) & 31);
-            }
-            unsigned m = BIG16X2;
-#pragma unroll
-            for (int c = 0; c < K; c++)
-            {
-                const unsigned below = lane > 0 ? up[c] : c > 0 ? up[c - 1] : belowEdge;
-                const unsigned above = lane < 31 ? down[c] : c + 1 < KS ? down[c + 1] : aboveEdge;
-                const unsigned lm = __byte_perm(below, P[c], 0x5432);
-                const unsigned lp = __byte_perm(P[c], above, 0x5432);
-                const unsigned best = vmin2(vmin2(P[c], jump), vmin2(lm, lp) + wk.p1x2);
-                const unsigned v = T[c] + best + add[c];
-                P[c] = 32 * c + lane < pairs ? v : BIG16X2;
-                m = vmin2(m, P[c]);
-            }
-            // The groups past K lie past the window: no cost there for the next pixel.
-#pragma unroll
-            for (int c = K; c < NC; c++)
-                P[c] = BIG16X2;
-            mp2 = __reduce_min_sync(0xFFFFFFFFu, vmin2(m, __byte_perm(m, 0, 0x1032)));
-#pragma unroll
-            for (int c = 0; c < K; c++)
-            {
-                const unsigned next = __shfl_down_sync(0xFFFFFFFFu, P[c], 1);
-                const int i = 32 * c + lane;
-                if ((lane & 1) == 0 && i < pairs)
-                    atomicAdd((unsigned long long*)(S + i),
-                              (unsigned long long)P[c] | (unsigned long long)next << 32);
-            }
-        }
-        belowEdge = aboveEdge = BIG16X2;
-    };
-    // A segment's steps: the layout moves between segments, each step loads the next pixel for its window.
-    const auto run = [&](int& s, auto Kc) {
-        do
-        {
-            s++;
-            step(s < n, s < end ? win : winNext, Kc);
-        } while (s < end);
-    };
-    for (int s = 0; s < n;)
-    {
-        if (win != prevWin)
-            moveWindow();
-        {
-            const int lo = (int)(win & 0xFFFFu), hi = (int)(win >> 16);
-            sums = volume + windowPairOffset(windows.base(tileX(s), tileY(s)), x + s * dx, y + s * dy, lo, hi);
-            sumStep = (dy * WINDOW_TILE + dx) * ((hi - lo) >> 1);
-        }
-        const int groups = (int)((win >> 16) - (win & 0xFFFFu) + 63) >> 6;
-        if (groups <= 1)
-            run(s, std::integral_constant<int, 1>());
-        else if (groups <= 2 || NC <= 2)
-            run(s, std::integral_constant<int, (NC < 2 ? NC : 2)>());
-        else if (groups <= 4 || NC <= 4)
-            run(s, std::integral_constant<int, (NC < 4 ? NC : 4)>());
-        else
-            run(s, std::integral_constant<int, NC>());
-        if (s < n)
-        {
-            win = winNext;
-            end = segmentEnd(s);
-            winNext = end < n ? windowAt(end) : win;
-        }
-    }
+    WindowWalk<NC, DDC, EDGES> walk;
+    walk.ddcTable = ddcTable;
+    walk.windows = windows;
+    walk.volume = volume;
+    if (walk.begin(censusL, censusR, facts, p.numDisparities, p.minDisparity, p.w))
+        walk.walk();
 }
 
 /* PPT = D / 64 rounded up pairs per lane, in groups of G = 2 adjacent pairs where PPT is even (four costs per 64-bit

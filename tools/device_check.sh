@@ -250,12 +250,45 @@ if [ -n "${INSTRUCTIONS:-}" ] && command -v ncu >/dev/null; then
       echo "== $spec, $(head -c 12 $b/../COMMIT 2>/dev/null || echo 'built here')"
       label=$spec; [ "$b" = "$B" ] || label="base $spec"
       LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} ncu --clock-control none --csv --print-units base \
-        --launch-count 40 --metrics gpu__time_duration.sum,smsp__inst_executed.sum $b/lidarsgm_fuse $args \
+        --launch-count 80 --metrics gpu__time_duration.sum,smsp__inst_executed.sum $b/lidarsgm_fuse $args \
         > "$OUT/instr_$sz.csv" 2> "$OUT/instr_$sz.err"
       python3 tools/ncu_call.py "$OUT/instr_$sz.csv" "$label" || tail -5 "$OUT/instr_$sz.err"
       LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} ncu --clock-control none -k regex:pathKernel \
         --launch-skip 1 --launch-count 1 --metrics smsp__issue_active.avg.pct_of_peak_sustained_active,sm__warps_active.avg.pct_of_peak_sustained_active,launch__registers_per_thread \
         $b/lidarsgm_fuse $args 2>&1 | grep -E "^ +[a-z_]+__" | awk '{print "   ", $1, $NF}'
+    done
+  done
+fi
+if [ "${WINDOWS_PAY:-0}" = 1 ]; then
+  # Whether the disparity windows pay: kitti_best.yml as shipped (windows) against its searchWindow 0, on the whole
+  # card and on 8 SMs, at KITTI size and 1280x720; the base build first where BASE=1 (its archive unpacked above).
+  bins=$B; [ "${BASE:-0}" = 1 ] && [ -d /tmp/base/prebuilt/bin ] && bins="/tmp/base/prebuilt/bin $B"
+  for b in $bins; do
+    for sz in "" "--resize 1280x720"; do
+      for sw in 4 0; do
+        echo "== $([ "$b" = "$B" ] && echo 'this build' || echo base) ${sz:-1242x375} --search-window $sw"
+        LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} $b/lidarsgm_fuse --kitti-frame testdata/kitti \
+          --id 000002 --cuda --timing 30 --sm-count 8 --params doc/params/kitti_best.yml --search-window $sw $sz \
+          | grep -E "lidarsgm SDSGM \||StereoSGM 8 paths"
+      done
+    done
+  done
+fi
+if [ -n "${SM_PROFILE:-}" ] && command -v ncu >/dev/null; then
+  # Time and warp instructions of each kernel of one KITTI-size SDSGM call on N SMs (a green context; SM_PROFILE:
+  # "N[:margin[:params file]] ...", e.g. 8:4:doc/params/kitti_best.yml): ncu sees only the partition's SDSGM calls,
+  # which the tool marks (--profile-from-start off).
+  # (this build, then the base build where BASE=1)
+  bins=$B; [ "${BASE:-0}" = 1 ] && [ -d /tmp/base/prebuilt/bin ] && bins="$B /tmp/base/prebuilt/bin"
+  for spec in $SM_PROFILE; do
+    IFS=: read -r n nw pf <<< "$spec"; tag=$(echo "$spec" | tr ':/.' '___')
+    for b in $bins; do
+      label="$n SMs, $spec"; [ "$b" = "$B" ] || { label="base $label"; tag=base_$tag; }
+      LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} ncu --profile-from-start off --clock-control none \
+        --csv --print-units base --metrics gpu__time_duration.sum,smsp__inst_executed.sum $b/lidarsgm_fuse \
+        --kitti-frame testdata/kitti --id 000002 --cuda --timing 1 --sm-count $n ${pf:+--params $pf} \
+        --search-window ${nw:-0} > "$OUT/sm_profile_$tag.csv" 2> "$OUT/sm_profile_$tag.err"
+      python3 tools/ncu_call.py "$OUT/sm_profile_$tag.csv" "$label" || tail -5 "$OUT/sm_profile_$tag.err"
     done
   done
 fi
