@@ -21,9 +21,11 @@
    every frame published after the first output is fused.
 """
 import argparse
+import atexit
 import glob
 import os
 import resource
+import shutil
 import statistics
 import subprocess
 import sys
@@ -232,6 +234,7 @@ def node_rate(args):
     kit = MessageKit.rclpy()
     data = frames(args, kit)
     work = tempfile.mkdtemp(prefix="lidarsgm_latency_")
+    atexit.register(shutil.rmtree, work, True)
     t = kitti.ros_calibration(data[0][1].calibration)[3]
     cfg = os.path.join(work, "params.yaml")
     with open(cfg, "w") as f:

@@ -28,10 +28,12 @@ max and the node's summary line (at SIGINT). Needs cv2 with the module (PYTHONPA
 environment's Python.
 """
 import argparse
+import atexit
 import json
 import os
 import random
 import re
+import shutil
 import signal
 import statistics
 import subprocess
@@ -286,6 +288,7 @@ def probe_main(a):
 # -- a probe pair: the probe subscriber, then the publisher, in their own processes
 def pair_main(a):  # noqa: C901
     scratch = tempfile.mkdtemp(prefix="lidarsgm_stream_")
+    atexit.register(shutil.rmtree, scratch, True)
     me = [sys.executable, os.path.abspath(__file__)]
     probe = subprocess.Popen(me + ["_probe", "--reliability", a.sub_reliability, "--depth", str(a.sub_depth),
                                    "--work", a.work, "--where", a.where, "--work-ms", str(a.work_ms)],
@@ -404,7 +407,7 @@ def stream_to_node(a):
     from lidarsgm_ros import kitti
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     os.environ.setdefault("ROS_DOMAIN_ID", str(random.randint(151, 199)))
-    work = tempfile.mkdtemp(prefix="lidarsgm_stream_")
+    work = tempfile.mkdtemp(prefix="lidarsgm_stream_")  # kept: the result names its node.log
     # This process reads the node's outputs (reliable, with the package's profile: its losses are not the node's).
     env_here = profile_env("shipped", work)
     os.environ["FASTDDS_DEFAULT_PROFILES_FILE"] = env_here["FASTDDS_DEFAULT_PROFILES_FILE"]

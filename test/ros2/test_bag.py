@@ -51,6 +51,7 @@ class BagTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.work = tempfile.mkdtemp(prefix="lidarsgm_bag_")
+        cls.addClassCleanup(shutil.rmtree, cls.work, True)  # bags of 0.4 GB a run
         cls.tool = {}
         for fid in FRAMES:
             out = os.path.join(cls.work, "tool_" + fid)

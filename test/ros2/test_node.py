@@ -12,6 +12,7 @@ run time with its message, the old value kept. A second node takes the transform
 """
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -73,6 +74,7 @@ class NodeRun(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.work = tempfile.mkdtemp(prefix="lidarsgm_ros_")
+        cls.addClassCleanup(shutil.rmtree, cls.work, True)
         frame = cv2.lidarsgm.loadKittiFrame(KITTI, FRAMES[0])
         t = kitti.ros_calibration(frame.calibration)[3]
         overrides = os.path.join(cls.work, "overrides.yaml")

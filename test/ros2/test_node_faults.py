@@ -10,6 +10,7 @@ skipped sets have none; fusion_status says how each set went; /diagnostics repor
 fusion resumes after the gap. The same script written to a bag and fused by the bag command gives the same outputs.
 """
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -130,6 +131,7 @@ class FaultRun(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.work = tempfile.mkdtemp(prefix="lidarsgm_faults_")
+        cls.addClassCleanup(shutil.rmtree, cls.work, True)  # bags of 1.1 GB a run
         cls.frames = {fid: cv2.lidarsgm.loadKittiFrame(KITTI, fid) for fid in FRAMES}
         cls.scans = {fid: cv2.lidarsgm.readVelodyneScan(os.path.join(KITTI, "velodyne", fid + ".bin"))
                      for fid in FRAMES}
@@ -179,7 +181,23 @@ class NodeFaults(FaultRun):
                                      lambda m: disparity.setdefault(stamp_ns(m), []).append(disparity16(m)), 50)
             node.create_subscription(DiagnosticArray, "fusion_status", lambda m: status.setdefault(
                 stamp_ns(m), []).append(status_class(m)), QoSProfile(depth=50, reliability=ReliabilityPolicy.RELIABLE))
-            node.create_subscription(DiagnosticArray, "/diagnostics", reports.append, 50)
+            report_at = []  # when each /diagnostics report came (the node's executor alive)
+
+            def on_report(m):
+                reports.append(m)
+                report_at.append(time.monotonic())
+
+            def report_values(k):
+                return {kv.key: kv.value for kv in reports[k].status[0].values}
+
+            def settled(since):
+                # Two reports after `since`, the last with the worker idle and nothing waiting, and no message taken
+                # between them: the node has taken and fused (or skipped) everything sent before.
+                if len(reports) < 2 or report_at[-2] < since:
+                    return False
+                a, b = report_values(-2), report_values(-1)
+                return b["worker"] == "idle, 0 sets waiting" and a["messages received"] == b["messages received"]
+            node.create_subscription(DiagnosticArray, "/diagnostics", on_report, 50)
             kit = MessageKit.rclpy()
 
             def spin_until(cond, seconds, what):
@@ -191,8 +209,10 @@ class NodeFaults(FaultRun):
                 spy = os.path.join(os.path.dirname(sys.executable), "py-spy")  # where installed: the threads
                 dump = subprocess.run([spy, "dump", "--pid", str(proc.pid)], capture_output=True,
                                       text=True).stdout if what and os.path.exists(spy) else ""
-                raise AssertionError("timed out after %d s waiting for %s; the node's log:\n%s\n%s"
-                                     % (seconds, what, log_text(log), dump))
+                last = "none" if not reports else "%.1f s ago: %s" % (time.monotonic() - report_at[-1], "; ".join(
+                    "%s = %s" % kv for kv in report_values(-1).items()))
+                raise AssertionError("timed out after %d s waiting for %s; the node's last /diagnostics report: %s; "
+                                     "its log:\n%s\n%s" % (seconds, what, last, log_text(log), dump))
             spin_until(lambda: all(p.get_subscription_count() for p in pubs.values()), 60, "the node's subscriptions")
             # Warm-up sets, stamped before the script, until one comes back: a best-effort message sent before the
             # node has matched the publisher is lost, as on a robot.
@@ -214,9 +234,9 @@ class NodeFaults(FaultRun):
             for k, s in enumerate(self.steps):
                 need[s["stamp"]] = need.get(s["stamp"], 0) + (s["expect"] not in ("skip", None))
                 if k and self.steps[k - 1]["pace"] == "burst" and s["pace"] != "burst":
-                    end = time.monotonic() + 2.0  # after the burst: what it left for the fusion is done
-                    while time.monotonic() < end:
-                        rclpy.spin_once(node, timeout_sec=0.02)
+                    # After the burst, what it left is done before the next set goes (else that set, waiting behind
+                    # a fusion of the burst's, would be skipped when the one after it comes): the node says so.
+                    spin_until(lambda t=time.monotonic(): settled(t), 60, "the node idle after the burst")
                 for topic, msg in set_messages(kit, self.frames, self.scans, s):
                     pubs[topic].publish(msg)
                 if pending is not None:

@@ -12,6 +12,7 @@ Runs tools/ros2_stream.py node, which prints the answered sets, the latency and 
 import json
 import os
 import random
+import shutil
 import subprocess
 import sys
 import unittest
@@ -32,6 +33,7 @@ class StreamingTest(unittest.TestCase):
         out = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=400)
         self.assertEqual(out.returncode, 0, out.stdout[-3000:] + out.stderr[-3000:])
         r = json.loads(out.stdout.strip().splitlines()[-1])
+        self.addCleanup(shutil.rmtree, os.path.dirname(r["log"]), True)
         lat = r["latency_ms"] or {}
         print("%s publisher, %s reader: %d of %d sets answered; stamp to DisparityImage median %s ms, p99 %s ms, max %s ms; "
               "node: %s" % (reliability, receiver, r["answered"], r["sent"], *("%.0f" % lat[k] if lat else "-"

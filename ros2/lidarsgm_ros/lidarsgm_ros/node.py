@@ -180,6 +180,7 @@ class StereoLidarNode(Node):
         self.lock = threading.Condition()
         self.ready = deque()  # the sets released and not yet fused: (stamp, msgs, base transform or alone, t)
         self.fusing = False   # the worker is in a fusion
+        self.fusing_since = None  # when the worker took its set (perf_counter), None while idle
         self.health = health.Health(self.fusion.max_residual)
         # Best effort, as camera drivers publish: it takes best-effort and reliable publishers alike (a reliable
         # subscription hears nothing from a best-effort one).
@@ -226,8 +227,9 @@ class StereoLidarNode(Node):
     # -- parameters
     def _declare(self):
         params_file = self.declare_parameter(
-            "params_file", "", ParameterDescriptor(read_only=True, description="matcher parameters saved with "
-                                                   "StereoLidarSGM.save (e.g. kitti_best.yml); empty: the paper's")).value
+            "params_file", "", ParameterDescriptor(
+                read_only=True, description="matcher parameters saved with StereoLidarSGM.save (e.g. kitti_best.yml); "
+                "empty: the paper's")).value
         self.fusion = Fusion(cv2, params_file)
         # The matcher's parameters start from the params file's (or the module's) values; overrides go through the
         # same checks as later changes.
@@ -409,7 +411,7 @@ class StereoLidarNode(Node):
 
     def _lidar_for(self, msgs):
         """The transform (before the correction) for a set's cloud, or (class, reason) to fuse it as stereo alone."""
-        left, left_info, cloud = msgs[0], msgs[1], msgs[4]
+        left_info, cloud = msgs[1], msgs[4]
         if cloud is None:
             return NO_CLOUD, "no cloud on %s within %.2f s" % (self.points_topic, self.lidar_timeout)
         try:
@@ -422,13 +424,13 @@ class StereoLidarNode(Node):
     def _work(self):
         while True:
             with self.lock:
-                self.fusing = False
+                self.fusing, self.fusing_since = False, None
                 while self.running and not self.ready:
                     self.lock.wait()
                 if not self.running:
                     return
                 stamp, msgs, lidar, since = self.ready.popleft()
-                self.fusing = True
+                self.fusing, self.fusing_since = True, time.perf_counter()
             try:
                 with self.fusion_lock:
                     self._fuse(stamp, msgs, lidar, since)
@@ -488,8 +490,15 @@ class StereoLidarNode(Node):
         level, text = self.health.level(now)
         source = "parameter" if self.param_transform is not None else "tf"
         age = now - self.tf_received if source == "tf" and self.tf_received is not None else None
+        with self.lock:
+            since, waiting = self.fusing_since, len(self.ready)
+        # What came in and where the sets are: a set that never goes out was either never complete (a message lost)
+        # or waits behind a fusion.
+        worker = "idle" if since is None else "fusing for %.1f s" % (time.perf_counter() - since)
         extra = [("transform source", source), ("transform message age s", "-" if age is None else "%.1f" % age),
-                 ("lidar timeout s", "%.2f" % self.lidar_timeout)]
+                 ("lidar timeout s", "%.2f" % self.lidar_timeout),
+                 ("messages received", ", ".join("%s %d" % (t, n) for t, n in zip(INPUT_TYPES, self.received))),
+                 ("worker", "%s, %d set%s waiting" % (worker, waiting, "" if waiting == 1 else "s"))]
         self.diagnostics_pub.publish(health.diagnostic_array(
             self.kit._new, self.kit.header(int(now * 1e9), ""), level, text, self.health.values(now, extra),
             level_of=lambda v: bytes([v])))
