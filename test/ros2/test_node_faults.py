@@ -122,8 +122,13 @@ def disparity16(msg):
     return np.rint(np.frombuffer(data, np.float32).reshape(img.height, img.width) * 16).astype(np.int16)
 
 
+def diagnostic_values(msg):
+    """{key: value} of a DiagnosticArray's status."""
+    return {kv.key: kv.value for kv in msg.status[0].values}
+
+
 def status_class(msg):
-    values = {kv.key: kv.value for kv in msg.status[0].values}
+    values = diagnostic_values(msg)
     return "lidar" if values["source"] == "lidar" else values["class"]
 
 
@@ -187,15 +192,12 @@ class NodeFaults(FaultRun):
                 reports.append(m)
                 report_at.append(time.monotonic())
 
-            def report_values(k):
-                return {kv.key: kv.value for kv in reports[k].status[0].values}
-
             def settled(since):
                 # Two reports after `since`, the last with the worker idle and nothing waiting, and no message taken
                 # between them: the node has taken and fused (or skipped) everything sent before.
                 if len(reports) < 2 or report_at[-2] < since:
                     return False
-                a, b = report_values(-2), report_values(-1)
+                a, b = diagnostic_values(reports[-2]), diagnostic_values(reports[-1])
                 return b["worker"] == "idle, 0 sets waiting" and a["messages received"] == b["messages received"]
             node.create_subscription(DiagnosticArray, "/diagnostics", on_report, 50)
             kit = MessageKit.rclpy()
@@ -210,7 +212,7 @@ class NodeFaults(FaultRun):
                 dump = subprocess.run([spy, "dump", "--pid", str(proc.pid)], capture_output=True,
                                       text=True).stdout if what and os.path.exists(spy) else ""
                 last = "none" if not reports else "%.1f s ago: %s" % (time.monotonic() - report_at[-1], "; ".join(
-                    "%s = %s" % kv for kv in report_values(-1).items()))
+                    "%s = %s" % kv for kv in diagnostic_values(reports[-1]).items()))
                 raise AssertionError("timed out after %d s waiting for %s; the node's last /diagnostics report: %s; "
                                      "its log:\n%s\n%s" % (seconds, what, last, log_text(log), dump))
             spin_until(lambda: all(p.get_subscription_count() for p in pubs.values()), 60, "the node's subscriptions")
@@ -279,7 +281,7 @@ class NodeFaults(FaultRun):
             self.assertTrue(any(lv == level and text_part in m for lv, m in seen),
                             "no report at level %d with '%s' among:\n%s" % (level, text_part, "\n".join(
                                 "%d %s" % x for x in seen)))
-        values = {kv.key: kv.value for kv in reports[-1].status[0].values}
+        values = diagnostic_values(reports[-1])
         # (a cloud lost on the way in the burst or the warm-up would add one there)
         self.assertGreaterEqual(int(values["stereo alone: no cloud"]), 32)
         self.assertEqual(values["stereo alone: bad message"], "3")

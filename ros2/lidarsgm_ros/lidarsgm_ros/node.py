@@ -179,8 +179,7 @@ class StereoLidarNode(Node):
         # The executor thread only takes messages; the worker fuses (cv2 lets go of the GIL while it computes).
         self.lock = threading.Condition()
         self.ready = deque()  # the sets released and not yet fused: (stamp, msgs, base transform or alone, t)
-        self.fusing = False   # the worker is in a fusion
-        self.fusing_since = None  # when the worker took its set (perf_counter), None while idle
+        self.fusing_since = None  # when the worker took the set it fuses (perf_counter), None while it is idle
         self.health = health.Health(self.fusion.max_residual)
         # Best effort, as camera drivers publish: it takes best-effort and reliable publishers alike (a reliable
         # subscription hears nothing from a best-effort one).
@@ -402,7 +401,7 @@ class StereoLidarNode(Node):
         with self.lock:
             # Overload is a fusion still running when newer sets come; sets the idle worker has yet to wake up for
             # are not skipped.
-            if self.ready and self.fusing:
+            if self.ready and self.fusing_since is not None:
                 for _ in self.ready:
                     self.health.event(self._now(), "skipped:overload", "input faster than the fusion")
                 self.ready.clear()
@@ -424,13 +423,13 @@ class StereoLidarNode(Node):
     def _work(self):
         while True:
             with self.lock:
-                self.fusing, self.fusing_since = False, None
+                self.fusing_since = None
                 while self.running and not self.ready:
                     self.lock.wait()
                 if not self.running:
                     return
                 stamp, msgs, lidar, since = self.ready.popleft()
-                self.fusing, self.fusing_since = True, time.perf_counter()
+                self.fusing_since = time.perf_counter()
             try:
                 with self.fusion_lock:
                     self._fuse(stamp, msgs, lidar, since)
