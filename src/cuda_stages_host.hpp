@@ -38,10 +38,11 @@ integer disparities, which the CUDA path computes on every call. */
 CV_EXPORTS void searchWindows(const GpuMat& prior16, const GpuMat& left, const GpuMat& right, const PipelineParams& p,
                               GpuMat& windows, GpuMat* coarse = nullptr);
 /** The aggregated costs (the CPU's finalSum; where windows are given, within them only: the rest is not written). own16 and
-scan: copied priors take p.wCopy where scan is true (copiedPrior); own16 empty: w everywhere. */
+scan: copied priors take p.wCopy where scan is true (copiedPrior); own16 empty: w everywhere. smCount: the path kernel's
+layout as for a stream on that many multiprocessors (0: the device's). */
 CV_EXPORTS void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& prior16,
                                const GpuMat& left, const PipelineParams& p, const GpuMat& own16, bool scan,
-                               GpuMat& sum, const GpuMat& windows = GpuMat());
+                               GpuMat& sum, const GpuMat& windows = GpuMat(), int smCount = 0);
 //! nonUnique16 is written only where ringCheckOn(p), as on the CPU.
 CV_EXPORTS void winnerTakesAll(const GpuMat& sum, int width, const PipelineParams& p, GpuMat& disp16,
                                GpuMat& dispInt, GpuMat& dispRight, GpuMat& nonUnique16,

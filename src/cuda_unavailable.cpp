@@ -52,7 +52,7 @@ void interpolateRings(const GpuMat&, const GpuMat&, const GpuMat&, const Pipelin
 }
 void searchWindows(const GpuMat&, const GpuMat&, const GpuMat&, const PipelineParams&, GpuMat&, GpuMat*) { noCuda(); }
 void aggregateCosts(const GpuMat&, const GpuMat&, const GpuMat&, const GpuMat&, const PipelineParams&, const GpuMat&,
-                    bool, GpuMat&, const GpuMat&)
+                    bool, GpuMat&, const GpuMat&, int)
 {
     noCuda();
 }

@@ -18,7 +18,9 @@
 #include "cuda_stages.hpp"
 #include "aggregation.cuh"
 #include "opencv2/cudev/common.hpp"
+#include <cuda.h>
 #include <algorithm>
+#include <utility>
 #include <type_traits>
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -26,6 +28,12 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 namespace {
 
 const int WARPS_PER_BLOCK = 4, MAX_BLOCKS_PER_SM = 6;
+/* The path lines per multiprocessor from which the packed layout (several lines a warp) is faster than one line a warp:
+with four lines a warp a call has a quarter of the warps, too few to hide the step's latency where each multiprocessor
+has few lines. Measured on the H200 (doc/perf.md, "a few SMs"), full range: at KITTI size (9,698 lines) packed is
+0.86 x on 8 to 32 SMs, 0.95 x on 64 (152 lines a multiprocessor) and 1.28 x on 132 (73); at 1080p with 256
+disparities (18,000 lines, two a warp) 0.88 x on 16 and 32, 0.92 x on 64 and 1.04 x on 132 (136). */
+const int PACKED_LINES_PER_SM = 150;
 using namespace aggregation;
 
 /* The facts of each pixel (packFacts). May write over prior16 (same size and memory): each thread reads its pixel's
@@ -72,17 +80,20 @@ __device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
     return (size_t)r;
 }
 
-/* One warp walks one line (warpLine), adding its path costs into the zeroed sum volume with 64-bit (or 32-bit)
- reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are scaled for that),
- so no carry crosses into the other half. The left census and the facts are warp-uniform loads; the right census
- strings are read through L1 (a horizontal line's row stays there). The loads for the next pixel are issued before the
- current step's recurrence, to hide their latency. Instantiated for G pairs per group (see below), FULL: every lane's
- last group holds disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty. */
-template <int PPT, int G, bool FULL, bool DDC, bool EDGES>
+/* LW lanes walk one line (warpLine), 32 / LW lines a warp, adding their path costs into the zeroed sum volume with
+ 64-bit (or 32-bit) reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are
+ scaled for that), so no carry crosses into the other half. Fewer lanes a line give each lane more disparities, so
+ that a step's fixed part (the census and facts loads, the jump penalty, the minimum's exchange) is shared by more of
+ them. The left census and the facts are uniform across a line's lanes; the right census strings are read through L1
+ (a horizontal line's row stays there). The loads for the next pixel are issued before the current step's recurrence,
+ to hide their latency. Instantiated for G pairs per group (see below), FULL: every lane's last group holds
+ disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty. */
+template <int LW, int PPT, int G, bool FULL, bool DDC, bool EDGES>
 __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
 pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PipelineParams p,
            PtrStepSz<ushort> sum)
 {
+    static_assert(LW >= 4 && LW <= 32 && (LW & (LW - 1)) == 0, "a line takes 4, 8, 16 or 32 lanes");
     // The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u: one load per group and step. A row
     // takes 1 << FACT_ROW_SHIFT bytes, so that the facts' row bits are its offset.
     const int ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4;
@@ -96,31 +107,34 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
         }
         __syncthreads();
     }
-    const int lane = threadIdx.x & 31;
+    const int lane = threadIdx.x & (LW - 1);   // within the line
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int dir, dx, dy, x, y, n;
-    if (!warpLine(WARPS_PER_BLOCK, p.numPaths == 8, W, H, dir, dx, dy, x, y, n))
+    // Lanes past the direction's last line walk that line again without adding their sums (nLive 0).
+    const bool hasLine = warpLine(WARPS_PER_BLOCK * 32 / LW, (int)threadIdx.x / LW, p.numPaths == 8, W, H, dir, dx,
+                                  dy, x, y, n, LW < 32);
+    if (LW == 32 ? !hasLine : !__any_sync(0xFFFFFFFFu, hasLine))
         return;
+    const int nLive = hasLine ? n : 0;
     // Lane t holds PPT pairs in NG = PPT / G groups of G adjacent pairs: pair i = gG + j covers disparities
-    // e_i = 2 (32 G g + G t + j) and e_i + 1. Across the warp the census strings of one pair index then lie 8 G bytes
-    // apart: a load spans 2 G cache lines (with one run of 2 PPT disparities per lane it spanned 2 PPT).
+    // e_i = 2 (LW G g + G t + j) and e_i + 1. Across a line's lanes the census strings of one pair index then lie 8 G
+    // bytes apart: a load spans 2 G cache lines a line (with one run of 2 PPT disparities per lane it spanned 2 PPT).
     const int NG = PPT / G;
     // Pairs with e_i < D hold disparities (D is even: a pair never straddles it); all groups but the last are whole.
     // lastActive: the lanes whose last group holds disparities.
-    const int lastActive = FULL ? 32 : ::min(32, (D - 64 * G * (NG - 1) + 2 * G - 1) / (2 * G));
+    const int lastActive = FULL ? LW : ::min(LW, (D - 2 * LW * G * (NG - 1) + 2 * G - 1) / (2 * G));
     const bool lastIn = FULL || lane < lastActive;
     const bool active = lastIn || NG > 1;   // the lane holds at least one pair
 
     // Addresses of pixel s of the line (lineAddressing): idx |step| bytes after an origin. The right census origin
-    // oR is the right pixel of disparity 2 G t (x - minD -
-    // 2 G t, t the lane); the strings of pair i lie e_i - 2 G t and one more columns before it. Lanes past D in the
-    // last group read group 0's strings, and lanes without any pair lane 0's (within the padding). The sums of pair
-    // i: S[32 G (i / G) + i % G], S at this lane's first pair.
+    // oR is the right pixel of disparity 2 G t (x - minD - 2 G t, t the lane); the strings of pair i lie e_i - 2 G t
+    // and one more columns before it. Lanes past D in the last group read group 0's strings, and lanes without any
+    // pair lane 0's (within the padding). The sums of pair i: S[LW G (i / G) + i % G], S at this lane's first pair.
     const LineAddressing ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, sum.step, D);
     int roff[PPT];   // the strings of pair i: pR[-roff[i]] and pR[-roff[i] - 1]
 #pragma unroll
     for (int i = 0; i < PPT; i++)
-        roff[i] = (i / G < NG - 1 || lastIn ? 64 * G * (i / G) : 0) + 2 * (i % G);
+        roff[i] = (i / G < NG - 1 || lastIn ? 2 * LW * G * (i / G) : 0) + 2 * (i % G);
     const char* const oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
     const char* const oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - minD - 2 * G * (active ? lane : 0));
     const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
@@ -156,8 +170,9 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     for (int i = 0; i < PPT; i++)
         P[i] = 0;
     unsigned mp2 = 0;   // the previous pixel's minimum, in both halves
-    // One pixel of the line; loadNext: the next pixel's values are loaded (all but the last pixel).
-    auto step = [&](auto loadNext) {
+    // Pixel s of the line; loadNext: the next pixel's values are loaded (all but the warp's last step). A line shorter
+    // than the warp's longest (LW < 32) reloads its last pixel and adds no sums past it.
+    auto step = [&](int s, auto loadNext) {
         // matchingCost (pipeline.hpp) in pairs: the census term, and the DDC term of the pair from the table (0
         // without a prior), added with the minimum's subtraction: add[i] = ddc - minPrev.
         unsigned T[PPT], add[PPT];
@@ -176,7 +191,7 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
 #pragma unroll
             for (int g = 0; g < NG; g++)
             {
-                const unsigned u = ::min(a - (unsigned)(32 * G * g + G * lane), (unsigned)(G + 1));
+                const unsigned u = ::min(a - (unsigned)(LW * G * g + G * lane), (unsigned)(G + 1));
                 if (G == 2)
                 {
                     const uint2 v = *(const uint2*)(row + 2 * u);
@@ -195,19 +210,19 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
         unsigned* const S = (unsigned*)(oS + wideMul(idx, ad.stepS));
         if (decltype(loadNext)::value)
         {
-            idx += ad.dIdx;
+            idx += LW == 32 || s + 1 < n ? ad.dIdx : 0;
             load();
         }
 
         // Neighbour pairs (L(d - 1), L(d)) and (L(d + 1), L(d + 2)) by byte permutes; across lanes by shuffles that
-        // rotate the warp, so that lane 0 receives lane 31's pair (the previous group's top) and lane 31 lane 0's
-        // (the next group's bottom).
+        // rotate the line's lanes, so that lane 0 receives lane LW - 1's pair (the previous group's top) and lane
+        // LW - 1 lane 0's (the next group's bottom).
         unsigned up[NG], down[NG];
 #pragma unroll
         for (int g = 0; g < NG; g++)
         {
-            up[g] = __shfl_sync(0xFFFFFFFFu, P[g * G + G - 1], (lane + 31) & 31);
-            down[g] = __shfl_sync(0xFFFFFFFFu, P[g * G], (lane + 1) & 31);
+            up[g] = __shfl_sync(0xFFFFFFFFu, P[g * G + G - 1], (lane + LW - 1) & (LW - 1), LW);
+            down[g] = __shfl_sync(0xFFFFFFFFu, P[g * G], (lane + 1) & (LW - 1), LW);
         }
         unsigned Pn[PPT];
 #pragma unroll
@@ -215,7 +230,7 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
         {
             const int g = i / G, j = i % G;
             const unsigned below = lane > 0 ? up[g] : g > 0 ? up[(g + NG - 1) % NG] : BIG16X2;
-            const unsigned above = g < NG - 1 ? (lane < 31 ? down[g] : down[(g + 1) % NG])
+            const unsigned above = g < NG - 1 ? (lane < LW - 1 ? down[g] : down[(g + 1) % NG])
                                               : (lane + 1 < lastActive ? down[g] : BIG16X2);
             const unsigned lm = __byte_perm(j > 0 ? P[i - 1] : below, P[i], 0x5432);
             const unsigned lp = __byte_perm(P[i], j < G - 1 ? P[i + 1] : above, 0x5432);
@@ -236,8 +251,17 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
 #pragma unroll
         for (int i = 0; i < G * (NG - 1); i++)
             m = vmin2(m, P[i]);
-        mp2 = __reduce_min_sync(0xFFFFFFFFu, vmin2(m, __byte_perm(m, 0, 0x1032)));
-        if (active)
+        m = vmin2(m, __byte_perm(m, 0, 0x1032));
+        if (LW == 32)
+            mp2 = __reduce_min_sync(0xFFFFFFFFu, m);
+        else
+        {
+#pragma unroll
+            for (int o = LW / 2; o > 0; o >>= 1)
+                m = ::min(m, __shfl_xor_sync(0xFFFFFFFFu, m, o));
+            mp2 = m;
+        }
+        if (active && (LW == 32 || s < nLive))
         {
             // Even G: four 16-bit costs per 64-bit reduction (8-byte aligned), half the atomic operations of 32-bit
             // ones, the same exactness (no carry leaves a 16-bit field).
@@ -248,7 +272,7 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
 #pragma unroll
                     for (int j = 0; j < G; j += G % 2 == 0 ? 2 : 1)
                     {
-                        unsigned* q = S + 32 * G * g + j;
+                        unsigned* q = S + LW * G * g + j;
                         if (G % 2 == 0)
                             atomicAdd((unsigned long long*)q, (unsigned long long)P[G * g + j] |
                                                                   ((unsigned long long)P[(G * g + j + 1) % PPT] << 32));
@@ -258,10 +282,11 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
                 }
         }
     };
+    const int steps = LW == 32 ? n : __reduce_max_sync(0xFFFFFFFFu, n);
 #pragma unroll 2
-    for (int s = 1; s < n; s++)
-        step(std::true_type());
-    step(std::false_type());
+    for (int s = 0; s + 1 < steps; s++)
+        step(s, std::true_type());
+    step(steps - 1, std::false_type());
 }
 
 /* One warp's walk of one line over the disparity windows (windows: per tile lo | hi << 16), windowPathKernel's body in
@@ -311,7 +336,7 @@ struct WindowWalk
         lane = threadIdx.x & 31;
         const int W = censusL.cols, H = censusL.rows;
         // The directions one after the other (in waves, warpLine: 4K 3.5 % slower, KITTI size and 1080p the same).
-        if (!warpLine(WARPS_PER_BLOCK, false, W, H, dir, dx, dy, x, y, n))
+        if (!warpLine(WARPS_PER_BLOCK, (int)(threadIdx.x >> 5), false, W, H, dir, dx, dy, x, y, n))
             return false;
         // Addresses as pathKernel's (pixel s at idx |step| bytes from an origin); the right census origin is the
         // right pixel of disparity 2 t, moved by the window's lo at each pixel. The sums' addresses follow the compact
@@ -557,16 +582,17 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
         walk.walk();
 }
 
-/* PPT = D / 64 rounded up pairs per lane, in groups of G = 2 adjacent pairs where PPT is even (four costs per 64-bit
- reduction; a load of census strings spans four cache lines), else G = 1 (measured: G = 4 at 256 disparities, one
- run of eight per lane, made each load span eight lines and kept L1 busy; doc/perf.md). */
-template <int PPT, bool DDC, bool EDGES>
+/* LW lanes a line and PPT pairs a lane (LW = 32: PPT = D / 64 rounded up), in groups of G = 2 adjacent pairs where
+ PPT is even (four costs per 64-bit reduction; a load of census strings spans four cache lines), else G = 1
+ (measured: G = 4 at 256 disparities, one run of eight per lane, made each load span eight lines and kept L1 busy;
+ doc/perf.md). */
+template <int LW, int PPT, bool DDC, bool EDGES>
 void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
               PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
-    const int lineBlocks = cv::cudev::divUp(maxLines, WARPS_PER_BLOCK);
+    const int lineBlocks = cv::cudev::divUp(maxLines, WARPS_PER_BLOCK * 32 / LW);
     // 8 paths in waves (warpLine): a 1-D grid.
     const dim3 grid = p.numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, p.numPaths);
     const dim3 block(32 * WARPS_PER_BLOCK);
@@ -575,31 +601,31 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> 
     // keeps the others out): fewer lines in flight thrash L2 less with their sums (H100, 256 disparities, 6 blocks
     // against the 8 that the registers allow: 1080p 3 % faster, 4K 2 %; doc/perf.md).
     size_t smem = 0;
-    if (PPT >= 3)
+    if (p.numDisparities > 128)
     {
         int device = 0, perSM = 0;
         CV_CUDEV_SAFE_CALL(cudaGetDevice(&device));
         CV_CUDEV_SAFE_CALL(cudaDeviceGetAttribute(&perSM, cudaDevAttrMaxSharedMemoryPerMultiprocessor, device));
         smem = (size_t)perSM / (MAX_BLOCKS_PER_SM + 1) + 1;
     }
-    if (p.numDisparities == 64 * PPT)
-        pathKernel<PPT, G, true, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
+    if (p.numDisparities == 2 * LW * PPT)
+        pathKernel<LW, PPT, G, true, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
     else
-        pathKernel<PPT, G, false, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
+        pathKernel<LW, PPT, G, false, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
-template <int PPT>
+template <int LW, int PPT>
 void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
               bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
 {
     const bool edges = p.edgeThreshold > 0;
     if (ddc)
-        edges ? runPaths<PPT, true, true>(censusL, censusR, facts, p, sum, stream)
-              : runPaths<PPT, true, false>(censusL, censusR, facts, p, sum, stream);
+        edges ? runPaths<LW, PPT, true, true>(censusL, censusR, facts, p, sum, stream)
+              : runPaths<LW, PPT, true, false>(censusL, censusR, facts, p, sum, stream);
     else
-        edges ? runPaths<PPT, false, true>(censusL, censusR, facts, p, sum, stream)
-              : runPaths<PPT, false, false>(censusL, censusR, facts, p, sum, stream);
+        edges ? runPaths<LW, PPT, false, true>(censusL, censusR, facts, p, sum, stream)
+              : runPaths<LW, PPT, false, false>(censusL, censusR, facts, p, sum, stream);
 }
 
 /* Zeroes the windows' sums of the image's pixels in the compact volume (the padding of the edge tiles is never read):
@@ -669,20 +695,61 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
         }
         return;
     }
+    // Where each multiprocessor has many lines to walk, 8 or 16 lanes a line with eight pairs each (the range then
+    // reaches the last of their four groups: 112 or 128 disparities, 208 to 256); else one line a warp.
+    const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
+    const int lines = 2 * (W + H) + (p.numPaths == 8 ? 4 * (W + H - 1) : 0);
+    if ((D > 96 && D <= 128) || (D > 192 && D <= 256))
+    {
+        const int sms = in.smCount > 0 ? in.smCount : streamSmCount(stream);
+        if (lines >= PACKED_LINES_PER_SM * sms)
+            return D <= 128 ? runPaths<8, 8>(censusL, censusR, facts, p, ddc, sum, stream)
+                            : runPaths<16, 8>(censusL, censusR, facts, p, ddc, sum, stream);
+    }
     switch ((p.numDisparities + 63) / 64)
     {
-    case 1: runPaths<1>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 2: runPaths<2>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 3: runPaths<3>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 4: runPaths<4>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 5: runPaths<5>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 6: runPaths<6>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    case 7: runPaths<7>(censusL, censusR, facts, p, ddc, sum, stream); break;
-    default: runPaths<8>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 1: runPaths<32, 1>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 2: runPaths<32, 2>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 3: runPaths<32, 3>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 4: runPaths<32, 4>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 5: runPaths<32, 5>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 6: runPaths<32, 6>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    case 7: runPaths<32, 7>(censusL, censusR, facts, p, ddc, sum, stream); break;
+    default: runPaths<32, 8>(censusL, censusR, facts, p, ddc, sum, stream); break;
     }
 }
 
 } // namespace
+
+int streamSmCount(cudaStream_t stream)
+{
+    int device = 0, sms = 0;
+    CV_CUDEV_SAFE_CALL(cudaGetDevice(&device));
+    CV_CUDEV_SAFE_CALL(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
+    // The driver's green context calls through the runtime's entry points: no link to the driver library, and a
+    // driver without them leaves the device's count.
+    using StreamGetGreenCtx = CUresult (*)(CUstream, CUgreenCtx*);
+    using GreenCtxGetDevResource = CUresult (*)(CUgreenCtx, CUdevResource*, CUdevResourceType);
+    static const std::pair<StreamGetGreenCtx, GreenCtxGetDevResource> fns = []() {
+        void *a = nullptr, *b = nullptr;
+        cudaDriverEntryPointQueryResult qa, qb;
+        if (cudaGetDriverEntryPointByVersion("cuStreamGetGreenCtx", &a, 12040, cudaEnableDefault, &qa) != cudaSuccess ||
+            cudaGetDriverEntryPointByVersion("cuGreenCtxGetDevResource", &b, 12040, cudaEnableDefault, &qb) !=
+                cudaSuccess ||
+            qa != cudaDriverEntryPointSuccess || qb != cudaDriverEntryPointSuccess)
+        {
+            (void)cudaGetLastError();
+            return std::make_pair(StreamGetGreenCtx(), GreenCtxGetDevResource());
+        }
+        return std::make_pair((StreamGetGreenCtx)a, (GreenCtxGetDevResource)b);
+    }();
+    CUgreenCtx green = nullptr;
+    CUdevResource sm;
+    if (fns.first && stream && fns.first((CUstream)stream, &green) == CUDA_SUCCESS && green &&
+        fns.second(green, &sm, CU_DEV_RESOURCE_TYPE_SM) == CUDA_SUCCESS && sm.sm.smCount > 0)
+        sms = std::min(sms, (int)sm.sm.smCount);
+    return sms;
+}
 
 void aggregateCosts(const AggregationInputs<uchar>& in, const PipelineParams& p, const AggregationOutputs& out,
                     cudaStream_t stream)

@@ -103,10 +103,12 @@ __device__ __forceinline__ void pathDirection(int dir, int& dx, int& dy)
  go up the same way: the lines that start together run together, so the down-going lines that start on the top row
  reach each row at about the same time, and their sums' reductions meet in L2 instead of each reading and writing the
  row's sums in DRAM (pathKernel on the H100 at KITTI size: 0.92 GB of DRAM traffic against 1.26, 9 % less time).
- Direction dir (pathDirection), line (lineStart) and its first pixel (x, y) and length n, the steps until it leaves
- the W x H image. False past the last line of the direction. */
-__device__ __forceinline__ bool warpLine(int warpsPerBlock, bool waves, int W, int H, int& dir, int& dx, int& dy,
-                                         int& x, int& y, int& n)
+ A block walks linesPerBlock lines, this thread line lineInBlock of them. Direction dir (pathDirection), line
+ (lineStart) and its first pixel (x, y) and length n, the steps until it leaves the W x H image. False past the last
+ line of the direction; with clampToLast, (x, y) and n are then the last line's (a warp whose lanes walk several lines
+ keeps them all in its shuffles). */
+__device__ __forceinline__ bool warpLine(int linesPerBlock, int lineInBlock, bool waves, int W, int H, int& dir,
+                                         int& dx, int& dy, int& x, int& y, int& n, bool clampToLast = false)
 {
     int lineBlock;
     if (waves)
@@ -130,10 +132,12 @@ __device__ __forceinline__ bool warpLine(int warpsPerBlock, bool waves, int W, i
         lineBlock = (int)blockIdx.x;
     }
     pathDirection(dir, dx, dy);
-    if (!lineStart(lineBlock * warpsPerBlock + (int)(threadIdx.x >> 5), dx, dy, W, H, x, y))
+    const int line = lineBlock * linesPerBlock + lineInBlock, lines = dy == 0 ? H : dx == 0 ? W : W + H - 1;
+    if (line >= lines && !clampToLast)
         return false;
+    lineStart(::min(line, lines - 1), dx, dy, W, H, x, y);
     n = ::min(dx > 0 ? W - x : dx < 0 ? x + 1 : INT_MAX, dy > 0 ? H - y : dy < 0 ? y + 1 : INT_MAX);
-    return true;
+    return line < lines;
 }
 
 /* The bit of the facts (packFacts) that holds direction dir's jump edge, in a word of the current pixel's facts low and

@@ -107,7 +107,8 @@ void windowLayout(PtrStepSz<int> windows, int* bases, cudaStream_t stream);
 the prior (data null: plain SGM); the left image of element type T, whose intensity steps give the jump penalty
 (read only when p.edgeThreshold > 0); own16, the filtered sparse map where copied priors take p.wCopy (copiedPrior)
 if the scan test's result at *scan (device memory) is non-zero (data null: w everywhere); the windows (tiles.data
-null: the full range), each pixel's paths covering its tile's window only. */
+null: the full range), each pixel's paths covering its tile's window only; smCount, the multiprocessors the stream's
+kernels run on, which choose the path kernel's layout (0: streamSmCount's). */
 template <typename T>
 struct AggregationInputs
 {
@@ -117,7 +118,12 @@ struct AggregationInputs
     PtrStepSz<short> own16;
     const int* scan = nullptr;
     WindowMap windows = WindowMap();
+    int smCount = 0;
 };
+
+/** The multiprocessors that the stream's kernels may run on: its green context's (a partition of the device, CUDA
+12.4 and later) where it has one, else the device's. */
+int streamSmCount(cudaStream_t stream);
 
 /** aggregateCosts' outputs. sum: rows = image rows, cols = width * numDisparities; with windows, the compact volume
 (WindowMap), of which only the windows' sums are zeroed and written. facts (scratch): a map of the image's size that

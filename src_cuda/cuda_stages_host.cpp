@@ -165,7 +165,8 @@ static ci::AggregationInputs<T> aggregationInputs(const GpuMat& censusL, const G
 }
 
 void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& prior16, const GpuMat& left,
-                    const PipelineParams& p, const GpuMat& own16, bool scan, GpuMat& sum, const GpuMat& windows)
+                    const PipelineParams& p, const GpuMat& own16, bool scan, GpuMat& sum, const GpuMat& windows,
+                    int smCount)
 {
     sum.create(left.rows, left.cols * p.numDisparities, CV_16UC1);
     GpuMat scanFlag(1, 1, CV_32SC1, Scalar::all(scan ? 1 : 0));
@@ -185,6 +186,7 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
     if (left.type() == CV_8UC1)
     {
         ci::AggregationInputs<uchar> in = aggregationInputs<uchar>(censusL, censusR, prior16, left, own16, scanFlag);
+        in.smCount = smCount;
         if (compact)
             in.windows = compact->map(windows);
         ci::aggregateCosts(in, p, out, 0);
@@ -192,6 +194,7 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
     else
     {
         ci::AggregationInputs<ushort> in = aggregationInputs<ushort>(censusL, censusR, prior16, left, own16, scanFlag);
+        in.smCount = smCount;
         if (compact)
             in.windows = compact->map(windows);
         ci::aggregateCosts(in, p, out, 0);

@@ -519,6 +519,35 @@ TEST(Lidarsgm_CUDA_Aggregation, bit_exact)
     }
 }
 
+// The path kernel's two layouts (several lines a warp where each multiprocessor has many lines, as on a small GPU;
+// one line a warp otherwise) against the CPU, at every range the packed layout takes: its lanes' last group full
+// (128, 256) or partly used (112, 208, 240), 4 and 8 paths, SDSGM with the edge rule.
+TEST(Lidarsgm_CUDA_Aggregation, packed_layout_bit_exact)
+{
+    requireCudaDevice();
+    RNG rng(99);
+    Mat l, r, s;
+    randomInputs(Size(271, 23), rng, l, r, s);
+    for (int D : { 112, 128, 208, 240, 256 })
+        for (int paths : { 4, 8 })
+        {
+            Ptr<cv::lidarsgm::StereoLidarSGM> m = cv::lidarsgm::StereoLidarSGM::create(0, D);
+            m->setNumPaths(paths);
+            m->setEdgeThreshold(24);
+            const StageCase c = runCpuStages(format("random 271x23, %d disparities, %d paths", D, paths), l, r, s, m);
+            cuda::GpuMat gl, gr;
+            cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), c.p, gl, gr);
+            // 1 multiprocessor: the packed layout (271 x 23 has 588 lines with 4 paths); 10^6: one line a warp.
+            for (int sms : { 1, 1000000 })
+            {
+                cuda::GpuMat sum;
+                cuda_host::aggregateCosts(gl, gr, cuda::GpuMat(c.prior), cuda::GpuMat(c.left), c.p, cuda::GpuMat(),
+                                          false, sum, cuda::GpuMat(), sms);
+                expectSameAsCpu(c.sum, sum, c.name + format(", as on %d SMs", sms));
+            }
+        }
+}
+
 // The disparity windows on the GPU (src_cuda/search_window.cu and the windowed path and winner-takes-all kernels)
 // against the CPU's, stage by stage: the windows and the coarse map, the sums within the windows, the winners.
 TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
