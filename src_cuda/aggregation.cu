@@ -87,11 +87,13 @@ __device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
  them. The left census and the facts are uniform across a line's lanes; the right census strings are read through L1
  (a horizontal line's row stays there). The loads for the next pixel are issued before the current step's recurrence,
  to hide their latency. Instantiated for G pairs per group (see below), FULL: every lane's last group holds
- disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty. */
-template <int LW, int PPT, int G, bool FULL, bool DDC, bool EDGES>
+ disparities, DDC: a prior, EDGES: the edge rule of jumpPenalty, WIN: the disparity windows (windows; sum then holds
+ the compact volume), where every pixel's costs outside its window are the sentinel BIG16 (the CPU's: windowPathKernel
+ computes the window alone) and are not added. */
+template <int LW, int PPT, int G, bool FULL, bool DDC, bool EDGES, bool WIN>
 __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
 pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, PipelineParams p,
-           PtrStepSz<ushort> sum)
+           PtrStepSz<ushort> sum, WindowMap windows)
 {
     static_assert(LW >= 4 && LW <= 32 && (LW & (LW - 1)) == 0, "a line takes 4, 8, 16 or 32 lanes");
     // The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u: one load per group and step. A row
@@ -140,13 +142,21 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     const char* const oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
     char* const oS = (char*)((unsigned*)(sum.ptr(ad.yo) + (size_t)ad.xo * D) + G * lane);
     int idx = ad.idx;   // of the pixel whose values are loaded
+    int px = x, py = y;   // its position (WIN)
 
     const unsigned edgeMask = edgeMaskOf(dir);
     const PairWeights wk = pairWeights(p.w);
 
-    // Values of the current pixel, loaded one step ahead.
-    unsigned l, f = 0, fPrev = 0, r[2 * PPT];
+    // Values of the current pixel, loaded one step ahead; with windows its tile's window and base.
+    unsigned l, f = 0, fPrev = 0, r[2 * PPT], win = 0;
+    int winBase = 0;
     auto load = [&]() {
+        if (WIN)
+        {
+            const int tx = (int)((unsigned)px / WINDOW_TILE), ty = (int)((unsigned)py / WINDOW_TILE);
+            win = (unsigned)windows.tiles(ty, tx);
+            winBase = windows.base(tx, ty);
+        }
         l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
         if (DDC || EDGES)
             f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
@@ -206,11 +216,20 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
         if (EDGES)
             jump = mp2 + ((f | fPrev << 16) & edgeMask ? wk.p2Edgex2 : wk.p2x2);
         fPrev = f;
-        // The sums of this pixel's pairs.
-        unsigned* const S = (unsigned*)(oS + wideMul(idx, ad.stepS));
+        // The sums of this pixel's pairs: with windows pair e / 2 of the compact volume's (windowPairOffset) at
+        // S[e / 2 - lo / 2 - G t].
+        const int lo = (int)(win & 0xFFFFu), hi = (int)(win >> 16);
+        unsigned* const S = WIN ? (unsigned*)sum.data + windowPairOffset(winBase, px, py, lo, hi) + G * lane - (lo >> 1)
+                                : (unsigned*)(oS + wideMul(idx, ad.stepS));
         if (decltype(loadNext)::value)
         {
-            idx += LW == 32 || s + 1 < n ? ad.dIdx : 0;
+            const bool more = LW == 32 || s + 1 < n;
+            idx += more ? ad.dIdx : 0;
+            if (WIN && more)
+            {
+                px += dx;
+                py += dy;
+            }
             load();
         }
 
@@ -237,9 +256,15 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
             const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + wk.p1x2);
             Pn[i] = T[i] + best + add[i];
         }
+        // With windows, the groups in the pixel's window (its ends are multiples of 16, a group's 2 G disparities lie
+        // in it or out of it).
+        bool inWin[NG];
+#pragma unroll
+        for (int g = 0; g < NG; g++)
+            inWin[g] = !WIN || (unsigned)(2 * (LW * G * g + G * lane) - lo) < (unsigned)(hi - lo);
 #pragma unroll
         for (int i = 0; i < PPT; i++)
-            P[i] = Pn[i];
+            P[i] = inWin[i / G] ? Pn[i] : BIG16X2;
         // The minimum over the pairs that hold disparities: a lane's last group holds all its pairs or none (D is a
         // multiple of 16; with G = 2 pairs of 4 disparities). Both halves take it, so that the reduction of the
         // packed words gives it in both halves.
@@ -267,7 +292,7 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
             // ones, the same exactness (no carry leaves a 16-bit field).
 #pragma unroll
             for (int g = 0; g < NG; g++)
-                if (g < NG - 1 || lastIn)
+                if ((g < NG - 1 || lastIn) && inWin[g])
                 {
 #pragma unroll
                     for (int j = 0; j < G; j += G % 2 == 0 ? 2 : 1)
@@ -586,9 +611,9 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
  PPT is even (four costs per 64-bit reduction; a load of census strings spans four cache lines), else G = 1
  (measured: G = 4 at 256 disparities, one run of eight per lane, made each load span eight lines and kept L1 busy;
  doc/perf.md). */
-template <int LW, int PPT, bool DDC, bool EDGES>
+template <int LW, int PPT, bool DDC, bool EDGES, bool WIN>
 void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
-              PtrStepSz<ushort> sum, cudaStream_t stream)
+              PtrStepSz<ushort> sum, WindowMap windows, cudaStream_t stream)
 {
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);   // diagonals, or rows and columns
@@ -609,23 +634,25 @@ void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> 
         smem = (size_t)perSM / (MAX_BLOCKS_PER_SM + 1) + 1;
     }
     if (p.numDisparities == 2 * LW * PPT)
-        pathKernel<LW, PPT, G, true, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
+        pathKernel<LW, PPT, G, true, DDC, EDGES, WIN><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum,
+                                                                                     windows);
     else
-        pathKernel<LW, PPT, G, false, DDC, EDGES><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum);
+        pathKernel<LW, PPT, G, false, DDC, EDGES, WIN><<<grid, block, smem, stream>>>(censusL, censusR, facts, p, sum,
+                                                                                      windows);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
-template <int LW, int PPT>
+template <int LW, int PPT, bool WIN = false>
 void runPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, const PipelineParams& p,
-              bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
+              bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream, WindowMap windows = WindowMap())
 {
     const bool edges = p.edgeThreshold > 0;
     if (ddc)
-        edges ? runPaths<LW, PPT, true, true>(censusL, censusR, facts, p, sum, stream)
-              : runPaths<LW, PPT, true, false>(censusL, censusR, facts, p, sum, stream);
+        edges ? runPaths<LW, PPT, true, true, WIN>(censusL, censusR, facts, p, sum, windows, stream)
+              : runPaths<LW, PPT, true, false, WIN>(censusL, censusR, facts, p, sum, windows, stream);
     else
-        edges ? runPaths<LW, PPT, false, true>(censusL, censusR, facts, p, sum, stream)
-              : runPaths<LW, PPT, false, false>(censusL, censusR, facts, p, sum, stream);
+        edges ? runPaths<LW, PPT, false, true, WIN>(censusL, censusR, facts, p, sum, windows, stream)
+              : runPaths<LW, PPT, false, false, WIN>(censusL, censusR, facts, p, sum, windows, stream);
 }
 
 /* Zeroes the windows' sums of the image's pixels in the compact volume (the padding of the edge tiles is never read):
@@ -680,6 +707,23 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
                                                   p.edgeThreshold, facts);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
+    // Where each multiprocessor has many lines to walk, 8 or 16 lanes a line with eight pairs each (the range then
+    // reaches the last of their four groups: 112 or 128 disparities, 208 to 256), over the full range with the
+    // windows as a mask; else one line a warp, and the windows' own kernel.
+    const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
+    const int lines = 2 * (W + H) + (p.numPaths == 8 ? 4 * (W + H - 1) : 0);
+    if ((D > 96 && D <= 128) || (D > 192 && D <= 256))
+    {
+        const int sms = in.smCount > 0 ? in.smCount : streamSmCount(stream);
+        if (lines >= PACKED_LINES_PER_SM * sms)
+        {
+            if (windows.tiles.data)
+                return D <= 128 ? runPaths<8, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows)
+                                : runPaths<16, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows);
+            return D <= 128 ? runPaths<8, 8>(censusL, censusR, facts, p, ddc, sum, stream)
+                            : runPaths<16, 8>(censusL, censusR, facts, p, ddc, sum, stream);
+        }
+    }
     if (windows.tiles.data)
     {
         switch ((p.numDisparities + 63) / 64)
@@ -694,17 +738,6 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
         default: runWindowPaths<8>(censusL, censusR, facts, windows, p, ddc, sum, stream); break;
         }
         return;
-    }
-    // Where each multiprocessor has many lines to walk, 8 or 16 lanes a line with eight pairs each (the range then
-    // reaches the last of their four groups: 112 or 128 disparities, 208 to 256); else one line a warp.
-    const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
-    const int lines = 2 * (W + H) + (p.numPaths == 8 ? 4 * (W + H - 1) : 0);
-    if ((D > 96 && D <= 128) || (D > 192 && D <= 256))
-    {
-        const int sms = in.smCount > 0 ? in.smCount : streamSmCount(stream);
-        if (lines >= PACKED_LINES_PER_SM * sms)
-            return D <= 128 ? runPaths<8, 8>(censusL, censusR, facts, p, ddc, sum, stream)
-                            : runPaths<16, 8>(censusL, censusR, facts, p, ddc, sum, stream);
     }
     switch ((p.numDisparities + 63) / 64)
     {

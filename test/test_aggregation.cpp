@@ -519,6 +519,22 @@ TEST(Lidarsgm_CUDA_Aggregation, bit_exact)
     }
 }
 
+//! The GPU's sums within the windows against the CPU's finalSum (whose sentinel fills the rest; the GPU's is 0 there).
+void expectSameWindowSums(const Mat& cpu, const cuda::GpuMat& gpu, const Mat& windows, int D, const std::string& what)
+{
+    Mat s;
+    gpu.download(s);
+    for (int y = 0; y < s.rows; y++)
+        for (int x = 0; x < s.cols / D; x++)
+        {
+            const Vec2s w = windows.at<Vec2s>(y / WINDOW_TILE, x / WINDOW_TILE);
+            for (int k = 0; k < D; k++)
+                if (k < w[0] || k >= w[1])
+                    s.at<ushort>(y, x * D + k) = 0xFFFF;
+        }
+    ASSERT_EQ(0, cvtest::norm(cpu, s, NORM_INF)) << what << " (sums within the windows)";
+}
+
 // The path kernel's two layouts (several lines a warp where each multiprocessor has many lines, as on a small GPU;
 // one line a warp otherwise) against the CPU, at every range the packed layout takes: its lanes' last group full
 // (128, 256) or partly used (112, 208, 240), 4 and 8 paths, SDSGM with the edge rule.
@@ -544,6 +560,20 @@ TEST(Lidarsgm_CUDA_Aggregation, packed_layout_bit_exact)
                 cuda_host::aggregateCosts(gl, gr, cuda::GpuMat(c.prior), cuda::GpuMat(c.left), c.p, cuda::GpuMat(),
                                           false, sum, cuda::GpuMat(), sms);
                 expectSameAsCpu(c.sum, sum, c.name + format(", as on %d SMs", sms));
+            }
+            // The same over the disparity windows (margin 4): the packed layout masks the full range to them.
+            PipelineParams p = c.p;
+            p.searchWindow = 4;
+            Mat windows, wsum;
+            searchWindows(c.prior, c.left, c.right, p, windows);
+            WinnerMaps winners;
+            aggregateCosts(aggregationInputs(c.censusL, c.censusR, c.prior, c.left, Mat(), windows), p, winners, wsum);
+            for (int sms : { 1, 1000000 })
+            {
+                cuda::GpuMat sum;
+                cuda_host::aggregateCosts(gl, gr, cuda::GpuMat(c.prior), cuda::GpuMat(c.left), p, cuda::GpuMat(),
+                                          false, sum, cuda::GpuMat(windows), sms);
+                expectSameWindowSums(wsum, sum, windows, D, c.name + format(", windows, as on %d SMs", sms));
             }
         }
 }
@@ -576,22 +606,16 @@ TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
             aggregateCosts(aggregationInputs(c.censusL, c.censusR, c.prior, c.left, c.own16, windows), p, winners, sum);
             cuda::GpuMat gl, gr, gsum;
             cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), p, gl, gr);
-            cuda_host::aggregateCosts(gl, gr, c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior),
-                                      cuda::GpuMat(c.left), p, c.own16.empty() ? cuda::GpuMat() : cuda::GpuMat(c.own16),
-                                      c.scan, gsum, gw);
-            // The GPU leaves the sums outside the windows unwritten, the CPU's finalSum holds its sentinel there.
-            Mat s;
-            gsum.download(s);
-            const int D = p.numDisparities;
-            for (int y = 0; y < s.rows; y++)
-                for (int x = 0; x < c.left.cols; x++)
-                {
-                    const Vec2s w = windows.at<Vec2s>(y / WINDOW_TILE, x / WINDOW_TILE);
-                    for (int k = 0; k < D; k++)
-                        if (k < w[0] || k >= w[1])
-                            s.at<ushort>(y, x * D + k) = 0xFFFF;
-                }
-            ASSERT_EQ(0, cvtest::norm(sum, s, NORM_INF)) << what << " (sums within the windows)";
+            // Both path kernels: the windows' own (the device's multiprocessors) and the packed layout's masked full
+            // range (as on 1 SM, where the range allows it).
+            for (int sms : { 1, 0 })
+            {
+                cuda_host::aggregateCosts(gl, gr, c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior),
+                                          cuda::GpuMat(c.left), p,
+                                          c.own16.empty() ? cuda::GpuMat() : cuda::GpuMat(c.own16), c.scan, gsum, gw,
+                                          sms);
+                expectSameWindowSums(sum, gsum, windows, p.numDisparities, what + format(", as on %d SMs", sms));
+            }
             cuda::GpuMat g16, gInt, gRight, gNonUnique;
             cuda_host::winnerTakesAll(gsum, c.left.cols, p, g16, gInt, gRight, gNonUnique, gw);
             expectSameAsCpu(winners.disp16, g16, what + " (disp16)");
