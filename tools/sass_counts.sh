@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# SASS instruction counts that doc/perf.md and doc/design.md quote (no GPU needed): what one packed minimum or add
+# costs for sm_87 (Jetson Orin) and sm_90 (H100, H200), and the main loop of the packed path kernel
+# (pathKernel<8, 8, ...>: two steps of four lines, KITTI's 128 disparities with DDC and the edge rule) for both.
+# Needs nvcc and cuobjdump (the CUDA toolkit's, or PyPI's nvidia-cuda-cuobjdump: CUOBJDUMP=path/to/cuobjdump), and the
+# README's CUDA build (its include directories for src_cuda/aggregation.cu).
+#   tools/sass_counts.sh [cache dir, default ~/.cache/lidarsgm]
+set -eo pipefail
+cd "$(dirname "$0")/.."
+CACHE=${1:-${LIDARSGM_CACHE_DIR:-$HOME/.cache/lidarsgm}}
+CUOBJDUMP=${CUOBJDUMP:-$(command -v cuobjdump || true)}
+[ -x "$CUOBJDUMP" ] || { echo "no cuobjdump: set CUOBJDUMP (pip install nvidia-cuda-cuobjdump ships one)"; exit 2; }
+RULES=$(ls "$CACHE"/build-cuda90/modules/lidarsgm/CMakeFiles/cuda_compile_*.dir/__/__/src_cuda/*generated_aggregation.cu.o.Release.cmake 2>/dev/null | head -1)
+[ -f "$RULES" ] || { echo "no CUDA build in $CACHE/build-cuda90 (run the README's build first)"; exit 2; }
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+# One operation on loaded words, stored: its count minus the XOR baseline's is what the operation takes.
+for op in base __vminu2 __vminu4 __vaddus4 __vadd4 __vsub4; do
+  e="a[1] ^ a[2]"; [ $op = base ] || e="$op(a[1], a[2])"
+  echo "__global__ void k(unsigned* a) { a[0] = $e; }" > "$tmp/$op.cu"
+done
+count() { "$CUOBJDUMP" -sass "$1" | grep -E '^\s+/\*[0-9a-f]{4}\*/' | grep -vc -E 'NOP|BRA 0x' || true; }
+printf "%-10s %6s %6s   (SASS instructions of one operation)\n" op sm_87 sm_90
+for arch in 87 90; do
+  for op in base __vminu2 __vminu4 __vaddus4 __vadd4 __vsub4; do
+    nvcc -cubin -arch=sm_$arch -o "$tmp/$op.$arch.cubin" "$tmp/$op.cu"
+  done
+done
+for op in __vminu2 __vminu4 __vaddus4 __vadd4 __vsub4; do
+  printf "%-10s %6d %6d\n" $op $(( $(count "$tmp/$op.87.cubin") - $(count "$tmp/base.87.cubin") + 1 )) \
+    $(( $(count "$tmp/$op.90.cubin") - $(count "$tmp/base.90.cubin") + 1 ))
+done
+# The path kernel as the build compiles it, for each architecture.
+inc=$(sed -n 's/^set(CUDA_NVCC_INCLUDE_DIRS \[==\[\(.*\)\]==\]).*/\1/p' "$RULES" | tr ';' '\n' | sed 's/^/-I/' | tr '\n' ' ')
+for arch in 87 90; do
+  nvcc -cubin -arch=sm_$arch --std=c++17 -D_FORCE_INLINES $inc -Isrc -Isrc_cuda -o "$tmp/agg.$arch.cubin" \
+    src_cuda/aggregation.cu
+  "$CUOBJDUMP" -sass "$tmp/agg.$arch.cubin" > "$tmp/agg.$arch.sass"
+  python3 - "$tmp/agg.$arch.sass" $arch <<'EOF'
+import re, sys
+text = open(sys.argv[1]).read()
+for f in re.split(r'\n\s*Function : ', text)[1:]:
+    name = f.split('\n', 1)[0]
+    if 'pathKernelILi8ELi8ELi2ELb1ELb1ELb1ELb0E' not in name:
+        continue
+    ins = re.findall(r'/\*([0-9a-f]{4,})\*/\s+([^;]*);', f)
+    loop = 0   # the longest backward branch: the step loop (unrolled twice)
+    for addr, t in ins:
+        m = re.search(r'BRA\s+(?:\S+\s+)?0x([0-9a-f]+)', t)
+        if m and 'DIV' not in t and int(m.group(1), 16) < int(addr, 16):
+            loop = max(loop, (int(addr, 16) - int(m.group(1), 16)) // 16 + 1)
+    print(f"sm_{sys.argv[2]}: pathKernel<8, 8> (128 disparities, DDC, edge rule): {len(ins)} SASS instructions, "
+          f"step loop (two steps of four lines) {loop}")
+EOF
+done
