@@ -185,25 +185,14 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     auto step = [&](int s, auto loadNext) {
         // matchingCost (pipeline.hpp) in pairs: the census term, and the DDC term of the pair from the table (0
         // without a prior), added with the minimum's subtraction: add[i] = ddc - minPrev.
-        // With windows, the groups in the pixel's window (its ends are multiples of 16, a group's 2 G disparities lie
-        // in it or out of it), and those in no window of the warp's lines, which it skips (a warp-uniform branch).
-        const int lo = (int)(win & 0xFFFFu), hi = (int)(win >> 16);
-        bool inWin[NG], some[NG];
-#pragma unroll
-        for (int g = 0; g < NG; g++)
-        {
-            inWin[g] = !WIN || (unsigned)(2 * (LW * G * g + G * lane) - lo) < (unsigned)(hi - lo);
-            some[g] = !WIN || __any_sync(0xFFFFFFFFu, inWin[g]);
-        }
         unsigned T[PPT], add[PPT];
 #pragma unroll
         for (int i = 0; i < PPT; i++)
-            if (some[i / G])
-            {
-                const unsigned h = __byte_perm(popcount32(l ^ r[2 * i]), popcount32(l ^ r[2 * i + 1]), 0x5410);
-                T[i] = censusTermPair(h, wk.c256lo, wk.c256hi);
-                add[i] = 0u - mp2;
-            }
+        {
+            const unsigned h = __byte_perm(popcount32(l ^ r[2 * i]), popcount32(l ^ r[2 * i + 1]), 0x5410);
+            T[i] = censusTermPair(h, wk.c256lo, wk.c256hi);
+            add[i] = 0u - mp2;
+        }
         if (DDC)
         {
             const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
@@ -212,8 +201,6 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
 #pragma unroll
             for (int g = 0; g < NG; g++)
             {
-                if (!some[g])
-                    continue;
                 const unsigned u = ::min(a - (unsigned)(LW * G * g + G * lane), (unsigned)(G + 1));
                 if (G == 2)
                 {
@@ -231,6 +218,7 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
         fPrev = f;
         // The sums of this pixel's pairs: with windows pair e / 2 of the compact volume's (windowPairOffset) at
         // S[e / 2 - lo / 2 - G t].
+        const int lo = (int)(win & 0xFFFFu), hi = (int)(win >> 16);
         unsigned* const S = WIN ? (unsigned*)sum.data + windowPairOffset(winBase, px, py, lo, hi) + G * lane - (lo >> 1)
                                 : (unsigned*)(oS + wideMul(idx, ad.stepS));
         if (decltype(loadNext)::value)
@@ -266,8 +254,14 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
             const unsigned lm = __byte_perm(j > 0 ? P[i - 1] : below, P[i], 0x5432);
             const unsigned lp = __byte_perm(P[i], j < G - 1 ? P[i + 1] : above, 0x5432);
             const unsigned best = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + wk.p1x2);
-            Pn[i] = some[g] ? T[i] + best + add[i] : BIG16X2;
+            Pn[i] = T[i] + best + add[i];
         }
+        // With windows, the groups in the pixel's window (its ends are multiples of 16, a group's 2 G disparities lie
+        // in it or out of it).
+        bool inWin[NG];
+#pragma unroll
+        for (int g = 0; g < NG; g++)
+            inWin[g] = !WIN || (unsigned)(2 * (LW * G * g + G * lane) - lo) < (unsigned)(hi - lo);
 #pragma unroll
         for (int i = 0; i < PPT; i++)
             P[i] = inWin[i / G] ? Pn[i] : BIG16X2;
