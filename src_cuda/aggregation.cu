@@ -718,11 +718,9 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
         if (lines >= PACKED_LINES_PER_SM * sms)
         {
             if (windows.tiles.data)
-                return D == 128 ? runPaths<4, 16, true>(censusL, censusR, facts, p, ddc, sum, stream, windows)
-                     : D <= 128 ? runPaths<8, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows)
+                return D <= 128 ? runPaths<8, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows)
                                 : runPaths<16, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows);
-            return D == 128 ? runPaths<4, 16>(censusL, censusR, facts, p, ddc, sum, stream)
-                 : D <= 128 ? runPaths<8, 8>(censusL, censusR, facts, p, ddc, sum, stream)
+            return D <= 128 ? runPaths<8, 8>(censusL, censusR, facts, p, ddc, sum, stream)
                             : runPaths<16, 8>(censusL, censusR, facts, p, ddc, sum, stream);
         }
     }
