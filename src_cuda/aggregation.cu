@@ -711,7 +711,13 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
     // reaches the last of their four groups: 112 or 128 disparities, 208 to 256), over the full range with the
     // windows as a mask; else one line a warp, and the windows' own kernel.
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
-    const int lines = 2 * (W + H) + (p.numPaths == 8 ? 4 * (W + H - 1) : 0);
+    int lines = 0;   // the call's path lines, every direction's
+    for (int dir = 0; dir < p.numPaths; dir++)
+    {
+        int dx, dy;
+        pathDirection(dir, dx, dy);
+        lines += lineCount(dx, dy, W, H);
+    }
     if ((D > 96 && D <= 128) || (D > 192 && D <= 256))
     {
         const int sms = in.smCount > 0 ? in.smCount : streamSmCount(stream);

@@ -66,32 +66,38 @@ __device__ __forceinline__ unsigned censusTermPair(unsigned h, unsigned lo, unsi
     return h * hi + __byte_perm(h * lo + 0x00800080u, 0, 0x4341);
 }
 
-/* Line `line` of direction (dx, dy): its first pixel. Horizontal lines are rows, vertical lines columns; diagonal
- lines start on the row the direction enters from (W lines), then on the column it enters from (H - 1 lines). */
-__device__ __forceinline__ bool lineStart(int line, int dx, int dy, int W, int H, int& x, int& y)
+//! The lines of direction (dx, dy) in a W x H image: its rows, its columns, or W + H - 1 diagonals.
+__host__ __device__ __forceinline__ int lineCount(int dx, int dy, int W, int H)
+{
+    return dy == 0 ? H : dx == 0 ? W : W + H - 1;
+}
+
+/* Line `line` (< lineCount) of direction (dx, dy): its first pixel. Horizontal lines are rows, vertical lines columns;
+ diagonal lines start on the row the direction enters from (W lines), then on the column it enters from (H - 1
+ lines). */
+__device__ __forceinline__ void lineStart(int line, int dx, int dy, int W, int H, int& x, int& y)
 {
     if (dy == 0)
     {
-        if (line >= H) return false;
         y = line; x = dx > 0 ? 0 : W - 1;
     }
     else if (dx == 0)
     {
-        if (line >= W) return false;
+        x = line; y = dy > 0 ? 0 : H - 1;
+    }
+    else if (line < W)
+    {
         x = line; y = dy > 0 ? 0 : H - 1;
     }
     else
     {
-        if (line >= W + H - 1) return false;
-        if (line < W) { x = line; y = dy > 0 ? 0 : H - 1; }
-        else { x = dx > 0 ? 0 : W - 1; y = dy > 0 ? line - W + 1 : H - 1 - (line - W + 1); }
+        x = dx > 0 ? 0 : W - 1; y = dy > 0 ? line - W + 1 : H - 1 - (line - W + 1);
     }
-    return true;
 }
 
 /* Direction dir (0..7) of the path kernels: (1,0) (-1,0) (0,1) (0,-1) (1,1) (-1,1) (1,-1) (-1,-1); computed, not a
  table (a table indexed by blockIdx would live in local memory). */
-__device__ __forceinline__ void pathDirection(int dir, int& dx, int& dy)
+__host__ __device__ __forceinline__ void pathDirection(int dir, int& dx, int& dy)
 {
     dx = dir < 2 ? 1 - 2 * dir : dir < 4 ? 0 : 1 - 2 * (dir & 1);
     dy = dir < 2 ? 0 : dir < 4 ? 5 - 2 * dir : dir < 6 ? 1 : -1;
@@ -132,7 +138,7 @@ __device__ __forceinline__ bool warpLine(int linesPerBlock, int lineInBlock, boo
         lineBlock = (int)blockIdx.x;
     }
     pathDirection(dir, dx, dy);
-    const int line = lineBlock * linesPerBlock + lineInBlock, lines = dy == 0 ? H : dx == 0 ? W : W + H - 1;
+    const int line = lineBlock * linesPerBlock + lineInBlock, lines = lineCount(dx, dy, W, H);
     if (line >= lines && !clampToLast)
         return false;
     lineStart(::min(line, lines - 1), dx, dy, W, H, x, y);
