@@ -80,6 +80,20 @@ __device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
     return (size_t)r;
 }
 
+/* The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u in [0, G + 1], for one shared-memory load per
+ group and step. A row takes 1 << FACT_ROW_SHIFT bytes, so that the facts' row bits are its offset. Ends with the
+ block's barrier (before any thread of the block leaves). */
+const int DDC_ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4, DDC_TABLE_WORDS = FACT_ROWS * DDC_ROW_WORDS;
+template <int G> __device__ __forceinline__ void fillDdcTable(unsigned* table, const PipelineParams& p)
+{
+    for (int i = threadIdx.x; i < FACT_ROWS * (G + 2) * G; i += blockDim.x)
+    {
+        const int row = i / ((G + 2) * G), u = i / G % (G + 2), j = i % G;
+        table[row * DDC_ROW_WORDS + u * G + j] = ddcPairTerm(row, u, j, p.w, p.wCopy);
+    }
+    __syncthreads();
+}
+
 /* LW lanes walk one line (warpLine), 32 / LW lines a warp, adding their path costs into the zeroed sum volume with
  64-bit (or 32-bit) reductions on packed 16-bit costs: exact, since each 16-bit half stays below 65536 (the weights are
  scaled for that), so no carry crosses into the other half. Fewer lanes a line give each lane more disparities, so
@@ -96,19 +110,9 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
            PtrStepSz<ushort> sum, WindowMap windows)
 {
     static_assert(LW >= 4 && LW <= 32 && (LW & (LW - 1)) == 0, "a line takes 4, 8, 16 or 32 lanes");
-    // The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u: one load per group and step. A row
-    // takes 1 << FACT_ROW_SHIFT bytes, so that the facts' row bits are its offset.
-    const int ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4;
-    __shared__ __align__(8) unsigned ddcTable[DDC ? FACT_ROWS * ROW_WORDS : 1];
+    __shared__ __align__(8) unsigned ddcTable[DDC ? DDC_TABLE_WORDS : 1];
     if (DDC)
-    {
-        for (int i = threadIdx.x; i < FACT_ROWS * (G + 2) * G; i += blockDim.x)
-        {
-            const int row = i / ((G + 2) * G), u = i / G % (G + 2), j = i % G;
-            ddcTable[row * ROW_WORDS + u * G + j] = ddcPairTerm(row, u, j, p.w, p.wCopy);
-        }
-        __syncthreads();
-    }
+        fillDdcTable<G>(ddcTable, p);
     const int lane = threadIdx.x & (LW - 1);   // within the line
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities, minD = p.minDisparity;
     int dir, dx, dy, x, y, n;
@@ -590,20 +594,265 @@ __global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
 windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
                  PipelineParams p, unsigned* volume)
 {
-    const int ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4;
-    __shared__ __align__(8) unsigned ddcTable[DDC ? FACT_ROWS * ROW_WORDS : 1];
+    __shared__ __align__(8) unsigned ddcTable[DDC ? DDC_TABLE_WORDS : 1];
     if (DDC)
-    {
-        // Groups of one pair: u in [0, 2] (ddcPairTerm).
-        for (int i = threadIdx.x; i < FACT_ROWS * 3; i += blockDim.x)
-            ddcTable[i / 3 * ROW_WORDS + i % 3] = ddcPairTerm(i / 3, i % 3, 0, p.w, p.wCopy);
-        __syncthreads();
-    }
+        fillDdcTable<1>(ddcTable, p);   // groups of one pair
     WindowWalk<NC, DDC, EDGES> walk;
     walk.ddcTable = ddcTable;
     walk.windows = windows;
     walk.volume = volume;
     if (walk.begin(censusL, censusR, facts, p.numDisparities, p.minDisparity, p.w))
+        walk.walk();
+}
+
+/* The packed layout over the disparity windows, up to 128 disparities (where each multiprocessor has many lines: the
+ full range's packed layout, pathKernel, computes every cell and masks it): LW = 8 lanes walk a line, four lines a
+ warp, whose pixels lie side by side (warpLine), so that they cross the same tiles at the same steps or nearly. The
+ warp's layout covers the union of its live lines' windows, [base, base + 16 K): lane t holds in row k the pair of
+ disparities base + 16 k + 2 t and its successor, so that a window's ends (multiples of 16) fall between rows and a
+ new base moves whole registers (moveLayout), with no shuffle but the two edge pairs'. Each line keeps the rows of its
+ own window (ownRows) and the sentinel BIG16 in the others, as the CPU's window-only recursion leaves them. A segment
+ is a run of steps in which no live line changes tile (startSegment): the union, the rows, each line's sums' address
+ and step are set when it starts, and its steps run code for its K rows (run<K>), which computes no row past the
+ union and tests no flag. */
+template <bool DDC, bool EDGES>
+struct PackedWindowWalk
+{
+    enum { LW = 8, NR = 8 };   // lanes a line; the range's rows of 16 disparities at most
+    const unsigned* ddcTable;
+    WindowMap windows;
+    unsigned* volume;
+    int lane, dx, dy, x, y, n, nLive;   // nLive: n, 0 for the lanes past the direction's last line
+    LineAddressing ad;
+    const char *oL, *oR, *oF;
+    int idx;   // of the pixel whose values are loaded
+    unsigned edgeMask;
+    PairWeights wk;
+    // The loaded pixel's census strings and facts; the previous pixel's facts.
+    unsigned l, f, fPrev, r[2 * NR];
+    // Path costs, two per register as pathKernel's, in the layout's rows; mp2: the previous pixel's minimum.
+    unsigned P[NR], mp2;
+    int base, rows;       // the layout: [base, base + 16 rows)
+    unsigned ownRows;     // bit k: row k lies in this line's window (none past its end)
+    unsigned* sums;       // lane t's pair of row 0 for the current pixel, in its window's compact layout
+    int sumStep;
+    // The pairs just below and above the layout that the registers do not hold (set where it moves, for one step).
+    unsigned belowEdge, aboveEdge;
+
+    //! The warp's lines; false where the warp has none.
+    __device__ __forceinline__ bool begin(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts,
+                                          const PipelineParams& p)
+    {
+        lane = threadIdx.x & (LW - 1);
+        const int W = censusL.cols, H = censusL.rows;
+        int dir;
+        const bool hasLine = warpLine(WARPS_PER_BLOCK * 32 / LW, (int)threadIdx.x / LW, p.numPaths == 8, W, H, dir, dx,
+                                      dy, x, y, n, true);
+        if (!__any_sync(0xFFFFFFFFu, hasLine))
+            return false;
+        nLive = hasLine ? n : 0;
+        ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, 0, p.numDisparities);
+        oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
+        oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - p.minDisparity - 2 * lane);
+        oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
+        idx = ad.idx;
+        edgeMask = edgeMaskOf(dir);
+        wk = pairWeights(p.w);
+        f = fPrev = 0;
+        // Zero costs and minimum before the first pixel give its matching costs, whatever the layout.
+#pragma unroll
+        for (int k = 0; k < NR; k++)
+            P[k] = 0;
+        mp2 = 0;
+        base = 0;
+        rows = NR;
+        belowEdge = aboveEdge = BIG16X2;
+        return true;
+    }
+
+    //! Where the line leaves the tile of pixel s (< n), as WindowWalk's.
+    __device__ __forceinline__ int segmentEnd(int s) const
+    {
+        const unsigned cx = x + s * dx, cy = y + s * dy;
+        int len = n - s;
+        if (dx != 0)
+            len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
+        if (dy != 0)
+            len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
+        return s + len;
+    }
+
+    //! The census strings and facts of pixel idx in the layout's first K rows.
+    template <int K> __device__ __forceinline__ void load()
+    {
+        l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
+        if (DDC || EDGES)
+            f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
+        const int* pR = (const int*)(oR + wideMul(idx, ad.stepR)) - base;
+#pragma unroll
+        for (int k = 0; k < K; k++)
+        {
+            r[2 * k] = (unsigned)pR[-16 * k];
+            r[2 * k + 1] = (unsigned)pR[-16 * k - 1];
+        }
+    }
+
+    /* The previous pixel's costs to the layout [newBase, newBase + 16 newRows): row k takes the old row k + delta
+     (BIG16 past the old layout, whose rows hold every cost the previous pixel has), and the old pairs just below and
+     above the new layout become its edges (lane LW - 1 of the row below, lane 0 of the row above). */
+    __device__ __forceinline__ void moveLayout(int newBase, int newRows)
+    {
+        const int delta = (newBase - base) / 16;
+        // Old row j, selected by compares (an index into P would put it in local memory).
+        const auto oldRow = [&](int j) {
+            unsigned v = BIG16X2;
+#pragma unroll
+            for (int k = 0; k < NR; k++)
+                v = j == k && k < rows ? P[k] : v;
+            return v;
+        };
+        belowEdge = __shfl_sync(0xFFFFFFFFu, oldRow(delta - 1), LW - 1, LW);
+        aboveEdge = __shfl_sync(0xFFFFFFFFu, oldRow(delta + newRows), 0, LW);
+        unsigned R[NR];
+#pragma unroll
+        for (int k = 0; k < NR; k++)
+            R[k] = oldRow(k + delta);
+#pragma unroll
+        for (int k = 0; k < NR; k++)
+            P[k] = R[k];
+        base = newBase;
+        rows = newRows;
+    }
+
+    /* The segment that starts at step s (warp-uniform): it ends where the first live line leaves its tile; its layout
+     is the union of the live lines' windows there. Returns the segment's end and sets the layout, the line's rows and
+     its sums' address and step. */
+    __device__ __forceinline__ int startSegment(int s)
+    {
+        const bool live = s < nLive;
+        const int sc = ::min(s, n - 1), px = x + sc * dx, py = y + sc * dy;
+        const int tx = (int)((unsigned)px / WINDOW_TILE), ty = (int)((unsigned)py / WINDOW_TILE);
+        const unsigned w = (unsigned)windows.tiles(ty, tx);
+        const int lo = (int)(w & 0xFFFFu), hi = (int)(w >> 16);
+        const int end = __reduce_min_sync(0xFFFFFFFFu, live ? segmentEnd(s) : INT_MAX);
+        const int ulo = __reduce_min_sync(0xFFFFFFFFu, live ? lo : INT_MAX);
+        const int uhi = __reduce_max_sync(0xFFFFFFFFu, live ? hi : 0);
+        if (ulo != base || uhi - ulo != 16 * rows)
+            moveLayout(ulo, (uhi - ulo) / 16);
+        ownRows = live ? (1u << (hi - base) / 16) - (1u << (lo - base) / 16) : 0u;
+        sums = volume + windowPairOffset(windows.base(tx, ty), px, py, lo, hi) + (base - lo) / 2 + lane;
+        sumStep = (dy * WINDOW_TILE + dx) * ((hi - lo) >> 1);
+        return end;
+    }
+
+    /* Step s in a segment of K rows, then the next pixel's values are loaded for the same layout where NEXT (all but
+     the segment's last step). */
+    template <int K, bool NEXT> __device__ __forceinline__ void step(int s)
+    {
+        // matchingCost in pairs: the census term, and the DDC term from the table (u: the pair's index from the one
+        // that holds k - 1, plus one, clamped to 2), added with the minimum's subtraction.
+        unsigned T[K], add[K];
+        const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
+        const unsigned* row = (const unsigned*)((const char*)ddcTable +
+                                                (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
+#pragma unroll
+        for (int k = 0; k < K; k++)
+        {
+            const unsigned h = __byte_perm(popcount32(l ^ r[2 * k]), popcount32(l ^ r[2 * k + 1]), 0x5410);
+            T[k] = censusTermPair(h, wk.c256lo, wk.c256hi);
+            add[k] = DDC ? row[::min(a - (unsigned)((base >> 1) + LW * k + lane), 2u)] - mp2 : 0u - mp2;
+        }
+        unsigned jump = mp2 + wk.p2x2;
+        if (EDGES)
+            jump = mp2 + ((f | fPrev << 16) & edgeMask ? wk.p2Edgex2 : wk.p2x2);
+        fPrev = f;
+        unsigned* const S = sums;
+        sums += sumStep;
+        idx += s + 1 < n ? ad.dIdx : 0;   // a line shorter than the warp's longest stays on its last pixel
+        if (NEXT)
+            load<K>();
+        // Neighbour pairs across lanes by shuffles that rotate the line's lanes: lane 0 takes lane LW - 1's pair of
+        // the row below, lane LW - 1 lane 0's of the row above.
+        unsigned up[K], down[K];
+#pragma unroll
+        for (int k = 0; k < K; k++)
+        {
+            up[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + LW - 1) & (LW - 1), LW);
+            down[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + 1) & (LW - 1), LW);
+        }
+        unsigned m = BIG16X2;
+#pragma unroll
+        for (int k = 0; k < K; k++)
+        {
+            const unsigned below = lane > 0 ? up[k] : k > 0 ? up[k - 1] : belowEdge;
+            const unsigned above = lane < LW - 1 ? down[k] : k + 1 < K ? down[k + 1] : aboveEdge;
+            const unsigned lm = __byte_perm(below, P[k], 0x5432);
+            const unsigned lp = __byte_perm(P[k], above, 0x5432);
+            const unsigned best = vmin2(vmin2(P[k], jump), vmin2(lm, lp) + wk.p1x2);
+            P[k] = ownRows >> k & 1u ? T[k] + best + add[k] : BIG16X2;
+            m = vmin2(m, P[k]);
+        }
+        // The line's minimum in both halves: over the pairs, then its lanes.
+        m = vmin2(m, __byte_perm(m, 0, 0x1032));
+#pragma unroll
+        for (int o = LW / 2; o > 0; o >>= 1)
+            m = ::min(m, __shfl_xor_sync(0xFFFFFFFFu, m, o));
+        mp2 = m;
+        if (s < nLive)
+        {
+#pragma unroll
+            for (int k = 0; k < K; k++)
+                if (ownRows >> k & 1u)
+                    atomicAdd(S + LW * k, P[k]);
+        }
+        belowEdge = aboveEdge = BIG16X2;
+    }
+
+    //! The steps of a segment [s, end) in K rows; the first pixel's values loaded for the segment's layout.
+    template <int K> __device__ __forceinline__ void run(int& s, int end)
+    {
+        load<K>();
+        for (; s + 1 < end; s++)
+            step<K, true>(s);
+        step<K, false>(s++);
+    }
+
+    //! The warp's lines, segment by segment, to the longest's end.
+    __device__ __forceinline__ void walk()
+    {
+        const int steps = __reduce_max_sync(0xFFFFFFFFu, nLive);
+        for (int s = 0; s < steps;)
+        {
+            const int end = startSegment(s);
+            switch (rows)
+            {
+            case 1: run<1>(s, end); break;
+            case 2: run<2>(s, end); break;
+            case 3: run<3>(s, end); break;
+            case 4: run<4>(s, end); break;
+            case 5: run<5>(s, end); break;
+            case 6: run<6>(s, end); break;
+            case 7: run<7>(s, end); break;
+            default: run<8>(s, end); break;
+            }
+        }
+    }
+};
+
+//! The packed path kernel over the disparity windows (PackedWindowWalk), up to 128 disparities.
+template <bool DDC, bool EDGES>
+__global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
+packedWindowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
+                       PipelineParams p, unsigned* volume)
+{
+    __shared__ __align__(8) unsigned ddcTable[DDC ? DDC_TABLE_WORDS : 1];
+    if (DDC)
+        fillDdcTable<1>(ddcTable, p);
+    PackedWindowWalk<DDC, EDGES> walk;
+    walk.ddcTable = ddcTable;
+    walk.windows = windows;
+    walk.volume = volume;
+    if (walk.begin(censusL, censusR, facts, p))
         walk.walk();
 }
 
@@ -668,6 +917,21 @@ __global__ void zeroWindowsKernel(WindowMap windows, int W, unsigned* volume)
         row[i] = make_uint4(0, 0, 0, 0);
 }
 
+//! The packed layout's path kernel over the windows (up to 128 disparities): grid and block as runPaths' for LW = 8.
+void runPackedWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
+                          const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
+{
+    const int W = censusL.cols, H = censusL.rows;
+    const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
+    const int lineBlocks = cv::cudev::divUp(maxLines, WARPS_PER_BLOCK * 32 / PackedWindowWalk<false, false>::LW);
+    const dim3 grid = p.numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, p.numPaths);
+    const bool edges = p.edgeThreshold > 0;
+    auto kernel = ddc ? (edges ? packedWindowPathKernel<true, true> : packedWindowPathKernel<true, false>)
+                      : (edges ? packedWindowPathKernel<false, true> : packedWindowPathKernel<false, false>);
+    kernel<<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, facts, windows, p, (unsigned*)sum.data);
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
+}
+
 //! The windows' path kernel for NC groups of 64 disparities (the whole range's count).
 template <int NC>
 void runWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
@@ -708,8 +972,9 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
     // Where each multiprocessor has many lines to walk, 8 or 16 lanes a line with eight pairs each (the range then
-    // reaches the last of their four groups: 112 or 128 disparities, 208 to 256), over the full range with the
-    // windows as a mask; else one line a warp, and the windows' own kernel.
+    // reaches the last of their four groups: 112 or 128 disparities, 208 to 256); with windows, up to 128 disparities
+    // over the union of a warp's windows (PackedWindowWalk), above over the full range with the windows as a mask.
+    // Else one line a warp, and the windows' own kernel.
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
     int lines = 0;   // the call's path lines, every direction's
     for (int dir = 0; dir < p.numPaths; dir++)
@@ -724,7 +989,7 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
         if (lines >= PACKED_LINES_PER_SM * sms)
         {
             if (windows.tiles.data)
-                return D <= 128 ? runPaths<8, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows)
+                return D <= 128 ? runPackedWindowPaths(censusL, censusR, facts, windows, p, ddc, sum, stream)
                                 : runPaths<16, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows);
             return D <= 128 ? runPaths<8, 8>(censusL, censusR, facts, p, ddc, sum, stream)
                             : runPaths<16, 8>(censusL, censusR, facts, p, ddc, sum, stream);

@@ -543,17 +543,17 @@ TEST(Lidarsgm_CUDA_Aggregation, packed_layout_bit_exact)
     requireCudaDevice();
     RNG rng(99);
     Mat l, r, s;
-    randomInputs(Size(271, 23), rng, l, r, s);
+    randomInputs(Size(271, 71), rng, l, r, s);   // 9 x 3 tiles of windows
     for (int D : { 112, 128, 208, 240, 256 })
         for (int paths : { 4, 8 })
         {
             Ptr<cv::lidarsgm::StereoLidarSGM> m = cv::lidarsgm::StereoLidarSGM::create(0, D);
             m->setNumPaths(paths);
             m->setEdgeThreshold(24);
-            const StageCase c = runCpuStages(format("random 271x23, %d disparities, %d paths", D, paths), l, r, s, m);
+            const StageCase c = runCpuStages(format("random 271x71, %d disparities, %d paths", D, paths), l, r, s, m);
             cuda::GpuMat gl, gr;
             cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), c.p, gl, gr);
-            // 1 multiprocessor: the packed layout (271 x 23 has 588 lines with 4 paths); 10^6: one line a warp.
+            // 1 multiprocessor: the packed layout (271 x 71 has 684 lines with 4 paths); 10^6: one line a warp.
             for (int sms : { 1, 1000000 })
             {
                 cuda::GpuMat sum;
@@ -561,7 +561,8 @@ TEST(Lidarsgm_CUDA_Aggregation, packed_layout_bit_exact)
                                           false, sum, cuda::GpuMat(), sms);
                 expectSameAsCpu(c.sum, sum, c.name + format(", as on %d SMs", sms));
             }
-            // The same over the disparity windows (margin 4): the packed layout masks the full range to them.
+            // The same over the disparity windows (margin 4): up to 128 disparities the packed layout walks the
+            // union of a warp's windows, above it masks the full range to them.
             PipelineParams p = c.p;
             p.searchWindow = 4;
             Mat windows, wsum;
@@ -606,8 +607,8 @@ TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
             aggregateCosts(aggregationInputs(c.censusL, c.censusR, c.prior, c.left, c.own16, windows), p, winners, sum);
             cuda::GpuMat gl, gr, gsum;
             cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), p, gl, gr);
-            // Both path kernels: the windows' own (the device's multiprocessors) and the packed layout's masked full
-            // range (as on 1 SM, where the range allows it).
+            // Both layouts: one line a warp (the device's multiprocessors) and the packed layout (as on 1 SM, where
+            // the range allows it).
             for (int sms : { 1, 0 })
             {
                 cuda_host::aggregateCosts(gl, gr, c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior),
