@@ -34,6 +34,9 @@ has few lines. Measured on the H200 (doc/perf.md, "a few SMs"), full range: at K
 0.86 x on 8 to 32 SMs, 0.95 x on 64 (152 lines a multiprocessor) and 1.28 x on 132 (73); at 1080p with 256
 disparities (18,000 lines, two a warp) 0.88 x on 16 and 32, 0.92 x on 64 and 1.04 x on 132 (136). */
 const int PACKED_LINES_PER_SM = 150;
+//! Blocks a multiprocessor holds of the packed windows' path kernel: registers capped at 102, so that 20 warps hide
+//! a step's latency.
+const int PACKED_WINDOW_BLOCKS_PER_SM = 5;
 using namespace aggregation;
 
 /* The facts of each pixel (packFacts). May write over prior16 (same size and memory): each thread reads its pixel's
@@ -605,6 +608,14 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
         walk.walk();
 }
 
+/* *a += v where p: a predicated reduction (the compiler puts a branch and a convergence barrier around each atomic in
+ an if). */
+__device__ __forceinline__ void reduceAddIf(bool p, unsigned* a, unsigned v)
+{
+    asm volatile("{\n\t.reg .pred q;\n\tsetp.ne.u32 q, %0, 0;\n\t@q red.global.add.u32 [%1], %2;\n\t}"
+                 :: "r"((unsigned)p), "l"(a), "r"(v) : "memory");
+}
+
 /* The packed layout over the disparity windows, up to 128 disparities (where each multiprocessor has many lines: the
  full range's packed layout, pathKernel, computes every cell and masks it): LW = 8 lanes walk a line, four lines a
  warp, whose pixels lie side by side (warpLine), so that they cross the same tiles at the same steps or nearly. The
@@ -752,7 +763,7 @@ struct PackedWindowWalk
         // matchingCost in pairs: the census term, and the DDC term from the table (u: the pair's index from the one
         // that holds k - 1, plus one, clamped to 2), added with the minimum's subtraction.
         unsigned T[K], add[K];
-        const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
+        const unsigned a = (f & ((1u << FACT_PAIR_BITS) - 1)) - (unsigned)((base >> 1) + lane);   // u of row 0
         const unsigned* row = (const unsigned*)((const char*)ddcTable +
                                                 (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
 #pragma unroll
@@ -760,7 +771,7 @@ struct PackedWindowWalk
         {
             const unsigned h = __byte_perm(popcount32(l ^ r[2 * k]), popcount32(l ^ r[2 * k + 1]), 0x5410);
             T[k] = censusTermPair(h, wk.c256lo, wk.c256hi);
-            add[k] = DDC ? row[::min(a - (unsigned)((base >> 1) + LW * k + lane), 2u)] - mp2 : 0u - mp2;
+            add[k] = DDC ? row[::min(a - (unsigned)(LW * k), 2u)] - mp2 : 0u - mp2;
         }
         unsigned jump = mp2 + wk.p2x2;
         if (EDGES)
@@ -798,13 +809,10 @@ struct PackedWindowWalk
         for (int o = LW / 2; o > 0; o >>= 1)
             m = ::min(m, __shfl_xor_sync(0xFFFFFFFFu, m, o));
         mp2 = m;
-        if (s < nLive)
-        {
+        const unsigned addRows = s < nLive ? ownRows : 0u;
 #pragma unroll
-            for (int k = 0; k < K; k++)
-                if (ownRows >> k & 1u)
-                    atomicAdd(S + LW * k, P[k]);
-        }
+        for (int k = 0; k < K; k++)
+            reduceAddIf(addRows >> k & 1u, S + LW * k, P[k]);
         belowEdge = aboveEdge = BIG16X2;
     }
 
@@ -812,6 +820,7 @@ struct PackedWindowWalk
     template <int K> __device__ __forceinline__ void run(int& s, int end)
     {
         load<K>();
+#pragma unroll 2
         for (; s + 1 < end; s++)
             step<K, true>(s);
         step<K, false>(s++);
@@ -841,7 +850,7 @@ struct PackedWindowWalk
 
 //! The packed path kernel over the disparity windows (PackedWindowWalk), up to 128 disparities.
 template <bool DDC, bool EDGES>
-__global__ void __launch_bounds__(32 * WARPS_PER_BLOCK)
+__global__ void __launch_bounds__(32 * WARPS_PER_BLOCK, PACKED_WINDOW_BLOCKS_PER_SM)
 packedWindowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
                        PipelineParams p, unsigned* volume)
 {
@@ -971,10 +980,8 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
                                                   p.edgeThreshold, facts);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
-    // Where each multiprocessor has many lines to walk, 8 or 16 lanes a line with eight pairs each (the range then
-    // reaches the last of their four groups: 112 or 128 disparities, 208 to 256); with windows, up to 128 disparities
-    // over the union of a warp's windows (PackedWindowWalk), above over the full range with the windows as a mask.
-    // Else one line a warp, and the windows' own kernel.
+    // With windows from 112 to 128 disparities, 8 lanes a line over the union of a warp's windows (PackedWindowWalk)
+    // on any number of multiprocessors: on the whole H200 it beats one line a warp too (doc/perf.md).
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
     int lines = 0;   // the call's path lines, every direction's
     for (int dir = 0; dir < p.numPaths; dir++)
@@ -983,14 +990,18 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
         pathDirection(dir, dx, dy);
         lines += lineCount(dx, dy, W, H);
     }
+    if (windows.tiles.data && D > 96 && D <= 128)
+        return runPackedWindowPaths(censusL, censusR, facts, windows, p, ddc, sum, stream);
+    // Else, where each multiprocessor has many lines to walk, 8 or 16 lanes a line with eight pairs each (the range
+    // then reaches the last of their four groups: 112 or 128 disparities, 208 to 256), with the windows as a mask
+    // of the full range; else one line a warp, and the windows' own kernel.
     if ((D > 96 && D <= 128) || (D > 192 && D <= 256))
     {
         const int sms = in.smCount > 0 ? in.smCount : streamSmCount(stream);
         if (lines >= PACKED_LINES_PER_SM * sms)
         {
             if (windows.tiles.data)
-                return D <= 128 ? runPackedWindowPaths(censusL, censusR, facts, windows, p, ddc, sum, stream)
-                                : runPaths<16, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows);
+                return runPaths<16, 8, true>(censusL, censusR, facts, p, ddc, sum, stream, windows);
             return D <= 128 ? runPaths<8, 8>(censusL, censusR, facts, p, ddc, sum, stream)
                             : runPaths<16, 8>(censusL, censusR, facts, p, ddc, sum, stream);
         }

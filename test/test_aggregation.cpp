@@ -562,7 +562,7 @@ TEST(Lidarsgm_CUDA_Aggregation, packed_layout_bit_exact)
                 expectSameAsCpu(c.sum, sum, c.name + format(", as on %d SMs", sms));
             }
             // The same over the disparity windows (margin 4): up to 128 disparities the packed layout walks the
-            // union of a warp's windows, above it masks the full range to them.
+            // union of a warp's windows on any number of SMs; above, on 1 SM, it masks the full range to them.
             PipelineParams p = c.p;
             p.searchWindow = 4;
             Mat windows, wsum;
