@@ -34,8 +34,8 @@ has few lines. Measured on the H200 (doc/perf.md, "a few SMs"), full range: at K
 0.86 x on 8 to 32 SMs, 0.95 x on 64 (152 lines a multiprocessor) and 1.28 x on 132 (73); at 1080p with 256
 disparities (18,000 lines, two a warp) 0.88 x on 16 and 32, 0.92 x on 64 and 1.04 x on 132 (136). */
 const int PACKED_LINES_PER_SM = 150;
-//! Blocks a multiprocessor holds of the packed windows' path kernel: registers capped at 102, so that 20 warps hide
-//! a step's latency.
+//! Blocks a multiprocessor holds of the packed windows' path kernel: at most 102 registers a thread (96 as nvcc 13.0
+//! compiles it, with no stack), so that 20 warps hide a step's latency.
 const int PACKED_WINDOW_BLOCKS_PER_SM = 5;
 using namespace aggregation;
 
@@ -321,6 +321,19 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
     step(steps - 1, std::false_type());
 }
 
+/* The step after the last pixel in the window tile of pixel s (< n) of the line from (x, y) in direction (dx, dy), n
+ pixels long: where the line leaves that tile, or n. */
+__device__ __forceinline__ int tileSegmentEnd(int x, int y, int dx, int dy, int n, int s)
+{
+    const unsigned cx = x + s * dx, cy = y + s * dy;
+    int len = n - s;
+    if (dx != 0)
+        len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
+    if (dy != 0)
+        len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
+    return s + len;
+}
+
 /* One warp's walk of one line over the disparity windows (windows: per tile lo | hi << 16), windowPathKernel's body in
  named steps: the lanes cover the pixel's window only. Lane t holds in group c the pair of disparities
  e = lo + 64 c + 2 t and e + 1, so a window of up to 64 disparities takes one group whatever the range. Where the
@@ -403,16 +416,7 @@ struct WindowWalk
     __device__ __forceinline__ int tileX(int s) const { return (int)((unsigned)(x + s * dx) / WINDOW_TILE); }
     __device__ __forceinline__ int tileY(int s) const { return (int)((unsigned)(y + s * dy) / WINDOW_TILE); }
     __device__ __forceinline__ unsigned windowAt(int s) const { return (unsigned)windows.tiles(tileY(s), tileX(s)); }
-    __device__ __forceinline__ int segmentEnd(int s) const
-    {
-        const unsigned cx = x + s * dx, cy = y + s * dy;
-        int len = n - s;
-        if (dx != 0)
-            len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
-        if (dy != 0)
-            len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
-        return s + len;
-    }
+    __device__ __forceinline__ int segmentEnd(int s) const { return tileSegmentEnd(x, y, dx, dy, n, s); }
 
     /* The values of pixel idx for window w: its first G groups, those the window reaches; REACH: w may reach fewer
      (a group past it is skipped at once, a warp-uniform branch with no shuffle inside). */
@@ -616,9 +620,8 @@ __device__ __forceinline__ void reduceAddIf(bool p, unsigned* a, unsigned v)
                  :: "r"((unsigned)p), "l"(a), "r"(v) : "memory");
 }
 
-/* The packed layout over the disparity windows, up to 128 disparities (where each multiprocessor has many lines: the
- full range's packed layout, pathKernel, computes every cell and masks it): LW = 8 lanes walk a line, four lines a
- warp, whose pixels lie side by side (warpLine), so that they cross the same tiles at the same steps or nearly. The
+/* The packed layout over the disparity windows, up to 128 disparities, on any number of SMs (pathKernel's packed
+ layout computes every cell of the range and masks it to the windows): LW = 8 lanes walk a line, four lines a warp, whose pixels lie side by side (warpLine), so that they cross the same tiles at the same steps or nearly. The
  warp's layout covers the union of its live lines' windows, [base, base + 16 K): lane t holds in row k the pair of
  disparities base + 16 k + 2 t and its successor, so that a window's ends (multiples of 16) fall between rows and a
  new base moves whole registers (moveLayout), with no shuffle but the two edge pairs'. Each line keeps the rows of its
@@ -681,17 +684,8 @@ struct PackedWindowWalk
         return true;
     }
 
-    //! Where the line leaves the tile of pixel s (< n), as WindowWalk's.
-    __device__ __forceinline__ int segmentEnd(int s) const
-    {
-        const unsigned cx = x + s * dx, cy = y + s * dy;
-        int len = n - s;
-        if (dx != 0)
-            len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
-        if (dy != 0)
-            len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
-        return s + len;
-    }
+    //! Where the line leaves the tile of pixel s (< n).
+    __device__ __forceinline__ int segmentEnd(int s) const { return tileSegmentEnd(x, y, dx, dy, n, s); }
 
     //! The census strings and facts of pixel idx in the layout's first K rows.
     template <int K> __device__ __forceinline__ void load()
@@ -983,6 +977,8 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
     // With windows from 112 to 128 disparities, 8 lanes a line over the union of a warp's windows (PackedWindowWalk)
     // on any number of multiprocessors: on the whole H200 it beats one line a warp too (doc/perf.md).
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
+    if (windows.tiles.data && D > 96 && D <= 128)
+        return runPackedWindowPaths(censusL, censusR, facts, windows, p, ddc, sum, stream);
     int lines = 0;   // the call's path lines, every direction's
     for (int dir = 0; dir < p.numPaths; dir++)
     {
@@ -990,8 +986,6 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
         pathDirection(dir, dx, dy);
         lines += lineCount(dx, dy, W, H);
     }
-    if (windows.tiles.data && D > 96 && D <= 128)
-        return runPackedWindowPaths(censusL, censusR, facts, windows, p, ddc, sum, stream);
     // Else, where each multiprocessor has many lines to walk, 8 or 16 lanes a line with eight pairs each (the range
     // then reaches the last of their four groups: 112 or 128 disparities, 208 to 256), with the windows as a mask
     // of the full range; else one line a warp, and the windows' own kernel.
