@@ -34,9 +34,27 @@ has few lines. Measured on the H200 (doc/perf.md, "a few SMs"), full range: at K
 0.86 x on 8 to 32 SMs, 0.95 x on 64 (152 lines a multiprocessor) and 1.28 x on 132 (73); at 1080p with 256
 disparities (18,000 lines, two a warp) 0.88 x on 16 and 32, 0.92 x on 64 and 1.04 x on 132 (136). */
 const int PACKED_LINES_PER_SM = 150;
+/* The same for the packed windows' stored costs (windowCostsStored) against computing them as the walk goes: a load
+from the volume on each step's critical path, which needs many warps to hide. H200, KITTI size (9,698 lines),
+kitti_best.yml: stored 0.89 x on 16 SMs (606 lines a multiprocessor), 0.91 x on 32 (303), 1.12 x on 64 (152), 1.28 x
+on 132 (doc/perf.md). */
+const int STORED_COSTS_LINES_PER_SM = 220;
+
+//! The path lines of a call, every direction's.
+int pathLines(const PipelineParams& p, int W, int H)
+{
+    int lines = 0;
+    for (int dir = 0; dir < p.numPaths; dir++)
+    {
+        int dx, dy;
+        aggregation::pathDirection(dir, dx, dy);
+        lines += aggregation::lineCount(dx, dy, W, H);
+    }
+    return lines;
+}
 //! Blocks a multiprocessor holds of the packed windows' path kernel: at most 102 registers a thread (96 as nvcc 13.0
-//! compiles it, with no stack), so that 20 warps hide a step's latency.
-const int PACKED_WINDOW_BLOCKS_PER_SM = 5;
+//! compiles it, with no stack), so that 20 warps hide a step's latency; with the stored costs at most 85 (80), 24 warps.
+const int PACKED_WINDOW_BLOCKS_PER_SM = 5, STORED_COSTS_BLOCKS_PER_SM = 6;
 using namespace aggregation;
 
 /* The facts of each pixel (packFacts). May write over prior16 (same size and memory): each thread reads its pixel's
@@ -81,20 +99,6 @@ __device__ __forceinline__ size_t wideMul(unsigned a, unsigned b)
     unsigned long long r;
     asm("mul.wide.u32 %0, %1, %2;" : "=l"(r) : "r"(a), "r"(b));
     return (size_t)r;
-}
-
-/* The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u in [0, G + 1], for one shared-memory load per
- group and step. A row takes 1 << FACT_ROW_SHIFT bytes, so that the facts' row bits are its offset. Ends with the
- block's barrier (before any thread of the block leaves). */
-const int DDC_ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4, DDC_TABLE_WORDS = FACT_ROWS * DDC_ROW_WORDS;
-template <int G> __device__ __forceinline__ void fillDdcTable(unsigned* table, const PipelineParams& p)
-{
-    for (int i = threadIdx.x; i < FACT_ROWS * (G + 2) * G; i += blockDim.x)
-    {
-        const int row = i / ((G + 2) * G), u = i / G % (G + 2), j = i % G;
-        table[row * DDC_ROW_WORDS + u * G + j] = ddcPairTerm(row, u, j, p.w, p.wCopy);
-    }
-    __syncthreads();
 }
 
 /* LW lanes walk one line (warpLine), 32 / LW lines a warp, adding their path costs into the zeroed sum volume with
@@ -613,7 +617,7 @@ windowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushor
 }
 
 /* *a += v where p: a predicated reduction (the compiler puts a branch and a convergence barrier around each atomic in
- an if). */
+ an if, and keeps them around this one). */
 __device__ __forceinline__ void reduceAddIf(bool p, unsigned* a, unsigned v)
 {
     asm volatile("{\n\t.reg .pred q;\n\tsetp.ne.u32 q, %0, 0;\n\t@q red.global.add.u32 [%1], %2;\n\t}"
@@ -621,34 +625,42 @@ __device__ __forceinline__ void reduceAddIf(bool p, unsigned* a, unsigned v)
 }
 
 /* The packed layout over the disparity windows, up to 128 disparities, on any number of SMs (pathKernel's packed
- layout computes every cell of the range and masks it to the windows): LW = 8 lanes walk a line, four lines a warp, whose pixels lie side by side (warpLine), so that they cross the same tiles at the same steps or nearly. The
+ layout computes every cell of the range and masks it to the windows): LW = 8 lanes walk a line, four lines a warp,
+ whose pixels lie side by side (warpLine), so that they cross the same tiles at the same steps or nearly. The
  warp's layout covers the union of its live lines' windows, [base, base + 16 K): lane t holds in row k the pair of
  disparities base + 16 k + 2 t and its successor, so that a window's ends (multiples of 16) fall between rows and a
  new base moves whole registers (moveLayout), with no shuffle but the two edge pairs'. Each line keeps the rows of its
  own window (ownRows) and the sentinel BIG16 in the others, as the CPU's window-only recursion leaves them. A segment
- is a run of steps in which no live line changes tile (startSegment): the union, the rows, each line's sums' address
- and step are set when it starts, and its steps run code for its K rows (run<K>), which computes no row past the
- union and tests no flag. */
-template <bool DDC, bool EDGES>
+ is a run of steps in which no live line changes tile (startSegment): the union, the rows, each line's sums' (and
+ costs') address and step are set when it starts, and its steps run code for its K rows (run<K>), which computes no
+ row past the union and tests no flag.
+ STORED: the matching costs come stored (windowMatchingCosts), in the sums' layout: one load a row instead of two
+ census loads, two population counts and the DDC table's load, and every row's reduction runs (zeros outside the
+ line's window, within the volume's guards) instead of a branch around each; else they are computed from the census
+ strings and the DDC table as the walk goes (DDC: with the prior's term), which needs no load from the volume on a
+ step's critical path: the faster where each multiprocessor holds few lines (STORED_COSTS_LINES_PER_SM). */
+template <bool DDC, bool EDGES, bool STORED>
 struct PackedWindowWalk
 {
     enum { LW = 8, NR = 8 };   // lanes a line; the range's rows of 16 disparities at most
     const unsigned* ddcTable;
     WindowMap windows;
     unsigned* volume;
+    const unsigned* costVolume;
     int lane, dx, dy, x, y, n, nLive;   // nLive: n, 0 for the lanes past the direction's last line
     LineAddressing ad;
     const char *oL, *oR, *oF;
     int idx;   // of the pixel whose values are loaded
     unsigned edgeMask;
     PairWeights wk;
-    // The loaded pixel's census strings and facts; the previous pixel's facts.
-    unsigned l, f, fPrev, r[2 * NR];
+    // The loaded pixel's census strings (or costs, STORED) and facts; the previous pixel's facts.
+    unsigned l, f, fPrev, r[2 * NR];   // STORED: the costs in r[k]
     // Path costs, two per register as pathKernel's, in the layout's rows; mp2: the previous pixel's minimum.
     unsigned P[NR], mp2;
     int base, rows;       // the layout: [base, base + 16 rows)
     unsigned ownRows;     // bit k: row k lies in this line's window (none past its end)
     unsigned* sums;       // lane t's pair of row 0 for the current pixel, in its window's compact layout
+    const unsigned* costs;   // STORED: the same pair of the pixel whose costs are loaded
     int sumStep;
     // The pairs just below and above the layout that the registers do not hold (set where it moves, for one step).
     unsigned belowEdge, aboveEdge;
@@ -668,7 +680,7 @@ struct PackedWindowWalk
         ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, 0, p.numDisparities);
         oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
         oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - p.minDisparity - 2 * lane);
-        oF = DDC || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
+        oF = (DDC && !STORED) || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
         idx = ad.idx;
         edgeMask = edgeMaskOf(dir);
         wk = pairWeights(p.w);
@@ -687,12 +699,20 @@ struct PackedWindowWalk
     //! Where the line leaves the tile of pixel s (< n).
     __device__ __forceinline__ int segmentEnd(int s) const { return tileSegmentEnd(x, y, dx, dy, n, s); }
 
-    //! The census strings and facts of pixel idx in the layout's first K rows.
+    /* The values of pixel idx in the layout's first K rows: its census strings and facts, or its stored costs (those
+     past the line's window unused) and the facts where EDGES needs them. */
     template <int K> __device__ __forceinline__ void load()
     {
-        l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
-        if (DDC || EDGES)
+        if ((DDC && !STORED) || EDGES)
             f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
+        if constexpr (STORED)
+        {
+#pragma unroll
+            for (int k = 0; k < K; k++)
+                r[k] = costs[LW * k];
+            return;
+        }
+        l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
         const int* pR = (const int*)(oR + wideMul(idx, ad.stepR)) - base;
 #pragma unroll
         for (int k = 0; k < K; k++)
@@ -731,7 +751,7 @@ struct PackedWindowWalk
 
     /* The segment that starts at step s (warp-uniform): it ends where the first live line leaves its tile; its layout
      is the union of the live lines' windows there. Returns the segment's end and sets the layout, the line's rows and
-     its sums' address and step. */
+     its sums' (and costs') address and step. */
     __device__ __forceinline__ int startSegment(int s)
     {
         const bool live = s < nLive;
@@ -745,18 +765,29 @@ struct PackedWindowWalk
         if (ulo != base || uhi - ulo != 16 * rows)
             moveLayout(ulo, (uhi - ulo) / 16);
         ownRows = live ? (1u << (hi - base) / 16) - (1u << (lo - base) / 16) : 0u;
-        sums = volume + windowPairOffset(windows.base(tx, ty), px, py, lo, hi) + (base - lo) / 2 + lane;
-        sumStep = (dy * WINDOW_TILE + dx) * ((hi - lo) >> 1);
+        // The rows lie within WINDOW_GUARD_PAIRS of the pixel's window; a line past its end stays at the volume's
+        // start (STORED: its rows add zeros there).
+        const size_t at = live ? windowPairOffset(windows.base(tx, ty), px, py, lo, hi) + (base - lo) / 2 + lane
+                               : WINDOW_GUARD_PAIRS + lane;
+        sums = volume + at;
+        if (STORED)
+            costs = costVolume + at;
+        sumStep = live ? (dy * WINDOW_TILE + dx) * ((hi - lo) >> 1) : 0;
         return end;
     }
 
-    /* Step s in a segment of K rows, then the next pixel's values are loaded for the same layout where NEXT (all but
-     the segment's last step). */
-    template <int K, bool NEXT> __device__ __forceinline__ void step(int s)
+    //! matchingCost of the loaded pixel in pairs, less the previous minimum: add[k] for row k.
+    template <int K> __device__ __forceinline__ void matchingCosts(unsigned (&add)[K]) const
     {
-        // matchingCost in pairs: the census term, and the DDC term from the table (u: the pair's index from the one
-        // that holds k - 1, plus one, clamped to 2), added with the minimum's subtraction.
-        unsigned T[K], add[K];
+        if constexpr (STORED)
+        {
+#pragma unroll
+            for (int k = 0; k < K; k++)
+                add[k] = r[k] - mp2;
+            return;
+        }
+        // The census term, and the DDC term from the table (u: the pair's index from the one that holds k - 1, plus
+        // one, clamped to 2).
         const unsigned a = (f & ((1u << FACT_PAIR_BITS) - 1)) - (unsigned)((base >> 1) + lane);   // u of row 0
         const unsigned* row = (const unsigned*)((const char*)ddcTable +
                                                 (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
@@ -764,15 +795,24 @@ struct PackedWindowWalk
         for (int k = 0; k < K; k++)
         {
             const unsigned h = __byte_perm(popcount32(l ^ r[2 * k]), popcount32(l ^ r[2 * k + 1]), 0x5410);
-            T[k] = censusTermPair(h, wk.c256lo, wk.c256hi);
-            add[k] = DDC ? row[::min(a - (unsigned)(LW * k), 2u)] - mp2 : 0u - mp2;
+            add[k] = censusTermPair(h, wk.c256lo, wk.c256hi) + (DDC ? row[::min(a - (unsigned)(LW * k), 2u)] : 0u) - mp2;
         }
+    }
+
+    /* Step s in a segment of K rows, then the next pixel's values are loaded for the same layout where NEXT (all but
+     the segment's last step). */
+    template <int K, bool NEXT> __device__ __forceinline__ void step(int s)
+    {
+        unsigned add[K];
+        matchingCosts<K>(add);
         unsigned jump = mp2 + wk.p2x2;
         if (EDGES)
             jump = mp2 + ((f | fPrev << 16) & edgeMask ? wk.p2Edgex2 : wk.p2x2);
         fPrev = f;
         unsigned* const S = sums;
         sums += sumStep;
+        if (STORED)
+            costs += sumStep;
         idx += s + 1 < n ? ad.dIdx : 0;   // a line shorter than the warp's longest stays on its last pixel
         if (NEXT)
             load<K>();
@@ -785,7 +825,7 @@ struct PackedWindowWalk
             up[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + LW - 1) & (LW - 1), LW);
             down[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + 1) & (LW - 1), LW);
         }
-        unsigned m = BIG16X2;
+        unsigned m = BIG16X2, out[K];   // out: the sums' terms, 0 past the line's window
 #pragma unroll
         for (int k = 0; k < K; k++)
         {
@@ -793,8 +833,9 @@ struct PackedWindowWalk
             const unsigned above = lane < LW - 1 ? down[k] : k + 1 < K ? down[k + 1] : aboveEdge;
             const unsigned lm = __byte_perm(below, P[k], 0x5432);
             const unsigned lp = __byte_perm(P[k], above, 0x5432);
-            const unsigned best = vmin2(vmin2(P[k], jump), vmin2(lm, lp) + wk.p1x2);
-            P[k] = ownRows >> k & 1u ? T[k] + best + add[k] : BIG16X2;
+            const unsigned v = vmin2(vmin2(P[k], jump), vmin2(lm, lp) + wk.p1x2) + add[k];
+            P[k] = ownRows >> k & 1u ? v : BIG16X2;
+            out[k] = ownRows >> k & 1u ? v : 0u;
             m = vmin2(m, P[k]);
         }
         // The line's minimum in both halves: over the pairs, then its lanes.
@@ -803,10 +844,15 @@ struct PackedWindowWalk
         for (int o = LW / 2; o > 0; o >>= 1)
             m = ::min(m, __shfl_xor_sync(0xFFFFFFFFu, m, o));
         mp2 = m;
-        const unsigned addRows = s < nLive ? ownRows : 0u;
+        // Within a segment a live line stays live (it ends at or before every live line's end).
 #pragma unroll
         for (int k = 0; k < K; k++)
-            reduceAddIf(addRows >> k & 1u, S + LW * k, P[k]);
+        {
+            if (STORED)
+                atomicAdd(S + LW * k, out[k]);
+            else
+                reduceAddIf(ownRows >> k & 1u, S + LW * k, P[k]);
+        }
         belowEdge = aboveEdge = BIG16X2;
     }
 
@@ -843,18 +889,20 @@ struct PackedWindowWalk
 };
 
 //! The packed path kernel over the disparity windows (PackedWindowWalk), up to 128 disparities.
-template <bool DDC, bool EDGES>
-__global__ void __launch_bounds__(32 * WARPS_PER_BLOCK, PACKED_WINDOW_BLOCKS_PER_SM)
+template <bool DDC, bool EDGES, bool STORED>
+__global__ void
+__launch_bounds__(32 * WARPS_PER_BLOCK, STORED ? STORED_COSTS_BLOCKS_PER_SM : PACKED_WINDOW_BLOCKS_PER_SM)
 packedWindowPathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
-                       PipelineParams p, unsigned* volume)
+                       PipelineParams p, unsigned* volume, const unsigned* costs)
 {
-    __shared__ __align__(8) unsigned ddcTable[DDC ? DDC_TABLE_WORDS : 1];
-    if (DDC)
+    __shared__ __align__(8) unsigned ddcTable[DDC && !STORED ? DDC_TABLE_WORDS : 1];
+    if (DDC && !STORED)
         fillDdcTable<1>(ddcTable, p);
-    PackedWindowWalk<DDC, EDGES> walk;
+    PackedWindowWalk<DDC, EDGES, STORED> walk;
     walk.ddcTable = ddcTable;
     walk.windows = windows;
     walk.volume = volume;
+    walk.costVolume = costs;
     if (walk.begin(censusL, censusR, facts, p))
         walk.walk();
 }
@@ -920,18 +968,25 @@ __global__ void zeroWindowsKernel(WindowMap windows, int W, unsigned* volume)
         row[i] = make_uint4(0, 0, 0, 0);
 }
 
-//! The packed layout's path kernel over the windows (up to 128 disparities): grid and block as runPaths' for LW = 8.
+/* The packed layout's path kernel over the windows (up to 128 disparities): with costs, the windows' matching costs
+first (windowMatchingCosts, which zeroes the sums too), then the paths that read them; grid and block as runPaths'
+for LW = 8. */
 void runPackedWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
-                          const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, cudaStream_t stream)
+                          const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, unsigned* costs,
+                          cudaStream_t stream)
 {
+    CV_Assert(p.numDisparities <= 128);
+    if (costs)
+        windowMatchingCosts(censusL, censusR, facts, windows, p, ddc, (unsigned*)sum.data, costs, stream);
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-    const int lineBlocks = cv::cudev::divUp(maxLines, WARPS_PER_BLOCK * 32 / PackedWindowWalk<false, false>::LW);
+    const int lineBlocks = cv::cudev::divUp(maxLines, WARPS_PER_BLOCK * 32 / PackedWindowWalk<false, false, false>::LW);
     const dim3 grid = p.numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, p.numPaths);
     const bool edges = p.edgeThreshold > 0;
-    auto kernel = ddc ? (edges ? packedWindowPathKernel<true, true> : packedWindowPathKernel<true, false>)
-                      : (edges ? packedWindowPathKernel<false, true> : packedWindowPathKernel<false, false>);
-    kernel<<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, facts, windows, p, (unsigned*)sum.data);
+    auto kernel = costs ? (edges ? packedWindowPathKernel<false, true, true> : packedWindowPathKernel<false, false, true>)
+                  : ddc ? (edges ? packedWindowPathKernel<true, true, false> : packedWindowPathKernel<true, false, false>)
+                        : (edges ? packedWindowPathKernel<false, true, false> : packedWindowPathKernel<false, false, false>);
+    kernel<<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, facts, windows, p, (unsigned*)sum.data, costs);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
@@ -958,13 +1013,16 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
     const PtrStepSz<short> prior16 = in.prior16;
     const PtrStepSz<ushort> facts = out.facts, sum = out.sum;
     const WindowMap windows = in.windows;
-    if (windows.tiles.data)
+    const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
+    const bool packedWindows = windows.tiles.data && D > 96 && D <= 128;
+    CV_Assert(!out.costs || packedWindows);   // the costs' kernel zeroes the sums
+    if (windows.tiles.data && !out.costs)
     {
         zeroWindowsKernel<<<dim3(windows.tiles.cols, censusL.rows), 128, 0, stream>>>(windows, censusL.cols,
                                                                                     (unsigned*)sum.data);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
-    else
+    else if (!windows.tiles.data)
         CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(sum.data, sum.step, 0, sum.cols * sizeof(ushort), sum.rows, stream));
     const bool ddc = prior16.data != nullptr;
     if (ddc || p.edgeThreshold > 0)
@@ -976,16 +1034,9 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
     }
     // With windows from 112 to 128 disparities, 8 lanes a line over the union of a warp's windows (PackedWindowWalk)
     // on any number of multiprocessors: on the whole H200 it beats one line a warp too (doc/perf.md).
-    const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
-    if (windows.tiles.data && D > 96 && D <= 128)
-        return runPackedWindowPaths(censusL, censusR, facts, windows, p, ddc, sum, stream);
-    int lines = 0;   // the call's path lines, every direction's
-    for (int dir = 0; dir < p.numPaths; dir++)
-    {
-        int dx, dy;
-        pathDirection(dir, dx, dy);
-        lines += lineCount(dx, dy, W, H);
-    }
+    if (packedWindows)
+        return runPackedWindowPaths(censusL, censusR, facts, windows, p, ddc, sum, out.costs, stream);
+    const int lines = pathLines(p, W, H);
     // Else, where each multiprocessor has many lines to walk, 8 or 16 lanes a line with eight pairs each (the range
     // then reaches the last of their four groups: 112 or 128 disparities, 208 to 256), with the windows as a mask
     // of the full range; else one line a warp, and the windows' own kernel.
@@ -1029,6 +1080,12 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
 }
 
 } // namespace
+
+bool windowCostsStored(const PipelineParams& p, cv::Size size, int sms)
+{
+    return p.numDisparities > 96 && p.numDisparities <= 128 &&
+           pathLines(p, size.width, size.height) >= STORED_COSTS_LINES_PER_SM * sms;
+}
 
 int streamSmCount(cudaStream_t stream)
 {

@@ -48,6 +48,20 @@ __host__ __device__ __forceinline__ unsigned ddcPairTerm(int row, int u, int j, 
     return (unsigned)ddcTerm(e, kk, wc) | (unsigned)ddcTerm(e + 1, kk, wc) << 16;
 }
 
+/* The DDC terms of a group of G pairs (ddcPairTerm), by facts row and u in [0, G + 1], for one shared-memory load per
+ group and step. A row takes 1 << FACT_ROW_SHIFT bytes, so that the facts' row bits are its offset. Ends with the
+ block's barrier (before any thread of the block leaves). */
+const int DDC_ROW_WORDS = (1 << FACT_ROW_SHIFT) / 4, DDC_TABLE_WORDS = FACT_ROWS * DDC_ROW_WORDS;
+template <int G> __device__ __forceinline__ void fillDdcTable(unsigned* table, const PipelineParams& p)
+{
+    for (int i = threadIdx.x; i < FACT_ROWS * (G + 2) * G; i += blockDim.x)
+    {
+        const int row = i / ((G + 2) * G), u = i / G % (G + 2), j = i % G;
+        table[row * DDC_ROW_WORDS + u * G + j] = ddcPairTerm(row, u, j, p.w, p.wCopy);
+    }
+    __syncthreads();
+}
+
 const unsigned BIG16 = 0x7FFF;    // stands for "no such disparity": above every path cost, never the minimum
 const unsigned BIG16X2 = BIG16 * 0x10001u;
 

@@ -168,6 +168,7 @@ struct CudaPipeline::Buffers
         ci::WindowMap windows = ci::WindowMap();
         cuda::GpuMat volume;              //!< the sum volume (sum, or a captured call's own)
         void* graphVolume = nullptr;      //!< a captured call's volume, freed at its end
+        bool costsStored = false;         //!< the volume's second half holds the windows' costs (windowCostsStored)
     };
 
     /* The buffers are shared by all calls, so a call must not start on the GPU before the previous call has finished
@@ -297,7 +298,10 @@ struct CudaPipeline::Buffers
             cudaCheck(cudaStreamSynchronize(c.st));
             units = (size_t)*windowUnits;
         }
-        const size_t cols = std::max((units * ci::WINDOW_VOLUME_UNIT + sz.height - 1) / sz.height, (size_t)4 * sz.width);
+        // Where the costs are stored, twice the sums (windowCostsOf).
+        c.costsStored = ci::windowCostsStored(p, sz, ci::streamSmCount(c.st));
+        const size_t shorts = ci::windowVolumeShorts(units) * (c.costsStored ? 2 : 1);
+        const size_t cols = std::max((shorts + sz.height - 1) / sz.height, (size_t)4 * sz.width);
         CV_Assert(cols <= (size_t)INT_MAX);
         const bool fits = !sum.empty() && sum.isContinuous() && sum.type() == CV_16UC1 && sum.rows == sz.height &&
                           (size_t)sum.cols >= cols;
@@ -360,6 +364,8 @@ struct CudaPipeline::Buffers
         const cuda::GpuMat factsMap = plan.facts(p, !prior.empty());
         if (!factsMap.empty())
             out.facts = factsMap;
+        if (c.costsStored)
+            out.costs = ci::windowCostsOf(c.volume.data, (size_t)c.volume.rows * c.volume.cols);
         if (c.L.depth() == CV_8U)
             ci::aggregateCosts(aggregationInputs<uchar>(c, prior), p, out, c.st);
         else

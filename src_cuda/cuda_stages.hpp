@@ -82,11 +82,22 @@ padded to a whole tile) holds its WINDOW_TILE^2 pixels' windows from bases[t] * 
 volume shrinks with the windows. A tile takes (hi - lo) / WINDOW_ALIGN units; bases[tiles] is the total. */
 enum { WINDOW_VOLUME_UNIT = WINDOW_TILE * WINDOW_TILE * WINDOW_ALIGN };
 
+/** Pairs of sums before the compact volume's first window and after its last: a step of the packed windows' path
+kernel addresses the rows of the union of a warp's windows (PackedWindowWalk), up to 56 pairs before and after its
+pixel's window, and reads there and adds zeros there rather than testing each row. */
+enum { WINDOW_GUARD_PAIRS = 64 };
+
 //! Pixel (x, y)'s first sum in the compact volume, counted in pairs of sums (hi - lo is even), of its tile's base.
 LIDARSGM_HD size_t windowPairOffset(int base, int x, int y, int lo, int hi)
 {
-    return (size_t)(unsigned)base * (WINDOW_VOLUME_UNIT / 2) +
+    return WINDOW_GUARD_PAIRS + (size_t)(unsigned)base * (WINDOW_VOLUME_UNIT / 2) +
            ((unsigned)y % WINDOW_TILE * WINDOW_TILE + (unsigned)x % WINDOW_TILE) * (unsigned)((hi - lo) >> 1);
+}
+
+//! The 16-bit values of a compact volume whose tiles take `units` (the bases' total), its guards included.
+static inline size_t windowVolumeShorts(size_t units)
+{
+    return units * WINDOW_VOLUME_UNIT + 4 * WINDOW_GUARD_PAIRS;
 }
 
 /** The windows as the aggregation and the winner-takes-all read them: per tile lo | hi << 16 (windowWords) and the
@@ -125,22 +136,45 @@ struct AggregationInputs
 12.4 and later) where it has one, else the device's. */
 int streamSmCount(cudaStream_t stream);
 
+/** Whether a call with disparity windows on an image of this size stores the matching costs of its windows
+(windowMatchingCosts) for the packed windows' path kernel: at 112 and 128 disparities (aggregateCosts then walks 8
+lanes a line over the union of a warp's windows), where each of the sms multiprocessors that its stream's kernels run
+on (streamSmCount) has many path lines to walk. Its compact volume then holds the sums in its first half and the costs,
+in the same layout, in the second. */
+bool windowCostsStored(const PipelineParams& p, cv::Size size, int sms);
+
+/** The stored costs' place (windowCostsStored) in a compact volume of total 16-bit values, at least twice
+windowVolumeShorts: its second half, 16-byte aligned. */
+static inline unsigned* windowCostsOf(void* volume, size_t total)
+{
+    return (unsigned*)((ushort*)volume + total / 16 * 8);
+}
+
 /** aggregateCosts' outputs. sum: rows = image rows, cols = width * numDisparities; with windows, the compact volume
-(WindowMap), of which only the windows' sums are zeroed and written. facts (scratch): a map of the image's size that
-receives each pixel's packed facts (the path kernel's input besides the census strings), needed where a prior or the
-edge rule exists; it may be prior16's memory, which it then overwrites. */
+(WindowMap), of which only the windows' sums are zeroed and written; where windowCostsStored, costs: the second half
+of that volume (windowCostsOf), which receives the windows' matching costs. facts (scratch): a map of the image's
+size that receives each pixel's packed facts (the path kernel's input besides the census strings), needed where a
+prior or the edge rule exists; it may be prior16's memory, which it then overwrites. */
 struct AggregationOutputs
 {
     PtrStepSz<ushort> sum;
     PtrStepSz<ushort> facts;
+    unsigned* costs = nullptr;
 };
 
-/** All paths; the matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
-and the prior, so no cost volume is stored. */
+/** All paths. The matching cost (matchingCost, pipeline.hpp) is computed as the paths walk, from the census strings
+and the prior, except where out.costs is given (windowCostsStored): then once per pixel and window into it, and the
+paths read it. */
 void aggregateCosts(const AggregationInputs<uchar>& in, const PipelineParams& p, const AggregationOutputs& out,
                     cudaStream_t stream);
 void aggregateCosts(const AggregationInputs<ushort>& in, const PipelineParams& p, const AggregationOutputs& out,
                     cudaStream_t stream);
+
+/** The matching costs of every pixel's window (matchingCost, as pairs: censusTermPair and the DDC pair terms of its
+facts, whose prior counts where ddc) into costs, in the sums' compact layout (windowPairOffset), and those sums
+zeroed. Up to 128 disparities. */
+void windowMatchingCosts(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
+                         const PipelineParams& p, bool ddc, unsigned* sums, unsigned* costs, cudaStream_t stream);
 
 //! winnerTakesAll's inputs: aggregateCosts' sums of an image of width x height, laid out as windows says.
 struct WinnerInputs

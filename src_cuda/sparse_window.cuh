@@ -30,28 +30,41 @@ static size_t tileKernelSmem(Kernel kernel, dim3 block, int r)
     return smem;
 }
 
-/** Called by every thread of the block. Writes (y << 16 | x, value) pairs to points (coordinates below 32768) and
- returns their count. The order depends on thread timing: callers must not depend on it. */
+/** Called by every thread of the block (a whole number of warps). Writes (y << 16 | x, value) pairs to points
+ (coordinates below 32768) and returns their count. A warp takes the tile's rows in turn, 32 pixels a load, and
+ reserves its points of each load with one atomic (most loads find none: sparse maps are sparse). The order depends
+ on thread timing: callers must not depend on it. */
 __device__ __forceinline__ int listTilePoints(PtrStepSz<short> sparse16, int r, int* points, int* count)
 {
     const int W = sparse16.cols, H = sparse16.rows;
-    const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
+    const int tid = threadIdx.y * blockDim.x + threadIdx.x, lane = tid & 31, warp = tid >> 5;
+    const int warps = (int)(blockDim.x * blockDim.y) >> 5;
     if (tid == 0)
         *count = 0;
     __syncthreads();
-    const int tx0 = blockIdx.x * blockDim.x - r, ty0 = blockIdx.y * blockDim.y - r;
-    const int tw = blockDim.x + 2 * r, th = blockDim.y + 2 * r;
-    for (int i = tid; i < tw * th; i += nthreads)
+    // The tile (the block's pixels plus r on every side) within the image.
+    const int bx = (int)(blockIdx.x * blockDim.x), by = (int)(blockIdx.y * blockDim.y);
+    const int x0 = ::max(bx - r, 0), x1 = ::min(bx + (int)blockDim.x + r, W);
+    const int y0 = ::max(by - r, 0), y1 = ::min(by + (int)blockDim.y + r, H);
+    for (int ty = y0 + warp; ty < y1; ty += warps)
     {
-        const int tx = tx0 + i % tw, ty = ty0 + i / tw;
-        if (tx < 0 || ty < 0 || tx >= W || ty >= H)
-            continue;
-        const int v = sparse16(ty, tx);
-        if (v != NO_DISP)
+        const short* row = sparse16.ptr(ty);
+        for (int c = x0; c < x1; c += 32)
         {
-            const int k = atomicAdd(count, 1);
-            points[2 * k] = (ty << 16) | tx;
-            points[2 * k + 1] = v;
+            const int tx = c + lane;
+            const int v = tx < x1 ? row[tx] : NO_DISP;
+            const unsigned hits = __ballot_sync(0xFFFFFFFFu, v != NO_DISP);
+            if (hits == 0)
+                continue;
+            int k = 0;
+            if (lane == 0)
+                k = atomicAdd(count, __popc(hits));
+            k = __shfl_sync(0xFFFFFFFFu, k, 0) + __popc(hits & ((1u << lane) - 1));
+            if (v != NO_DISP)
+            {
+                points[2 * k] = (ty << 16) | tx;
+                points[2 * k + 1] = v;
+            }
         }
     }
     __syncthreads();

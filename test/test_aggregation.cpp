@@ -562,7 +562,8 @@ TEST(Lidarsgm_CUDA_Aggregation, packed_layout_bit_exact)
                 expectSameAsCpu(c.sum, sum, c.name + format(", as on %d SMs", sms));
             }
             // The same over the disparity windows (margin 4): up to 128 disparities the packed layout walks the
-            // union of a warp's windows on any number of SMs; above, on 1 SM, it masks the full range to them.
+            // union of a warp's windows on any number of SMs (on 1 SM with the windows' costs stored, on 10^6
+            // computed as it goes); above, on 1 SM, it masks the full range to them.
             PipelineParams p = c.p;
             p.searchWindow = 4;
             Mat windows, wsum;
@@ -608,7 +609,8 @@ TEST(Lidarsgm_CUDA_Aggregation, windows_bit_exact)
             cuda::GpuMat gl, gr, gsum;
             cuda_host::censusTransform(cuda::GpuMat(c.left), cuda::GpuMat(c.right), p, gl, gr);
             // Both layouts: one line a warp (the device's multiprocessors) and the packed layout (as on 1 SM, where
-            // the range allows it).
+            // the range allows it; up to 128 disparities the packed windows' layout on both, with the costs stored
+            // on 1 SM).
             for (int sms : { 1, 0 })
             {
                 cuda_host::aggregateCosts(gl, gr, c.prior.empty() ? cuda::GpuMat() : cuda::GpuMat(c.prior),

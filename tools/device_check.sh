@@ -95,8 +95,9 @@ if [ "${BASE:-0}" = 1 ] && [ -f .device/prebuilt_base.tar.xz ]; then
   # an earlier commit), for a before/after on the same card.
   mkdir -p /tmp/base && tar -xJf .device/prebuilt_base.tar.xz -C /tmp/base
   echo "== base build $(head -c 12 /tmp/base/prebuilt/COMMIT)"
-  # Each size timed by the base build, then by this build, BASE_ROUNDS times (default 1); with WINDOWS set, both with
-  # --search-window WINDOWS (the windows' before/after).
+  # Each size timed by the base build, then by this build, BASE_ROUNDS times (default 1; TIMING=0: none); with WINDOWS
+  # set, both with --search-window WINDOWS (the windows' before/after).
+  [ "${TIMING:-1}" = 1 ] || BASE_ROUNDS=0
   for ((r = 0; r < ${BASE_ROUNDS:-1}; r++)); do
     for a in "" "--resize 1920x1080 --num-disparities 256" "--resize 1920x1080 --num-disparities 256 --paths 4" \
              "--resize 3840x2160 --num-disparities 256"; do
@@ -261,15 +262,18 @@ if [ -n "${INSTRUCTIONS:-}" ] && command -v ncu >/dev/null; then
 fi
 if [ "${WINDOWS_PAY:-0}" = 1 ]; then
   # Whether the disparity windows pay: kitti_best.yml as shipped (windows) against its searchWindow 0, on the whole
-  # card and on 8 SMs, at KITTI size and 1280x720; the base build first where BASE=1 (its archive unpacked above).
+  # card and on 8 SMs (PAY_SMS: those counts instead), at KITTI size and 1280x720 (PAY_SIZES="1242x375 1280x720"),
+  # margins PAY_WINDOWS (default "4 0"); the base build first where BASE=1 (its archive unpacked above).
   bins=$B; [ "${BASE:-0}" = 1 ] && [ -d /tmp/base/prebuilt/bin ] && bins="/tmp/base/prebuilt/bin $B"
-  for b in $bins; do
-    for sz in "" "--resize 1280x720"; do
-      for sw in 4 0; do
-        echo "== $([ "$b" = "$B" ] && echo 'this build' || echo base) ${sz:-1242x375} --search-window $sw"
-        LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} $b/lidarsgm_fuse --kitti-frame testdata/kitti \
-          --id 000002 --cuda --timing 30 --sm-count 8 --params doc/params/kitti_best.yml --search-window $sw $sz \
-          | grep -E "lidarsgm SDSGM \||StereoSGM 8 paths"
+  for n in ${PAY_SMS:-8}; do
+    for b in $bins; do
+      for sz in ${PAY_SIZES:-1242x375 1280x720}; do
+        for sw in ${PAY_WINDOWS:-4 0}; do
+          echo "== $([ "$b" = "$B" ] && echo 'this build' || echo base) $sz --search-window $sw"
+          LD_LIBRARY_PATH=$b/../lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} $b/lidarsgm_fuse --kitti-frame testdata/kitti \
+            --id 000002 --cuda --timing 30 --sm-count $n --params doc/params/kitti_best.yml --search-window $sw \
+            $([ $sz = 1242x375 ] || echo --resize $sz) | grep -E "lidarsgm SDSGM \||StereoSGM 8 paths"
+        done
       done
     done
   done

@@ -15,7 +15,8 @@ COLUMNS = [  # metric, heading, scale
     ("gpu__time_duration.sum", "time us", 1e-3),
     ("smsp__inst_executed.sum", "warp instr M", 1e-6),
 ]
-AGGREGATION = ("pathKernel", "factsKernel", "windowPathKernel", "packedWindowPathKernel", "zeroWindowsKernel")
+AGGREGATION = ("pathKernel", "factsKernel", "windowPathKernel", "packedWindowPathKernel", "zeroWindowsKernel",
+               "windowCostsKernel")
 
 
 def main(path, label):
