@@ -2,7 +2,8 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Semi-global aggregation, CUDA twin of src/aggregation.simd.hpp, with the matching cost (src/matching_cost.simd.hpp on
-// the CPU) computed as the paths walk. All directions in one launch; one warp walks one path line, its lanes hold the
+// the CPU) computed as the paths walk, or for the packed windows on a few SMs read from where src_cuda/matching_cost.cu
+// stored it. All directions in one launch; one warp walks one path line, its lanes hold the
 // path costs of the line's disparities, and neighbours d - 1 / d + 1 across lanes come by shuffles. Every direction
 // adds into the one 16-bit sum volume (the only large buffer) with atomics; integer sums: the order does not matter.
 // Measured against one launch per direction, and pairs of opposite directions walking each line from both ends, without
@@ -52,8 +53,10 @@ int pathLines(const PipelineParams& p, int W, int H)
     }
     return lines;
 }
-//! Blocks a multiprocessor holds of the packed windows' path kernel: at most 102 registers a thread (96 as nvcc 13.0
-//! compiles it, with no stack), so that 20 warps hide a step's latency; with the stored costs at most 85 (80), 24 warps.
+
+/* Blocks a multiprocessor holds of the packed windows' path kernel: at most 102 registers a thread (96 as nvcc 13.0
+ compiles it, with no stack), so that 20 warps hide a step's latency; with the stored costs at most 85 (80), 24
+ warps. */
 const int PACKED_WINDOW_BLOCKS_PER_SM = 5, STORED_COSTS_BLOCKS_PER_SM = 6;
 using namespace aggregation;
 
@@ -795,13 +798,15 @@ struct PackedWindowWalk
         for (int k = 0; k < K; k++)
         {
             const unsigned h = __byte_perm(popcount32(l ^ r[2 * k]), popcount32(l ^ r[2 * k + 1]), 0x5410);
-            add[k] = censusTermPair(h, wk.c256lo, wk.c256hi) + (DDC ? row[::min(a - (unsigned)(LW * k), 2u)] : 0u) - mp2;
+            add[k] = censusTermPair(h, wk.c256lo, wk.c256hi) + (DDC ? row[::min(a - (unsigned)(LW * k), 2u)] : 0u) -
+                     mp2;
         }
     }
 
     /* Step s in a segment of K rows, then the next pixel's values are loaded for the same layout where NEXT (all but
-     the segment's last step). */
-    template <int K, bool NEXT> __device__ __forceinline__ void step(int s)
+     the segment's last step). OWN: every line of the warp is live and owns all K rows (the lines lie in one tile or in
+     tiles of one window, as they mostly do), so no row is masked. */
+    template <int K, bool NEXT, bool OWN> __device__ __forceinline__ void step(int s)
     {
         unsigned add[K];
         matchingCosts<K>(add);
@@ -834,8 +839,8 @@ struct PackedWindowWalk
             const unsigned lm = __byte_perm(below, P[k], 0x5432);
             const unsigned lp = __byte_perm(P[k], above, 0x5432);
             const unsigned v = vmin2(vmin2(P[k], jump), vmin2(lm, lp) + wk.p1x2) + add[k];
-            P[k] = ownRows >> k & 1u ? v : BIG16X2;
-            out[k] = ownRows >> k & 1u ? v : 0u;
+            P[k] = OWN || ownRows >> k & 1u ? v : BIG16X2;
+            out[k] = OWN || ownRows >> k & 1u ? v : 0u;
             m = vmin2(m, P[k]);
         }
         // The line's minimum in both halves: over the pairs, then its lanes.
@@ -848,7 +853,7 @@ struct PackedWindowWalk
 #pragma unroll
         for (int k = 0; k < K; k++)
         {
-            if (STORED)
+            if (STORED || OWN)
                 atomicAdd(S + LW * k, out[k]);
             else
                 reduceAddIf(ownRows >> k & 1u, S + LW * k, P[k]);
@@ -857,13 +862,21 @@ struct PackedWindowWalk
     }
 
     //! The steps of a segment [s, end) in K rows; the first pixel's values loaded for the segment's layout.
-    template <int K> __device__ __forceinline__ void run(int& s, int end)
+    template <int K, bool OWN> __device__ __forceinline__ void run(int& s, int end)
     {
         load<K>();
 #pragma unroll 2
         for (; s + 1 < end; s++)
-            step<K, true>(s);
-        step<K, false>(s++);
+            step<K, true, OWN>(s);
+        step<K, false, OWN>(s++);
+    }
+    //! The same, without the row mask where every line owns every row (dead lines own none).
+    template <int K> __device__ __forceinline__ void run(int& s, int end)
+    {
+        if (__all_sync(0xFFFFFFFFu, ownRows == (1u << K) - 1))
+            run<K, true>(s, end);
+        else
+            run<K, false>(s, end);
     }
 
     //! The warp's lines, segment by segment, to the longest's end.
@@ -980,12 +993,14 @@ void runPackedWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSte
         windowMatchingCosts(censusL, censusR, facts, windows, p, ddc, (unsigned*)sum.data, costs, stream);
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-    const int lineBlocks = cv::cudev::divUp(maxLines, WARPS_PER_BLOCK * 32 / PackedWindowWalk<false, false, false>::LW);
+    const int linesPerBlock = WARPS_PER_BLOCK * 32 / PackedWindowWalk<false, false, false>::LW;
+    const int lineBlocks = cv::cudev::divUp(maxLines, linesPerBlock);
     const dim3 grid = p.numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, p.numPaths);
-    const bool edges = p.edgeThreshold > 0;
-    auto kernel = costs ? (edges ? packedWindowPathKernel<false, true, true> : packedWindowPathKernel<false, false, true>)
-                  : ddc ? (edges ? packedWindowPathKernel<true, true, false> : packedWindowPathKernel<true, false, false>)
-                        : (edges ? packedWindowPathKernel<false, true, false> : packedWindowPathKernel<false, false, false>);
+    const bool e = p.edgeThreshold > 0;   // the edge rule
+    auto kernel = e ? packedWindowPathKernel<false, true, true> : packedWindowPathKernel<false, false, true>;
+    if (!costs)
+        kernel = ddc ? (e ? packedWindowPathKernel<true, true, false> : packedWindowPathKernel<true, false, false>)
+                     : (e ? packedWindowPathKernel<false, true, false> : packedWindowPathKernel<false, false, false>);
     kernel<<<grid, 32 * WARPS_PER_BLOCK, 0, stream>>>(censusL, censusR, facts, windows, p, (unsigned*)sum.data, costs);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
