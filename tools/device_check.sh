@@ -315,7 +315,7 @@ if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then
   # states, scheduler and memory statistics of one path kernel (skipping STALL_SKIP path kernels, default 9;
   # STALL_KERNEL: the kernel name's pattern, default pathKernel).
   for spec in $PROFILE_SIZES; do
-    args=$(spec_args "$spec"); sz=${spec//:/_}
+    args=$(spec_args "$spec"); sz=$(tr ':/.' '___' <<< "$spec")
     echo "== $spec: kernels of one SDSGM call (the second), summed by name:"
     ncu --clock-control none --print-units base --metrics gpu__time_duration.sum --launch-count 80 \
       $B/lidarsgm_fuse $args 2>&1 | grep -E "^  [a-zA-Z_].*\(.*Context|gpu__time_duration" | paste - - \

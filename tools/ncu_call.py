@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Metrics per kernel of one pipeline call, from an `ncu --csv --print-units base` run (tools/device_check.sh,
 DRAM_SIZES and INSTRUCTIONS). The call is the second one in the trace (the first includes module loading): the kernels
-from the second censusKernel up to the next (with disparity windows, every call has two: the coarse pass's second). Prints, for whichever of them the run measured, each kernel's DRAM bytes
-read and written, time and warp instructions executed, and their sums; with instructions, last, the line
+from the second call's first censusKernel up to the next call's (with disparity windows every call has two, the
+coarse pass's second). Prints, for whichever of them the run measured, each kernel's DRAM bytes read and written, time
+and warp instructions executed, and their sums; with instructions, last, the line
 `LABEL aggregation warp instructions per call: N`, N summed over the aggregation's kernels (src_cuda/aggregation.cu;
 with windows, the coarse pass's path kernel included).
 Usage: tools/ncu_call.py FILE.csv LABEL"""
@@ -37,7 +38,8 @@ def main(path, label):
         except ValueError:
             pass
     census = [i for i, kid in enumerate(order) if kernels[kid][0].startswith("censusKernel")]
-    per = 2 if any(kernels[kid][0] == "windowPathKernel" for kid in order) else 1
+    # A windowed call (its windows' kernel) has two census kernels.
+    per = 2 if any(kernels[kid][0] == "windowsKernel" for kid in order) else 1
     if len(census) < 2 * per:
         print(f"{label}: fewer than two calls in the trace")
         return 1
