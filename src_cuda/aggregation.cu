@@ -41,6 +41,12 @@ kitti_best.yml: stored 0.89 x on 16 SMs (606 lines a multiprocessor), 0.91 x on 
 on 132 (doc/perf.md). */
 const int STORED_COSTS_LINES_PER_SM = 220;
 
+//! Whether a call with disparity windows takes the packed windows' path kernel (PackedWindowWalk).
+bool packedWindowsTake(int numDisparities)
+{
+    return numDisparities > 96 && numDisparities <= 128;
+}
+
 //! The path lines of a call, every direction's.
 int pathLines(const PipelineParams& p, int W, int H)
 {
@@ -203,15 +209,13 @@ pathKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> fac
 #pragma unroll
         for (int i = 0; i < PPT; i++)
         {
-            const unsigned h = __byte_perm(popcount32(l ^ r[2 * i]), popcount32(l ^ r[2 * i + 1]), 0x5410);
-            T[i] = censusTermPair(h, wk.c256lo, wk.c256hi);
+            T[i] = censusPairTerm(l, r[2 * i], r[2 * i + 1], wk);
             add[i] = 0u - mp2;
         }
         if (DDC)
         {
             const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
-            const unsigned* row = (const unsigned*)((const char*)ddcTable +
-                                                    (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
+            const unsigned* row = ddcRow(ddcTable, f);
 #pragma unroll
             for (int g = 0; g < NG; g++)
             {
@@ -499,13 +503,11 @@ struct WindowWalk
         // that holds k - 1, plus one, clamped to 2), added with the minimum's subtraction.
         unsigned T[K], add[K];
         const unsigned a = f & ((1u << FACT_PAIR_BITS) - 1);
-        const unsigned* row = (const unsigned*)((const char*)ddcTable +
-                                                (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
+        const unsigned* row = ddcRow(ddcTable, f);
 #pragma unroll
         for (int c = 0; c < K; c++)
         {
-            const unsigned h = __byte_perm(popcount32(l ^ r[2 * c]), popcount32(l ^ r[2 * c + 1]), 0x5410);
-            T[c] = censusTermPair(h, wk.c256lo, wk.c256hi);
+            T[c] = censusPairTerm(l, r[2 * c], r[2 * c + 1], wk);
             add[c] = DDC ? row[::min(a - (unsigned)((lo >> 1) + 32 * c + lane), 2u)] - mp2 : 0u - mp2;
         }
         unsigned jump = mp2 + wk.p2x2;
@@ -646,6 +648,7 @@ template <bool DDC, bool EDGES, bool STORED>
 struct PackedWindowWalk
 {
     enum { LW = 8, NR = 8 };   // lanes a line; the range's rows of 16 disparities at most
+    static constexpr bool FACTS = (DDC && !STORED) || EDGES;   // whether a step reads the pixel's facts
     const unsigned* ddcTable;
     WindowMap windows;
     unsigned* volume;
@@ -683,7 +686,7 @@ struct PackedWindowWalk
         ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, 0, p.numDisparities);
         oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
         oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - p.minDisparity - 2 * lane);
-        oF = (DDC && !STORED) || EDGES ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
+        oF = FACTS ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
         idx = ad.idx;
         edgeMask = edgeMaskOf(dir);
         wk = pairWeights(p.w);
@@ -706,7 +709,7 @@ struct PackedWindowWalk
      past the line's window unused) and the facts where EDGES needs them. */
     template <int K> __device__ __forceinline__ void load()
     {
-        if ((DDC && !STORED) || EDGES)
+        if (FACTS)
             f = *(const ushort*)(oF + wideMul(idx, ad.stepF));
         if constexpr (STORED)
         {
@@ -792,14 +795,12 @@ struct PackedWindowWalk
         // The census term, and the DDC term from the table (u: the pair's index from the one that holds k - 1, plus
         // one, clamped to 2).
         const unsigned a = (f & ((1u << FACT_PAIR_BITS) - 1)) - (unsigned)((base >> 1) + lane);   // u of row 0
-        const unsigned* row = (const unsigned*)((const char*)ddcTable +
-                                                (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
+        const unsigned* row = ddcRow(ddcTable, f);
 #pragma unroll
         for (int k = 0; k < K; k++)
         {
-            const unsigned h = __byte_perm(popcount32(l ^ r[2 * k]), popcount32(l ^ r[2 * k + 1]), 0x5410);
-            add[k] = censusTermPair(h, wk.c256lo, wk.c256hi) + (DDC ? row[::min(a - (unsigned)(LW * k), 2u)] : 0u) -
-                     mp2;
+            add[k] = censusPairTerm(l, r[2 * k], r[2 * k + 1], wk) +
+                     (DDC ? row[::min(a - (unsigned)(LW * k), 2u)] : 0u) - mp2;
         }
     }
 
@@ -1029,7 +1030,7 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
     const PtrStepSz<ushort> facts = out.facts, sum = out.sum;
     const WindowMap windows = in.windows;
     const int W = censusL.cols, H = censusL.rows, D = p.numDisparities;
-    const bool packedWindows = windows.tiles.data && D > 96 && D <= 128;
+    const bool packedWindows = windows.tiles.data && packedWindowsTake(D);
     CV_Assert(!out.costs || packedWindows);   // the costs' kernel zeroes the sums
     if (windows.tiles.data && !out.costs)
     {
@@ -1098,7 +1099,7 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
 
 bool windowCostsStored(const PipelineParams& p, cv::Size size, int sms)
 {
-    return p.numDisparities > 96 && p.numDisparities <= 128 &&
+    return packedWindowsTake(p.numDisparities) &&
            pathLines(p, size.width, size.height) >= STORED_COSTS_LINES_PER_SM * sms;
 }
 

@@ -62,6 +62,12 @@ template <int G> __device__ __forceinline__ void fillDdcTable(unsigned* table, c
     __syncthreads();
 }
 
+//! The row of a DDC table (fillDdcTable) for a pixel's facts f: its row bits are the row's byte offset.
+__device__ __forceinline__ const unsigned* ddcRow(const unsigned* table, unsigned f)
+{
+    return (const unsigned*)((const char*)table + (f & ((1u << FACT_ROW_BITS) - 1) << FACT_ROW_SHIFT));
+}
+
 const unsigned BIG16 = 0x7FFF;    // stands for "no such disparity": above every path cost, never the minimum
 const unsigned BIG16X2 = BIG16 * 0x10001u;
 
@@ -210,6 +216,13 @@ __device__ __forceinline__ PairWeights pairWeights(const CostWeights& w)
                       (unsigned)w.census256 & 255u, (unsigned)w.census256 >> 8 };
     asm("" : "+r"(k.p1x2), "+r"(k.p2x2), "+r"(k.p2Edgex2), "+r"(k.c256lo), "+r"(k.c256hi));
     return k;
+}
+
+/* matchingCost's census term of a pair of disparities, both halves (censusTermPair of the Hamming distances between
+ the left string l and the pair's right strings r0, r1): what every path kernel and the stored costs compute. */
+__device__ __forceinline__ unsigned censusPairTerm(unsigned l, unsigned r0, unsigned r1, const PairWeights& wk)
+{
+    return censusTermPair(__byte_perm(popcount32(l ^ r0), popcount32(l ^ r1), 0x5410), wk.c256lo, wk.c256hi);
 }
 
 /* The first n of PPT consecutive pairs. PPT 2 and 4: one vector access, n = PPT (d0 = lane * 2 * PPT and the row

@@ -298,9 +298,8 @@ struct CudaPipeline::Buffers
             cudaCheck(cudaStreamSynchronize(c.st));
             units = (size_t)*windowUnits;
         }
-        // Where the costs are stored, twice the sums (windowCostsOf).
         c.costsStored = ci::windowCostsStored(p, sz, ci::streamSmCount(c.st));
-        const size_t shorts = ci::windowVolumeShorts(units) * (c.costsStored ? 2 : 1);
+        const size_t shorts = ci::windowVolumeShorts(units, c.costsStored);
         const size_t cols = std::max((shorts + sz.height - 1) / sz.height, (size_t)4 * sz.width);
         CV_Assert(cols <= (size_t)INT_MAX);
         const bool fits = !sum.empty() && sum.isContinuous() && sum.type() == CV_16UC1 && sum.rows == sz.height &&

@@ -94,10 +94,11 @@ LIDARSGM_HD size_t windowPairOffset(int base, int x, int y, int lo, int hi)
            ((unsigned)y % WINDOW_TILE * WINDOW_TILE + (unsigned)x % WINDOW_TILE) * (unsigned)((hi - lo) >> 1);
 }
 
-//! The 16-bit values of a compact volume whose tiles take `units` (the bases' total), its guards included.
-static inline size_t windowVolumeShorts(size_t units)
+/** The 16-bit values of a compact volume whose tiles take `units` (the bases' total), its guards included; twice that
+where the windows' costs are stored in it too (windowCostsStored, windowCostsOf). */
+static inline size_t windowVolumeShorts(size_t units, bool costsStored = false)
 {
-    return units * WINDOW_VOLUME_UNIT + 4 * WINDOW_GUARD_PAIRS;
+    return (units * WINDOW_VOLUME_UNIT + 4 * WINDOW_GUARD_PAIRS) * (costsStored ? 2 : 1);
 }
 
 /** The windows as the aggregation and the winner-takes-all read them: per tile lo | hi << 16 (windowWords) and the

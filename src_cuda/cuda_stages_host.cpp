@@ -40,7 +40,8 @@ struct CompactVolume
         bases.download(hostBases);
         gpuWindows.download(windows);
     }
-    size_t sums() const { return ci::windowVolumeShorts((size_t)hostBases.at<int>((int)windows.total())); }
+    size_t units() const { return (size_t)hostBases.at<int>((int)windows.total()); }
+    size_t sums() const { return ci::windowVolumeShorts(units()); }
     ci::WindowMap map(const GpuMat& gpuWindows) const { return { ci::windowWords(gpuWindows), bases.ptr<int>() }; }
     template <typename F> void forEachWindowSum(const F& f) const
     {
@@ -176,10 +177,9 @@ void aggregateCosts(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& 
                                                            : new CompactVolume(windows, left.size(), p.numDisparities));
     // Its own memory: never an alias of sum, which receives the full layout below.
     GpuMat volume;
-    // Where the costs are stored, twice the sums (windowCostsOf).
     const bool costs = compact && ci::windowCostsStored(p, left.size(), smCount > 0 ? smCount : ci::streamSmCount(0));
     if (compact)
-        cuda::createContinuous(1, (int)(compact->sums() * (costs ? 2 : 1)), CV_16UC1, volume);
+        cuda::createContinuous(1, (int)ci::windowVolumeShorts(compact->units(), costs), CV_16UC1, volume);
     else
         volume = sum;
     ci::AggregationOutputs out;

@@ -60,9 +60,8 @@ windowCostsKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<usho
 #pragma unroll
         for (int j = 0; j < 4; j++)
         {
-            const unsigned h = __byte_perm(popcount32(l ^ (unsigned)R[-2 * j]), popcount32(l ^ (unsigned)R[-2 * j - 1]),
-                                           0x5410);
-            c[j] = censusTermPair(h, wk.c256lo, wk.c256hi) + (DDC ? row[::min(a - (unsigned)j, 2u)] : 0u);
+            c[j] = censusPairTerm(l, (unsigned)R[-2 * j], (unsigned)R[-2 * j - 1], wk) +
+                   (DDC ? row[::min(a - (unsigned)j, 2u)] : 0u);
         }
         costs[first + i] = make_uint4(c[0], c[1], c[2], c[3]);
         sums[first + i] = make_uint4(0, 0, 0, 0);
