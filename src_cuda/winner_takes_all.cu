@@ -2,211 +2,160 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Winner-takes-all, CUDA twin of src/winner_takes_all.simd.hpp. Ties go to the smallest disparity, as on the CPU:
-// candidates are compared as (cost << 16 | d). The right-view disparity is an atomicMin of the same keys per right
-// pixel, so its result does not depend on the order the threads run in.
+// candidates are compared as keys (cost << 16 | d), the lowest key wins. The right-view disparity is an atomicMin of
+// the same keys per right pixel, so its result does not depend on the order the threads run in.
 
 #include "cuda_stages.hpp"
-#include "aggregation.cuh"
 #include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
-using aggregation::loadPairs;
+const int WARPS = 8, SEG = 32, BLOCK_PIXELS = WARPS * SEG;   // a warp: 32 pixels of a row; a block: 8 warps in a row
+const int CHUNK = 16;   // disparities a lane takes from shared memory at a time
+// A pixel's chunk in shared memory: 8 words and 4 of pad, so that eight lanes' 16-byte reads fall on distinct banks.
+const int ROW_QUADS = 3;
 
-const int WARPS = 8, PIXELS_PER_WARP = 4, SEG = WARPS * PIXELS_PER_WARP;  // a block: 32 pixels of one row
-const int MAX_D = MAX_DISPARITIES;
+//! The sentinel key: no candidate.
+const unsigned NO_KEY = 0xFFFFFFFFu;
 
-//! Index of right-pixel offset i in the block's key array: one pad word per 32 keeps the lanes' atomics (which
-//! step DPT words apart) on distinct banks.
-__device__ __forceinline__ int keySlot(int i) { return i + (i >> 5); }
-
-//! 16-bit half h (0 low, 1 high) of pair j of v, j and h lane-varying: picked by masks, not by an indexed array
-//! (which the compiler puts in local memory).
-template <int PPT> __device__ __forceinline__ unsigned costOf(const unsigned (&v)[PPT], int j, int h)
+/* One pixel's winner as its keys arrive in disparity order (one lane, one pixel): the lowest key and, for the uniqueness
+ check (UNIQUE), the lowest key more than one disparity away from it (second). A new winner at d replaces second with
+ the lowest key up to d - 2 (below2); the key at the winner's successor does not enter second. */
+template <bool UNIQUE> struct Winner
 {
-    unsigned t = v[0];
-#pragma unroll
-    for (int i = 1; i < PPT; i++)
-    {
-        const unsigned m = 0u - (unsigned)(j == i);
-        t = (t & ~m) | (v[i] & m);
-    }
-    return (t >> (16 * h)) & 0xFFFFu;
-}
+    unsigned best = NO_KEY, second = NO_KEY, below2 = NO_KEY, last = NO_KEY;
+    bool lastWon = false;
 
-//! The minimum over the LANES lanes of a pixel (32: the warp's reduction; else a butterfly within the segment).
-template <int LANES> __device__ __forceinline__ unsigned pixelMin(unsigned v)
-{
-    if constexpr (LANES == 32)
-        return __reduce_min_sync(0xFFFFFFFFu, v);
-    else
+    __device__ __forceinline__ void take(unsigned key)
     {
-#pragma unroll
-        for (int o = LANES / 2; o > 0; o >>= 1)
-            v = ::min(v, __shfl_xor_sync(0xFFFFFFFFu, v, o));
-        return v;
+        const bool won = key < best;
+        best = ::min(best, key);
+        if (UNIQUE)
+        {
+            const unsigned kept = lastWon ? second : ::min(second, key);
+            second = won ? below2 : kept;
+            below2 = ::min(below2, last);
+            lastWon = won;
+            last = key;
+        }
     }
-}
+};
 
-/* The winners of a block's pixels over their window [lo, hi) (the whole range without windows), PPT pairs a lane.
- LANES 32: a warp takes its PIXELS_PER_WARP pixels one after the other; LANES 32 / PIXELS_PER_WARP: together, one a
- segment of LANES lanes (more disparities a lane: fewer steps of each reduction, and one pass). Lane t of a pixel holds
- disparities [lo + t DPT, lo + t DPT + DPT), DPT = 2 PPT. Pixel x's sums start at first + (x - x0) stride (at
- disparity lo). Their right-view candidates go to rkey. */
-template <int PPT, int LANES>
-__device__ __forceinline__ void selectPixels(const ushort* first, int stride, int W, const PipelineParams& p, int lo,
-                                             int hi, int x0, int y, int lane, int warp, unsigned* rkey,
-                                             PtrStepSz<short>& disp16, PtrStepSz<short>& dispInt,
-                                             PtrStepSz<short>& nonUnique16)
+/* Walk the keys of a warp's 32 pixels (lane i: pixel x0 + i) over the window [lo, hi) (a multiple of CHUNK wide),
+ their sums at first + i * stride + (d - lo). Each key is also the right view's candidate of the right pixel
+ x0 + i - d - minD, whose slot in rkey is slot0 + i - (d - lo): consecutive across the lanes, so that the warp's
+ atomicMin of a disparity falls on distinct banks. */
+template <bool UNIQUE>
+__device__ __forceinline__ Winner<UNIQUE> walkWindow(const ushort* first, int stride, int lo, int hi, int pixels,
+                                                     int lane, uint4* stage, unsigned* rkey, int slot0)
 {
-    static_assert(LANES == 32 || LANES * PIXELS_PER_WARP == 32, "a pixel takes the warp or a segment");
-    const int NPIX = LANES == 32 ? PIXELS_PER_WARP : 1;   // pixels a lane takes in turn
-    const int seg = LANES == 32 ? 0 : lane / LANES, sub = lane % LANES;
-    const int D = p.numDisparities, minD = p.minDisparity;
-    const int DPT = 2 * PPT, d0 = lo + sub * DPT;
-    // The window's ends are even: pairs never straddle them.
-    const int pairs = d0 < hi ? ::min(PPT, (hi - d0) / 2) : 0;
-    // Load the costs of all of this lane's pixels first: independent loads in flight instead of one.
-    unsigned v[NPIX][PPT];
-#pragma unroll
-    for (int i = 0; i < NPIX; i++)
+    Winner<UNIQUE> w;
+    unsigned* const rk = rkey + slot0 + lane;
+    const unsigned invalid = lane < pixels ? 0u : NO_KEY;
+    // Chunk c of the window: pixel p's 32 bytes at first + p * stride + c * CHUNK, two 16-byte loads; lane t loads
+    // pixel t / 2's half t % 2, and pixel t / 2 + 16's.
+    const int p0 = lane >> 1, h = lane & 1;
+    // (pixels past the row's end load nothing: the full layout ends with the row)
+    const uint4* const g0 = (const uint4*)(first + (size_t)p0 * stride) + h;
+    const uint4* const g1 = (const uint4*)(first + (size_t)(p0 + 16) * stride) + h;
+    const bool in0 = p0 < pixels, in1 = p0 + 16 < pixels;
+    const int chunkQuads = CHUNK / 8, chunks = (hi - lo) / CHUNK;
+    const uint4 none = make_uint4(NO_KEY, NO_KEY, NO_KEY, NO_KEY);
+    uint4 n0 = in0 ? g0[0] : none, n1 = in1 ? g1[0] : none;
+    for (int c = 0; c < chunks; c++)
     {
-        const int x = ::min(x0 + warp + WARPS * (i + seg), W - 1);
+        stage[p0 * ROW_QUADS + h] = n0;
+        stage[(p0 + 16) * ROW_QUADS + h] = n1;
+        __syncwarp();
+        if (c + 1 < chunks)
+        {
+            if (in0)
+                n0 = g0[(c + 1) * chunkQuads];
+            if (in1)
+                n1 = g1[(c + 1) * chunkQuads];
+        }
+        const uint4 a = stage[lane * ROW_QUADS], b = stage[lane * ROW_QUADS + 1];
+        __syncwarp();
+        const unsigned pair[8] = { a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w };
+        const unsigned dc = (unsigned)(lo + c * CHUNK) | invalid;   // disparities dc | 0 .. dc | 15
+        const int s0 = c * CHUNK;
 #pragma unroll
-        for (int j = 0; j < PPT; j++)
-            v[i][j] = 0xFFFFFFFFu;
-        if (pairs > 0)
-            loadPairs<PPT>((const unsigned*)(first + (size_t)(x - x0) * stride + (d0 - lo)), pairs, v[i]);
-    }
-    struct { int x; bool valid, parabola; int bd, c0, cm, cp; } mine = { -1, false, false, 0, 0, 0, 0 };
+        for (int j = 0; j < 8; j++)
+        {
 #pragma unroll
-    for (int i = 0; i < NPIX; i++)
-    {
-        const int x = x0 + warp + WARPS * (i + seg);
-        // A whole warp's pixel past the row's end ends its loop; a segment's pixel there still joins the shuffles.
-        if (LANES == 32 && x >= W)
-            break;
-        const bool inRow = x < W;
-        unsigned best = 0xFFFFFFFFu;
-        const int k0 = (x - x0) + (D - 1) - d0;   // key offset of disparity d0's right pixel; d0 + k is k before
-#pragma unroll
-        for (int j = 0; j < PPT; j++)
-            if (j < pairs)
+            for (int half = 0; half < 2; half++)
             {
-                const unsigned lo = (v[i][j] << 16) | (unsigned)(d0 + 2 * j);
-                const unsigned hi = (v[i][j] & 0xFFFF0000u) | (unsigned)(d0 + 2 * j + 1);
-                best = ::min(best, ::min(lo, hi));
-                if (inRow)
-                {
-                    atomicMin(&rkey[keySlot(k0 - 2 * j)], lo);
-                    atomicMin(&rkey[keySlot(k0 - 2 * j - 1)], hi);
-                }
+                // (pixels past the row's end have pairs of NO_KEY: their keys are NO_KEY)
+                const unsigned key = __byte_perm(pair[j], dc | (unsigned)(2 * j + half), half ? 0x3254 : 0x1054);
+                w.take(key);
+                atomicMin(rk - (s0 + 2 * j + half), key);
             }
-        best = pixelMin<LANES>(best);
-        const int bd = (int)(best & 0xFFFFu), minv = (int)(best >> 16);
-        bool valid = true;
-        if (p.uniqueness1024 < 1024)
-        {
-            // The lowest cost more than one disparity away from bd.
-            unsigned second = 0xFFFFFFFFu;
-#pragma unroll
-            for (int j = 0; j < PPT; j++)
-                if (j < pairs)
-                {
-                    const int d = d0 + 2 * j;
-                    if ((unsigned)(d - bd + 1) > 2u)
-                        second = ::min(second, v[i][j] & 0xFFFFu);
-                    if ((unsigned)(d - bd + 2) > 2u)   // d + 1 outside [bd - 1, bd + 1]
-                        second = ::min(second, v[i][j] >> 16);
-                }
-            second = pixelMin<LANES>(second);
-            valid = uniqueWinner(minv, (int)second, p.uniqueness1024);   // windows >= 16 wide: second is a cost
         }
-        // The parabola's neighbour costs from the lanes that hold them (uniform across the pixel's lanes: bd and valid
-        // are; the shuffles run in every segment, whether its pixel takes them or not); a non-unique winner needs them
-        // only for nonUnique16.
-        const bool parabola = (valid || nonUnique16.data) && p.subpixel && bd > lo && bd < hi - 1;
-        int cm = 0, cp = 0;
-        if (LANES < 32 || parabola)
-        {
-            const int dm = ::max(bd - 1 - lo, 0), dp = ::min(bd + 1 - lo, hi - lo - 1);   // from the window's start
-            cm = (int)__shfl_sync(0xFFFFFFFFu, costOf<PPT>(v[i], (dm % DPT) >> 1, dm & 1), dm / DPT, LANES);
-            cp = (int)__shfl_sync(0xFFFFFFFFu, costOf<PPT>(v[i], (dp % DPT) >> 1, dp & 1), dp / DPT, LANES);
-        }
-        // Lane i of the warp (LANES 32), or the segment's first lane, finishes the pixel: one division per lane
-        // instead of one per pixel for the whole warp.
-        if ((LANES == 32 ? lane == i : sub == 0) && inRow)
-            mine = { x, valid, parabola, bd, minv, cm, cp };
     }
-    if (mine.x >= 0)
-    {
-        const int d16 = (mine.bd + minD) * 16 + (mine.parabola ? subpixelOffset16(mine.cm, mine.c0, mine.cp) : 0);
-        disp16(y, mine.x) = mine.valid ? (short)d16 : NO_DISP;
-        dispInt(y, mine.x) = mine.valid ? (short)(mine.bd + minD) : NO_DISP;
-        if (nonUnique16.data)
-            nonUnique16(y, mine.x) = mine.valid ? NO_DISP : (short)d16;
-    }
+    return w;
 }
 
-/* A warp's four pixels one after the other (LANES 32) or together (8 lanes each), a block per 32 consecutive pixels
- of a row. Lane t of a pixel holds disparities [t * DPT, t * DPT + DPT), DPT = 2 * PPT, two 16-bit costs per register
- (one or two vector loads per pixel; with PPT 3, 5, 6 or 7 per pair, and the last active lane's run may pass D). The right-view candidates of those pixels fall on right pixels [x0 - minD - (D - 1),
- x0 + 31 - minD]: they are reduced in shared memory first, then merged into the global right-view keys with one
- atomicMin per right pixel and block. Keys are cost << 16 | d: the lowest is the lowest cost, and the lowest
- disparity among equal costs (winnerTakesAll on the CPU). With disparity windows (windows: per tile lo | hi << 16; a
- block's 32 pixels lie in one tile) only the window's sums are read, compared and offered to the right view, and the
- parabola needs both neighbours in the window (selectPixel). */
-template <int PPT, int LANES>
-__global__ void wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, WindowMap windows,
-                          PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<int> rightKey,
-                          PtrStepSz<short> nonUnique16)
+/* The winners of row y's pixels [X0, X0 + 256), a warp per 32 (x0), over their tile's window (the whole range
+ without windows). The right-view candidates of the block's pixels fall on right pixels [X0 - minD - (D - 1),
+ X0 + 255 - minD]: they meet in shared memory (rkey, slot 0 the first), then go to the global right-view keys with one
+ atomicMin per right pixel and block. With windows the parabola needs both neighbours in the window. */
+template <bool UNIQUE>
+__global__ void __launch_bounds__(32 * WARPS)
+wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, WindowMap windows, PtrStepSz<short> disp16,
+          PtrStepSz<short> dispInt, PtrStepSz<int> rightKey, PtrStepSz<short> nonUnique16)
 {
-    __shared__ unsigned rkey[SEG + MAX_D + (SEG + MAX_D) / 32];
+    __shared__ uint4 stage[WARPS][SEG * ROW_QUADS];
+    __shared__ unsigned rkey[BLOCK_PIXELS + MAX_DISPARITIES];
     const int lane = threadIdx.x & 31, warp = threadIdx.x >> 5;
-    const int y = blockIdx.y, x0 = blockIdx.x * SEG;
+    const int y = blockIdx.y, X0 = blockIdx.x * BLOCK_PIXELS, x0 = X0 + warp * SEG;
     const int D = p.numDisparities, minD = p.minDisparity;
-    const int base = x0 - minD - (D - 1);   // right pixel of key offset 0
-    const int keys = SEG + D - 1;
+    const int keys = BLOCK_PIXELS + D - 1;
     for (int i = threadIdx.x; i < keys; i += blockDim.x)
-        rkey[keySlot(i)] = 0xFFFFFFFFu;
+        rkey[i] = NO_KEY;
     __syncthreads();
 
-    if (!windows.tiles.data)
+    if (x0 < W)
     {
-        selectPixels<PPT, LANES>(sum.ptr(y) + (size_t)x0 * D, D, W, p, 0, D, x0, y, lane, warp, rkey, disp16,
-                                 dispInt, nonUnique16);
-    }
-    else
-    {
-        // The block's window (its 32 pixels lie in one tile, in one row: their sums follow each other in the compact
-        // volume), with as few pairs a lane as it needs.
-        const int ty = y / WINDOW_TILE, tx = x0 / WINDOW_TILE;
-        const unsigned w = (unsigned)windows.tiles(ty, tx);
-        const int lo = (int)(w & 0xFFFFu), hi = (int)(w >> 16), need = (hi - lo + 2 * LANES - 1) / (2 * LANES);
-        const ushort* const first =
-            (const ushort*)((const unsigned*)sum.data + windowPairOffset(windows.base(tx, ty), x0, y, lo, hi));
-        if (need <= 1)
-            selectPixels<1, LANES>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt,
-                                   nonUnique16);
-        else if (need <= 2 || PPT <= 2)
-            selectPixels<(PPT < 2 ? PPT : 2), LANES>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16,
-                                                     dispInt, nonUnique16);
-        else if (need <= 4 || PPT <= 4)
-            selectPixels<(PPT < 4 ? PPT : 4), LANES>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16,
-                                                     dispInt, nonUnique16);
-        else
-            selectPixels<PPT, LANES>(first, hi - lo, W, p, lo, hi, x0, y, lane, warp, rkey, disp16, dispInt,
-                                     nonUnique16);
+        int lo = 0, hi = D;
+        const ushort* first = sum.ptr(y) + (size_t)x0 * D;
+        if (windows.tiles.data)
+        {
+            // The warp's 32 pixels lie in one tile, in one row: their sums follow each other in the compact volume.
+            const int ty = y / WINDOW_TILE, tx = x0 / WINDOW_TILE;
+            const unsigned wd = (unsigned)windows.tiles(ty, tx);
+            lo = (int)(wd & 0xFFFFu);
+            hi = (int)(wd >> 16);
+            first = (const ushort*)((const unsigned*)sum.data + windowPairOffset(windows.base(tx, ty), x0, y, lo, hi));
+        }
+        // Slot of the right pixel x0 - lo - minD (lane 0 at disparity lo); slot 0 is X0 - minD - (D - 1).
+        const int slot0 = x0 - X0 - lo + D - 1;
+        const Winner<UNIQUE> w =
+            walkWindow<UNIQUE>(first, hi - lo, lo, hi, W - x0, lane, stage[warp], rkey, slot0);
+        const int x = x0 + lane;
+        if (x < W)
+        {
+            const int bd = (int)(w.best & 0xFFFFu), minv = (int)(w.best >> 16);
+            const bool valid = !UNIQUE || uniqueWinner(minv, (int)(w.second >> 16), p.uniqueness1024);
+            const bool parabola = (valid || nonUnique16.data) && p.subpixel && bd > lo && bd < hi - 1;
+            // The neighbours' sums once per pixel from memory (cached: just read) rather than tracked at every step.
+            const ushort* const s = first + (size_t)lane * (hi - lo) + (bd - lo);
+            const int d16 = (bd + minD) * 16 + (parabola ? subpixelOffset16(s[-1], minv, s[1]) : 0);
+            disp16(y, x) = valid ? (short)d16 : NO_DISP;
+            dispInt(y, x) = valid ? (short)(bd + minD) : NO_DISP;
+            if (nonUnique16.data)
+                nonUnique16(y, x) = valid ? NO_DISP : (short)d16;
+        }
     }
     __syncthreads();
     unsigned* rk = (unsigned*)rightKey.ptr(y);
+    const int base = X0 - minD - (D - 1);   // right pixel of slot 0
     for (int i = threadIdx.x; i < keys; i += blockDim.x)
     {
         const int xr = base + i;
-        const unsigned key = rkey[keySlot(i)];
-        if (key != 0xFFFFFFFFu && xr >= 0 && xr < W)
+        const unsigned key = rkey[i];
+        if (key != NO_KEY && xr >= 0 && xr < W)
             atomicMin(rk + xr, key);
     }
 }
@@ -217,7 +166,7 @@ __global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz
     if (x >= dispRight.cols || y >= dispRight.rows)
         return;
     const unsigned key = (unsigned)rightKey(y, x);
-    dispRight(y, x) = (short)(key == 0xFFFFFFFFu ? NO_DISP : (int)(key & 0xFFFFu) + minD);
+    dispRight(y, x) = (short)(key == NO_KEY ? NO_DISP : (int)(key & 0xFFFFu) + minD);
 }
 
 } // namespace
@@ -225,46 +174,19 @@ __global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz
 void winnerTakesAll(const WinnerInputs& in, const PipelineParams& p, const WinnerMaps& out, PtrStepSz<int> rightKey,
                     cudaStream_t stream)
 {
-    const PtrStepSz<ushort> sum = in.sum;
-    const int width = in.width, height = in.height;
-    const WindowMap windows = in.windows;
-    const PtrStepSz<short> disp16 = out.disp16, dispInt = out.dispInt, dispRight = out.dispRight,
-                           nonUnique16 = out.nonUnique16;
     CV_CUDEV_SAFE_CALL(cudaMemset2DAsync(rightKey.data, rightKey.step, 0xFF, rightKey.cols * sizeof(int), rightKey.rows,
-                                   stream));
-    const dim3 grid((width + SEG - 1) / SEG, height);
-    const auto launch = [&](void (*kernel)(PtrStepSz<ushort>, int, PipelineParams, WindowMap, PtrStepSz<short>,
-                                           PtrStepSz<short>, PtrStepSz<int>, PtrStepSz<short>)) {
-        kernel<<<grid, 32 * WARPS, 0, stream>>>(sum, width, p, windows, disp16, dispInt, rightKey, nonUnique16);
-    };
-    // Up to 128 disparities a pixel takes 8 lanes (D / 16 pairs each) and a warp its four pixels at once; above, the
-    // warp takes them in turn.
-    if (p.numDisparities <= 128)
-        switch (p.numDisparities / 16)
-        {
-        case 1: launch(wtaKernel<1, 8>); break;
-        case 2: launch(wtaKernel<2, 8>); break;
-        case 3: launch(wtaKernel<3, 8>); break;
-        case 4: launch(wtaKernel<4, 8>); break;
-        case 5: launch(wtaKernel<5, 8>); break;
-        case 6: launch(wtaKernel<6, 8>); break;
-        case 7: launch(wtaKernel<7, 8>); break;
-        default: launch(wtaKernel<8, 8>); break;
-        }
+                                         stream));
+    const dim3 grid((in.width + BLOCK_PIXELS - 1) / BLOCK_PIXELS, in.height);
+    if (p.uniqueness1024 < 1024)
+        wtaKernel<true><<<grid, 32 * WARPS, 0, stream>>>(in.sum, in.width, p, in.windows, out.disp16, out.dispInt,
+                                                         rightKey, out.nonUnique16);
     else
-        switch ((p.numDisparities + 63) / 64)
-        {
-        case 3: launch(wtaKernel<3, 32>); break;
-        case 4: launch(wtaKernel<4, 32>); break;
-        case 5: launch(wtaKernel<5, 32>); break;
-        case 6: launch(wtaKernel<6, 32>); break;
-        case 7: launch(wtaKernel<7, 32>); break;
-        default: launch(wtaKernel<8, 32>); break;
-        }
+        wtaKernel<false><<<grid, 32 * WARPS, 0, stream>>>(in.sum, in.width, p, in.windows, out.disp16, out.dispInt,
+                                                          rightKey, out.nonUnique16);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
     const dim3 block(32, 8);
-    const dim3 grid2(cv::cudev::divUp(width, block.x), cv::cudev::divUp(height, block.y));
-    rightKeyToDisparity<<<grid2, block, 0, stream>>>(rightKey, p.minDisparity, dispRight);
+    const dim3 grid2(cv::cudev::divUp(in.width, block.x), cv::cudev::divUp(in.height, block.y));
+    rightKeyToDisparity<<<grid2, block, 0, stream>>>(rightKey, p.minDisparity, out.dispRight);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
