@@ -42,17 +42,33 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
                             PtrStepSz<short> sparse16, RingCheckMaps rings, PipelineParams p, PtrStepSz<T> out,
                             PtrStepSz<float> confidence)
 {
-    extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
-    __shared__ int count;
+    extern __shared__ int smem[];   // listTilePoints
     const int W = disp16.cols, H = disp16.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     const int rc = p.checkRadius, tc = p.checkThreshold16, rs = p.semidenseRadius;
     const bool conf = p.confidence, lidarTest = lidarTestOn(p, sparse16);
-    // The tile's points within the larger of the two windows (the check's rc, the confidence's rs).
-    const int n = lidarTest ? listTilePoints(sparse16, listRadius(p), points, &count) : 0;
-    if (x >= W || y >= H)
+    const bool inside = x < W && y < H;
+    int v = inside ? disp16(y, x) : NO_DISP;
+    bool lr = false, li = false, ln = false;   // left-right; LiDAR in the check's window; in rs's (outputConfidence)
+    if (v != NO_DISP && (p.stereoCheck || conf))
+    {
+        // A match outside the right image cannot be verified: it fails (the LiDAR test may keep it).
+        const int di = dispInt(y, x);
+        const int xr = x - di;
+        if (xr >= 0 && xr < W)
+        {
+            const int dr = dispRight(y, xr);
+            lr = dr != NO_DISP && abs(di - dr) <= p.lrMaxDiff;
+        }
+    }
+    const bool needCheck = p.lidarCheck && !(p.stereoCheck && lr), needNear = conf && lidarTest;
+    // The tile's points within the larger of the two windows (the check's rc, the confidence's rs), listed where a
+    // pixel of the block needs them (most pixels pass the left-right check).
+    TilePoints tile = {};
+    if (lidarTest && __syncthreads_or(v != NO_DISP && (needCheck || needNear)))
+        tile = listTilePoints(sparse16, listRadius(p), smem);
+    if (!inside)
         return;
-    int v = disp16(y, x);
     const bool useRings = rings.gap != nullptr;
     const auto ringSupports = [&](int v16) {
         return ringLineSupports(v16, rings.above.data, rings.below.data, rings.above.step / sizeof(short),
@@ -71,22 +87,11 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
             confidence(y, x) = rescued ? confidenceValue(outputConfidence(checkEvidence(false, true), range16())) : 0.f;
         return;
     }
-    bool lr = false, li = false, ln = false;   // left-right; LiDAR in the check's window; in rs's (outputConfidence)
-    if (p.stereoCheck || conf)
-    {
-        // A match outside the right image cannot be verified: it fails (the LiDAR test may keep it).
-        const int di = dispInt(y, x);
-        const int xr = x - di;
-        if (xr >= 0 && xr < W)
-        {
-            const int dr = dispRight(y, xr);
-            lr = dr != NO_DISP && abs(di - dr) <= p.lrMaxDiff;
-        }
-    }
-    const bool needCheck = p.lidarCheck && !(p.stereoCheck && lr), needNear = conf && lidarTest;
     if (needCheck || needNear)
     {
-        for (int k = 0; k < n; k++)
+        // The points in this row's band of the window (a warp is a row).
+        const int r = listRadius(p), * const points = tile.points;
+        for (int k = tile.begin(y - r), k1 = tile.end(y + r); k < k1; k++)
         {
             const int pos = points[2 * k];
             if (abs(v - points[2 * k + 1]) > tc)

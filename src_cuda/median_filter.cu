@@ -11,35 +11,47 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
-__device__ __forceinline__ void sortedColumn(const PtrStepSz<short>& s, int x, int y, int& lo, int& mid, int& hi)
-{
-    const int xc = ::min(::max(x, 0), s.cols - 1);
-    lo = medianKey(s(::max(y - 1, 0), xc));
-    mid = medianKey(s(y, xc));
-    hi = medianKey(s(::min(y + 1, s.rows - 1), xc));
-    sortColumn3<ScalarMinMax>(lo, mid, hi);
-}
+// A warp takes 32 columns and ROWS rows, and writes the middle 30 columns: the outer two only give their sorted
+// columns to their neighbours.
+const int ROWS = 4, WARPS = 8, OUT_COLS = 30;
 
-//! blockIdx.z picks the map.
-__global__ void medianKernel(MedianMaps maps)
+/* blockIdx.z picks the map. Each lane loads its column's ROWS + 2 values once, sorts each output row's column of
+ three and takes its neighbours' sorted columns by shuffles, so a column is loaded and sorted once, not three times. */
+__global__ void __launch_bounds__(32 * WARPS) medianKernel(MedianMaps maps)
 {
-    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     const PtrStepSz<short> src = maps.src[blockIdx.z];
-    if (x >= src.cols || y >= src.rows)
+    PtrStepSz<short> dst = maps.dst[blockIdx.z];
+    const int lane = threadIdx.x, x = (int)blockIdx.x * OUT_COLS - 1 + lane;
+    const int y0 = ((int)blockIdx.y * WARPS + (int)threadIdx.y) * ROWS;
+    if (y0 >= src.rows)   // the whole warp
         return;
-    int l0, m0, h0, l1, m1, h1, l2, m2, h2;
-    sortedColumn(src, x - 1, y, l0, m0, h0);
-    sortedColumn(src, x, y, l1, m1, h1);
-    sortedColumn(src, x + 1, y, l2, m2, h2);
-    maps.dst[blockIdx.z](y, x) = (short)medianValue(medianOfColumns<ScalarMinMax>(l0, l1, l2, m0, m1, m2, h0, h1, h2));
+    const int xc = ::min(::max(x, 0), src.cols - 1);
+    int v[ROWS + 2];
+#pragma unroll
+    for (int i = 0; i < ROWS + 2; i++)
+        v[i] = medianKey(src(::min(::max(y0 - 1 + i, 0), src.rows - 1), xc));
+    const bool writes = lane >= 1 && lane <= OUT_COLS && x < src.cols;
+#pragma unroll
+    for (int r = 0; r < ROWS; r++)
+    {
+        if (y0 + r >= src.rows)   // the whole warp
+            break;
+        int l = v[r], m = v[r + 1], h = v[r + 2];
+        sortColumn3<ScalarMinMax>(l, m, h);
+        const unsigned all = 0xFFFFFFFFu;
+        const int l0 = __shfl_up_sync(all, l, 1), m0 = __shfl_up_sync(all, m, 1), h0 = __shfl_up_sync(all, h, 1);
+        const int l2 = __shfl_down_sync(all, l, 1), m2 = __shfl_down_sync(all, m, 1), h2 = __shfl_down_sync(all, h, 1);
+        if (writes)
+            dst(y0 + r, x) = (short)medianValue(medianOfColumns<ScalarMinMax>(l0, l, l2, m0, m, m2, h0, h, h2));
+    }
 }
 
 } // namespace
 
 void medianFilter(const MedianMaps& maps, int count, cudaStream_t stream)
 {
-    const dim3 block(32, 8);
-    const dim3 grid(cv::cudev::divUp(maps.src[0].cols, block.x), cv::cudev::divUp(maps.src[0].rows, block.y),
+    const dim3 block(32, WARPS);
+    const dim3 grid(cv::cudev::divUp(maps.src[0].cols, OUT_COLS), cv::cudev::divUp(maps.src[0].rows, WARPS * ROWS),
                     count);
     medianKernel<<<grid, block, 0, stream>>>(maps);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());

@@ -9,23 +9,28 @@
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
-/* One block = 32 x 8 pixels; each pixel visits the sparse points of its block's tile (sparse_window.cuh). The choice
- uses the full key (semidenseKey), so it does not depend on the order of the list. */
+/* One block = 8 x 32 pixels, a warp 8 x 4 of them; each pixel visits the sparse points of its block's tile
+ (sparse_window.cuh) in its warp's rows plus rs above and below: a warp of 8 x 4 pixels visits 16 rows of a 20 pixels
+ wide tile (at rs 6), where one of 32 x 1 visits 13 rows of a 44 wide one. The choice uses the full key (semidenseKey),
+ so it does not depend on the order of the list. */
 __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                                 int rs, int Ts, PtrStepSz<short> out)
 {
-    extern __shared__ int points[];   // (y << 16 | x), value
-    __shared__ int count;
+    extern __shared__ int smem[];   // listTilePoints
     const int W = out.cols, H = out.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    const int n = listTilePoints(sparse16, rs, points, &count);
+    const TilePoints tile = listTilePoints(sparse16, rs, smem);
+    // The warp's rows: blockDim.x is 8, so a warp is four rows.
+    const int yw = (int)(blockIdx.y * blockDim.y + (threadIdx.y & ~3u));
+    const int k0 = tile.begin(yw - rs), k1 = tile.end(yw + 3 + rs);
     if (x >= W || y >= H)
         return;
     const unsigned l = (unsigned)censusL(y, x);
     const int* R = censusR.ptr(y);
     unsigned best = 0xFFFFFFFFu;
     short bestVal = NO_DISP;
-    for (int k = 0; k < n; k++)
+    const int* const points = tile.points;
+    for (int k = k0; k < k1; k++)
     {
         const int pos = points[2 * k];
         const int c = pos & 0xFFFF, q = pos >> 16;
@@ -46,7 +51,7 @@ __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, 
 void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream)
 {
-    const dim3 block(32, 8);
+    const dim3 block(8, 32);
     const dim3 grid(cv::cudev::divUp(semidense16.cols, block.x), cv::cudev::divUp(semidense16.rows, block.y));
     const int rs = p.semidenseRadius;
     const size_t smem = tileKernelSmem(semidenseKernel, block, rs);

@@ -42,16 +42,15 @@ __global__ void scanTestKernel(int* stats)
 
 /* stats: null, or the scan test's result at stats[2 SCAN_GAP_BINS] (0: no parallax growth). A warp is one row of 32
  pixels (blocks of 32 x 16); it takes its sparse pixels one at a time, and its 32 lanes test each against the tile's
- points together: a pixel's own loop over the list would hold the whole warp for its longest search (the window
- grows with the parallax: hundreds of points a tile on a 64-line scan). */
+ points in the rows that can hide it together: a pixel's own loop over the list would hold the whole warp for its
+ longest search (the window grows with the parallax: hundreds of points a tile on a 64-line scan). */
 __global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, int reach, const int* stats,
                                  PtrStepSz<short> out)
 {
-    extern __shared__ int points[];   // (y << 16 | x), value: 2 ints per sparse point of the tile
-    __shared__ int count;
+    extern __shared__ int smem[];   // listTilePoints
     if (stats && stats[2 * SCAN_GAP_BINS] == 0)
         p.visibilityParallax256 = 0;
-    const int n = listTilePoints(sparse16, reach, points, &count);
+    const TilePoints tile = listTilePoints(sparse16, reach, smem);
     const int lane = threadIdx.x, x = blockIdx.x * blockDim.x + lane, y = blockIdx.y * blockDim.y + threadIdx.y;
     const bool inside = x < sparse16.cols && y < sparse16.rows;
     const int d = inside ? sparse16(y, x) : NO_DISP;
@@ -59,11 +58,17 @@ __global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, in
     for (unsigned todo = __ballot_sync(0xFFFFFFFFu, d != NO_DISP); todo != 0; todo &= todo - 1)
     {
         const int src = __ffs(todo) - 1, dq = __shfl_sync(0xFFFFFFFFu, d, src), xq = x - lane + src;
+        // No point of the tile hides dq beyond the growth its largest value allows (hiddenBy): the rows within
+        // visibilityRadiusY plus that growth hold every point that can.
+        const int growth = ::min((int)VISIBILITY_MAX_GROWTH,
+                                 ::max(p.visibilityParallax256 * (tile.maxValue - dq), 0) / 4096);
+        const int ry = p.visibilityRadiusY + growth;
+        const int k1 = tile.end(y + ry);
         bool h = false;
-        for (int i = lane; i < n && !h; i += 32)
+        for (int i = tile.begin(y - ry) + lane; i < k1 && !h; i += 32)
         {
-            const int at = points[2 * i];
-            h = hiddenBy(points[2 * i + 1], dq, (at & 0xFFFF) - xq, (at >> 16) - y, p);
+            const int at = tile.points[2 * i];
+            h = hiddenBy(tile.points[2 * i + 1], dq, (at & 0xFFFF) - xq, (at >> 16) - y, p);
         }
         h = __any_sync(0xFFFFFFFFu, h);
         hidden = lane == src ? h : hidden;
