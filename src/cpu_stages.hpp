@@ -34,6 +34,8 @@ CV_EXPORTS void filterHiddenPoints(const Mat& sparse16, const PipelineParams& p,
 /** The scan test (visibilityGrowthApplies, pipeline.hpp): whether the sparse map's points are closer along the rows
 than across them, as a LiDAR's rings are. Gates the parallax growth and the copied priors' weight. */
 CV_EXPORTS bool isLidarScan(const Mat& sparse16);
+//! The scan test's histograms of rowPointGap and columnPointGap (SCAN_GAP_BINS ints each).
+CV_EXPORTS void scanGapHistograms(const Mat& sparse16, int* rowGaps, int* columnGaps);
 
 //! Census transform (CV_8UC1 or CV_16UC1 in, CV_32SC1 bit strings out); pixels outside the image are clamped.
 CV_EXPORTS void censusTransform(const Mat& image, Mat& census);

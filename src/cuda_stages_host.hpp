@@ -20,6 +20,8 @@ using cv::cuda::GpuMat;
 CV_EXPORTS void convertSparse(const GpuMat& sparse, int minDisparity, int numDisparities, GpuMat& sparse16);
 //! The scan test on the device (isLidarScan).
 CV_EXPORTS bool isLidarScan(const GpuMat& sparse16);
+//! The scan test's histograms on the device (scanGapHistograms): 1 x 2 SCAN_GAP_BINS ints, the rows' then the columns'.
+CV_EXPORTS Mat scanGapHistograms(const GpuMat& sparse16);
 //! The visibility filter, with the scan test run on the device first, as the pipeline runs them.
 CV_EXPORTS void filterHiddenPoints(const GpuMat& sparse16, const PipelineParams& p, GpuMat& visible16);
 /** Both images' census strings (CV_8UC1 or CV_16UC1 in); censusR is a view of a padded buffer, as the pipeline's

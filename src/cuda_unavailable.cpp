@@ -42,6 +42,7 @@ namespace cuda_host {
 
 void convertSparse(const GpuMat&, int, int, GpuMat&) { noCuda(); }
 bool isLidarScan(const GpuMat&) { noCuda(); return false; }
+Mat scanGapHistograms(const GpuMat&) { noCuda(); return Mat(); }
 void filterHiddenPoints(const GpuMat&, const PipelineParams&, GpuMat&) { noCuda(); }
 void censusTransform(const GpuMat&, const GpuMat&, const PipelineParams&, GpuMat&, GpuMat&) { noCuda(); }
 void semidensify(const GpuMat&, const GpuMat&, const GpuMat&, const PipelineParams&, GpuMat&) { noCuda(); }

@@ -9,16 +9,19 @@
 // rounding (doc/decisions.md derives it for KITTI's HDL-64E).
 
 #include "precomp.hpp"
+
+#include <algorithm>
 #include "cpu_stages.hpp"
 #include "sparse_window.hpp"
 #include "opencv2/imgproc.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail {
 
-bool isLidarScan(const Mat& sparse16)
+void scanGapHistograms(const Mat& sparse16, int* rowGaps, int* columnGaps)
 {
     const int W = sparse16.cols, H = sparse16.rows;
-    int rowGaps[SCAN_GAP_BINS] = {}, columnGaps[SCAN_GAP_BINS] = {};
+    std::fill(rowGaps, rowGaps + SCAN_GAP_BINS, 0);
+    std::fill(columnGaps, columnGaps + SCAN_GAP_BINS, 0);
     for (int y = 0; y < H; y++)
     {
         const short* s = sparse16.ptr<short>(y);
@@ -33,6 +36,12 @@ bool isLidarScan(const Mat& sparse16)
                     columnGaps[gc]++;
             }
     }
+}
+
+bool isLidarScan(const Mat& sparse16)
+{
+    int rowGaps[SCAN_GAP_BINS], columnGaps[SCAN_GAP_BINS];
+    scanGapHistograms(sparse16, rowGaps, columnGaps);
     return visibilityGrowthApplies(rowGaps, columnGaps);
 }
 

@@ -78,6 +78,15 @@ void convertSparse(const GpuMat& sparse, int minDisparity, int numDisparities, G
     finish();
 }
 
+Mat scanGapHistograms(const GpuMat& sparse16)
+{
+    const GpuMat stats = scanStats(sparse16);
+    finish();
+    Mat s;
+    stats.colRange(0, 2 * SCAN_GAP_BINS).download(s);
+    return s;
+}
+
 bool isLidarScan(const GpuMat& sparse16)
 {
     const GpuMat stats = scanStats(sparse16);

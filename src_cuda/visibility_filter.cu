@@ -10,24 +10,60 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
-// Most points fall in a few bins: a block counts in shared memory first, so that the global atomics do not all meet on
-// the same addresses.
+/* rowPointGap and columnPointGap of a warp's 32 pixels of a row together: the row's points to their right and the
+ rows below come as ballots (32 columns a load), so that each row below is one load for the warp rather than a
+ search of RING_COLUMNS-wide rows by each point's thread; the warp stops at the row where every point has its gap.
+ Most points fall in a few bins: a block counts in shared memory first, so that the global atomics do not all meet on
+ the same addresses. */
 __global__ void scanGapHistogramKernel(PtrStepSz<short> sparse16, int* stats)
 {
+    static_assert(RING_COLUMNS == 2, "the column windows below are 5 bits wide");
+    static_assert(SCAN_GAP_BINS == 32, "a gap below the cap lies in the next 30 columns or rows");
     __shared__ int hist[2 * SCAN_GAP_BINS];
     const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
     for (int i = tid; i < 2 * SCAN_GAP_BINS; i += nthreads)
         hist[i] = 0;
     __syncthreads();
-    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    if (x < sparse16.cols && y < sparse16.rows && sparse16(y, x) != NO_DISP)
+    const int W = sparse16.cols, H = sparse16.rows, lane = threadIdx.x;
+    const int x0 = blockIdx.x * blockDim.x, x = x0 + lane, y = blockIdx.y * blockDim.y + threadIdx.y;
+    const auto has = [&](int v, int c) { return c >= 0 && c < W && sparse16(v, c) != NO_DISP; };
+    if (y < H)   // the whole warp
     {
-        const int gr = rowPointGap(sparse16.ptr(y), x, sparse16.cols);
-        const int gc = columnPointGap(sparse16.data, sparse16.step / sizeof(short), x, y, sparse16.cols, sparse16.rows);
-        if (gr >= 0)
-            atomicAdd(hist + gr, 1);
-        if (gc >= 0)
-            atomicAdd(hist + SCAN_GAP_BINS + gc, 1);
+        const bool point = has(y, x);
+        if (__any_sync(0xFFFFFFFFu, point))
+        {
+            const unsigned cap = SCAN_GAP_BINS - 1;
+            // The row: the first point among the next cap - 1 columns.
+            const unsigned long long right =
+                (unsigned long long)__ballot_sync(0xFFFFFFFFu, has(y, x + 32)) << 32 | __ballot_sync(0xFFFFFFFFu, point);
+            const unsigned ahead = (unsigned)(right >> (lane + 1)) & ((1u << (cap - 1)) - 1);
+            const int gr = ahead ? __ffs(ahead) : x + (int)cap < W ? (int)cap : -1;
+            // The rows below: bit i of a row's window mask is column x0 - RING_COLUMNS + i.
+            int gc = -1;
+            bool open = point;
+            for (int v = y + 1; v < H && v - y < (int)cap && __any_sync(0xFFFFFFFFu, open); v++)
+            {
+                const int c = lane < 2 ? x0 - 2 + lane : x0 + 30 + lane;   // the columns beside the warp's
+                const unsigned edge = __ballot_sync(0xFFFFFFFFu, lane < 4 && has(v, c));
+                const unsigned long long row = (unsigned long long)(edge & 3u) |
+                                               (unsigned long long)__ballot_sync(0xFFFFFFFFu, has(v, x)) << 2 |
+                                               (unsigned long long)(edge >> 2) << 34;
+                if (open && ((row >> lane) & 0x1Fu))
+                {
+                    gc = v - y;
+                    open = false;
+                }
+            }
+            if (open && y + (int)cap < H)
+                gc = (int)cap;
+            if (point)
+            {
+                if (gr >= 0)
+                    atomicAdd(hist + gr, 1);
+                if (gc >= 0)
+                    atomicAdd(hist + SCAN_GAP_BINS + gc, 1);
+            }
+        }
     }
     __syncthreads();
     for (int i = tid; i < 2 * SCAN_GAP_BINS; i += nthreads)

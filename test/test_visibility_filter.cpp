@@ -190,6 +190,15 @@ TEST(Lidarsgm_VisibilityFilter, matcher_drops_hidden_points_before_every_stage)
     EXPECT_EQ(0, cvtest::norm(withFilter, byHand, NORM_INF));
 }
 
+//! The scan test's histograms on the device against the CPU's.
+static void expectSameScanGaps(const Mat& sparse16, const std::string& name)
+{
+    Mat cpu(1, 2 * SCAN_GAP_BINS, CV_32SC1);
+    scanGapHistograms(sparse16, cpu.ptr<int>(), cpu.ptr<int>() + SCAN_GAP_BINS);
+    const Mat gpu = cuda_host::scanGapHistograms(cuda::GpuMat(sparse16));
+    EXPECT_EQ(0, cvtest::norm(cpu, gpu, NORM_INF)) << name << "\n" << cpu << "\n" << gpu;
+}
+
 // The CUDA twins (src_cuda/visibility_filter.cu): the scan test, and the filter with and without the window's
 // parallax growth, on every stage configuration.
 TEST(Lidarsgm_CUDA_VisibilityFilter, bit_exact)
@@ -199,6 +208,7 @@ TEST(Lidarsgm_CUDA_VisibilityFilter, bit_exact)
     {
         const cuda::GpuMat g(c.converted16);
         EXPECT_EQ(c.scan, cuda_host::isLidarScan(g)) << c.name;
+        expectSameScanGaps(c.converted16, c.name);
         for (int parallax256 : { 0, 46 })
         {
             PipelineParams p = c.p;
@@ -212,6 +222,24 @@ TEST(Lidarsgm_CUDA_VisibilityFilter, bit_exact)
             expectSameAsCpu(cpu, gv, c.name + format(", parallax %d/256", parallax256));
         }
     }
+}
+
+// The scan test's gaps where they reach the cap, the image's edges and the warps' 32-column edges: random points at
+// several densities on a size that is no multiple of 32.
+TEST(Lidarsgm_CUDA_VisibilityFilter, scan_gaps_bit_exact)
+{
+    requireCudaDevice();
+    RNG rng(31);
+    for (const Size sz : { Size(75, 47), Size(130, 90) })
+        for (double density : { 0.004, 0.03, 0.2 })
+        {
+            Mat s(sz, CV_16SC1, Scalar::all(NO_DISP));
+            for (int y = 0; y < sz.height; y++)
+                for (int x = 0; x < sz.width; x++)
+                    if (rng.uniform(0.0, 1.0) < density || ((x == 0 || x == sz.width - 1) && y % 7 == 0))
+                        s.at<short>(y, x) = (short)rng.uniform(0, 1000);
+            expectSameScanGaps(s, format("%dx%d, density %.3f", sz.width, sz.height, density));
+        }
 }
 
 }} // namespace
