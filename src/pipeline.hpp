@@ -377,10 +377,13 @@ static LIDARSGM_HD int columnPointGap(const short* sparse16, size_t step, int x,
     return -1;
 }
 
+//! From the lower medians of rowPointGap and columnPointGap: whether the map is a scan.
+static LIDARSGM_HD bool scanGapsApply(int rowMedian, int columnMedian) { return rowMedian < columnMedian; }
+
 //! From the histograms of rowPointGap and columnPointGap (SCAN_GAP_BINS bins each): whether the map is a scan.
 static LIDARSGM_HD bool visibilityGrowthApplies(const int* rowGaps, const int* columnGaps)
 {
-    return histogramLowerMedian(rowGaps, SCAN_GAP_BINS) < histogramLowerMedian(columnGaps, SCAN_GAP_BINS);
+    return scanGapsApply(histogramLowerMedian(rowGaps, SCAN_GAP_BINS), histogramLowerMedian(columnGaps, SCAN_GAP_BINS));
 }
 
 /** va + (vb - va) (y - ya) / (yb - ya) in 1/16 pixel, rounded to nearest (halves up), for ya < yb: the disparity at

@@ -6,6 +6,7 @@
 // host.
 
 #include "cuda_stages.hpp"
+#include "histogram.cuh"
 #include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -77,9 +78,12 @@ __global__ void ringGapHistogramKernel(PtrStepSz<short> sparse16, PtrStepSz<shor
             atomicAdd(hist + i, local[i]);
 }
 
+//! One warp.
 __global__ void ringGapLimitKernel(int* stats, int factor16)
 {
-    stats[RING_GAP_BINS] = ringGapLimit(factor16, histogramLowerMedian(stats, RING_GAP_BINS));
+    const int spacing = warpLowerMedian<RING_GAP_BINS>(stats);
+    if (threadIdx.x == 0)
+        stats[RING_GAP_BINS] = ringGapLimit(factor16, spacing);
 }
 
 __global__ void ringFillKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
@@ -113,7 +117,7 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
     const dim3 block(32, 8), grid(divUp(W, block.x), divUp(H, block.y));
     ringGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, above, below, stats);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
-    ringGapLimitKernel<<<1, 1, 0, stream>>>(stats, p.ringGapFactor16);
+    ringGapLimitKernel<<<1, 32, 0, stream>>>(stats, p.ringGapFactor16);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
     ringFillKernel<<<grid, block, 0, stream>>>(censusL, censusR, sparse16, above, below, stats,
                                                p.semidenseThreshold, p.minDisparity,

@@ -5,6 +5,7 @@
 
 #include "cuda_stages.hpp"
 #include "sparse_window.cuh"
+#include "histogram.cuh"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
@@ -34,8 +35,8 @@ __global__ void scanGapHistogramKernel(PtrStepSz<short> sparse16, int* stats)
         {
             const unsigned cap = SCAN_GAP_BINS - 1;
             // The row: the first point among the next cap - 1 columns.
-            const unsigned long long right =
-                (unsigned long long)__ballot_sync(0xFFFFFFFFu, has(y, x + 32)) << 32 | __ballot_sync(0xFFFFFFFFu, point);
+            const unsigned next = __ballot_sync(0xFFFFFFFFu, has(y, x + 32));
+            const unsigned long long right = (unsigned long long)next << 32 | __ballot_sync(0xFFFFFFFFu, point);
             const unsigned ahead = (unsigned)(right >> (lane + 1)) & ((1u << (cap - 1)) - 1);
             const int gr = ahead ? __ffs(ahead) : x + (int)cap < W ? (int)cap : -1;
             // The rows below: bit i of a row's window mask is column x0 - RING_COLUMNS + i.
@@ -71,9 +72,13 @@ __global__ void scanGapHistogramKernel(PtrStepSz<short> sparse16, int* stats)
             atomicAdd(stats + i, hist[i]);
 }
 
+//! One warp: visibilityGrowthApplies.
 __global__ void scanTestKernel(int* stats)
 {
-    stats[2 * SCAN_GAP_BINS] = visibilityGrowthApplies(stats, stats + SCAN_GAP_BINS) ? 1 : 0;
+    const int rows = warpLowerMedian<SCAN_GAP_BINS>(stats);
+    const int columns = warpLowerMedian<SCAN_GAP_BINS>(stats + SCAN_GAP_BINS);
+    if (threadIdx.x == 0)
+        stats[2 * SCAN_GAP_BINS] = scanGapsApply(rows, columns) ? 1 : 0;
 }
 
 /* stats: null, or the scan test's result at stats[2 SCAN_GAP_BINS] (0: no parallax growth). A warp is one row of 32
@@ -122,7 +127,7 @@ void testScan(PtrStepSz<short> sparse16, int* stats, cudaStream_t stream)
     CV_CUDEV_SAFE_CALL(cudaMemsetAsync(stats, 0, 2 * SCAN_GAP_BINS * sizeof(int), stream));
     scanGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, stats);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
-    scanTestKernel<<<1, 1, 0, stream>>>(stats);
+    scanTestKernel<<<1, 32, 0, stream>>>(stats);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 

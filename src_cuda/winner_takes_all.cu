@@ -20,9 +20,9 @@ const int ROW_QUADS = 3;
 //! The sentinel key: no candidate.
 const unsigned NO_KEY = 0xFFFFFFFFu;
 
-/* One pixel's winner as its keys arrive in disparity order (one lane, one pixel): the lowest key and, for the uniqueness
- check (UNIQUE), the lowest key more than one disparity away from it (second). A new winner at d replaces second with
- the lowest key up to d - 2 (below2); the key at the winner's successor does not enter second. */
+/* One pixel's winner as its keys arrive in disparity order (one lane, one pixel): the lowest key and, for the
+ uniqueness check (UNIQUE), the lowest key more than one disparity away from it (second). A new winner at d replaces
+ second with the lowest key up to d - 2 (below2); the key at the winner's successor does not enter second. */
 template <bool UNIQUE> struct Winner
 {
     unsigned best = NO_KEY, second = NO_KEY, below2 = NO_KEY, last = NO_KEY;
