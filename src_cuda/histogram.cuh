@@ -1,8 +1,9 @@
 // This file is part of the lidarsgm module (an OpenCV extra module).
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
-// histogramLowerMedian (pipeline.hpp) by one warp: the scan test's and the ring spacing's medians run in stream order
-// on the device, where one thread's walk over the bins took a few microseconds of the call.
+// Counting by one warp: a prefix sum over the lanes, and histogramLowerMedian (pipeline.hpp), so that the scan test's
+// and the ring spacing's medians run in stream order on the device, where one thread's walk over the bins took a few
+// microseconds of the call.
 
 #ifndef OPENCV_LIDARSGM_HISTOGRAM_CUH
 #define OPENCV_LIDARSGM_HISTOGRAM_CUH
@@ -10,6 +11,18 @@
 #include "cuda_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
+
+//! The inclusive prefix sum of v over the warp's lanes (lane: this thread's, from its linear index in the block).
+__device__ __forceinline__ int warpInclusiveSum(int v, int lane)
+{
+#pragma unroll
+    for (int o = 1; o < 32; o <<= 1)
+    {
+        const int u = __shfl_up_sync(0xFFFFFFFFu, v, o);
+        v += lane >= o ? u : 0;
+    }
+    return v;
+}
 
 /** histogramLowerMedian(hist, BINS) for the whole warp (every lane gets it). Lane t holds bins [t PER, t PER + PER):
  a scan of the lanes' sums finds the lane where the cumulative count first exceeds (n - 1) / 2, and that lane its
@@ -22,13 +35,7 @@ template <int BINS> __device__ __forceinline__ int warpLowerMedian(const int* hi
 #pragma unroll
     for (int i = 0; i < PER; i++)
         own += v[i] = hist[lane * PER + i];
-    int upTo = own;   // the bins up to this lane's last
-#pragma unroll
-    for (int o = 1; o < 32; o <<= 1)
-    {
-        const int u = __shfl_up_sync(0xFFFFFFFFu, upTo, o);
-        upTo += lane >= o ? u : 0;
-    }
+    const int upTo = warpInclusiveSum(own, lane);   // the bins up to this lane's last
     const int n = __shfl_sync(0xFFFFFFFFu, upTo, 31);
     if (n == 0)
         return 0;

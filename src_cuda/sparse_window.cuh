@@ -10,6 +10,7 @@
 #define OPENCV_LIDARSGM_SPARSE_WINDOW_CUH
 
 #include "cuda_stages.hpp"
+#include "histogram.cuh"
 #include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -104,13 +105,7 @@ __device__ __forceinline__ TilePoints listTilePoints(PtrStepSz<short> sparse16, 
         for (int i0 = 0; i0 <= rows; i0 += 32)
         {
             const int i = i0 + lane, c = i < rows ? rowStart[i] : 0;
-            int v = c;
-#pragma unroll
-            for (int o = 1; o < 32; o <<= 1)
-            {
-                const int u = __shfl_up_sync(0xFFFFFFFFu, v, o);
-                v += lane >= o ? u : 0;
-            }
+            const int v = warpInclusiveSum(c, lane);
             if (i <= rows)
                 rowStart[i] = carry + v - c;
             carry += __shfl_sync(0xFFFFFFFFu, v, 31);
