@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # SASS instruction counts that doc/perf.md and doc/design.md quote (no GPU needed): what one packed minimum or add
 # costs for sm_87 (Jetson Orin) and sm_90 (H100, H200), and the main loop of the packed path kernel
-# (pathKernel<8, 8, ...>: two steps of four lines, KITTI's 128 disparities with DDC and the edge rule) for both.
+# (pathKernel<8, 8, ...>: two steps of four lines, KITTI's 128 disparities with DDC and the edge rule) for both; and
+# the packed windows' path kernel (packedWindowPathKernel, no edge rule) per step for each K pairs a lane, with the
+# costs stored (the few-SMs kernel) and computed with DDC, where every line owns its pairs and where some are masked.
 # Needs nvcc and cuobjdump (the CUDA toolkit's, or PyPI's nvidia-cuda-cuobjdump: CUOBJDUMP=path/to/cuobjdump), and the
 # README's CUDA build (its include directories for src_cuda/aggregation.cu).
 #   tools/sass_counts.sh [cache dir, default ~/.cache/lidarsgm]
@@ -50,5 +52,33 @@ for f in re.split(r'\n\s*Function : ', text)[1:]:
             loop = max(loop, (int(addr, 16) - int(m.group(1), 16)) // 16 + 1)
     print(f"sm_{sys.argv[2]}: pathKernel<8, 8> (128 disparities, DDC, edge rule): {len(ins)} SASS instructions, "
           f"step loop (two steps of four lines) {loop}")
+EOF
+  python3 - "$tmp/agg.$arch.sass" $arch <<'EOF'
+import re, sys
+text = open(sys.argv[1]).read()
+kinds = {'ILb0ELb0ELb1E': 'stored costs', 'ILb1ELb0ELb0E': 'computed costs, DDC'}
+for f in re.split(r'\n\s*Function : ', text)[1:]:
+    name = f.split('\n', 1)[0]
+    kind = next((v for k, v in kinds.items() if 'packedWindowPathKernel' + k in name), None)
+    if kind is None:
+        continue
+    ins = [(int(a, 16), t.strip()) for a, t in re.findall(r'/\*([0-9a-f]{4,})\*/\s+([^;]*);', f)]
+    loops = {}
+    for addr, t in ins:
+        m = re.search(r'BRA\s+(?:\S+\s+)?0x([0-9a-f]+)', t)
+        if not m or 'DIV' in t or int(m.group(1), 16) >= addr:
+            continue
+        body = [o for a, o in ins if int(m.group(1), 16) <= a <= addr and not o.startswith('NOP')]
+        steps = sum('SHFL.BFLY' in o for o in body) // 3   # the line's minimum: three butterflies a step
+        if steps not in (1, 2):   # a step loop runs one or two steps (not the segments' loop around them)
+            continue
+        ops = [o.split()[1] if o.startswith('@') else o.split()[0] for o in body]
+        words = sum(4 if op.endswith('.128') else 2 if op.endswith('.64') else 1 for op in ops
+                    if op.startswith('LDG')) // steps
+        K = words if kind == 'stored costs' else (words - 2) // 2   # computed: 2 K right strings, left string, facts
+        loops.setdefault(K, []).append(len(body) / steps)
+    cells = ', '.join(f'K={K}: ' + ' / '.join(f'{v:g}' for v in sorted(loops[K])) for K in sorted(loops))
+    print(f"sm_{sys.argv[2]}: packedWindowPathKernel, {kind}: instructions a step (lines owning their pairs / "
+          f"masked): {cells}")
 EOF
 done

@@ -1,0 +1,224 @@
+// SIMT emulation, on the CPU, of the packed windows' path kernel (packedWindowPathKernel, src_cuda/aggregation.cu) in
+// two versions of that file (tools/emulate_packed_walk.sh extracts them into old.inc and new.inc): both walk the same
+// random inputs (census strings, facts, windows in four patterns, 4 or 8 paths, 112 or 128 disparities, each of the
+// kernel's instantiations), and their sum volumes are compared word for word. A warp's 32 lanes are threads that meet
+// at every warp intrinsic (shuffles, reductions, votes, __syncwarp); a block's 128 threads meet at __syncthreads; the
+// blocks run one after another. A check that a rewrite of the walk keeps its output where no GPU is at hand; it
+// measures nothing about speed.
+#include <cuda_runtime.h>
+#include <barrier>
+#include <thread>
+#include <vector>
+#include <random>
+#include <cstring>
+#include <cstdio>
+#include <cstdint>
+#include <cassert>
+#include <climits>
+#include <algorithm>
+#undef __device__
+#undef __host__
+#undef __forceinline__
+#undef __global__
+#undef __launch_bounds__
+#undef __shared__
+#undef __align__
+#define __device__
+#define __host__
+#define __forceinline__ inline
+#define __global__
+#define __launch_bounds__(...)
+#define __shared__ static
+#define __align__(n) __attribute__((aligned(n)))
+
+thread_local uint3 threadIdx, blockIdx;
+dim3 gridDim, blockDim;
+struct WarpSync { std::barrier<> bar{32}; unsigned long long slot[32]; };
+thread_local WarpSync* tw;
+thread_local int tlane;
+std::barrier<>* blockBar;
+
+static unsigned long long xchgAll(unsigned long long v) { tw->slot[tlane] = v; tw->bar.arrive_and_wait(); return 0; }
+template <class T> static unsigned long long bits(T v) { unsigned long long r = 0; std::memcpy(&r, &v, sizeof(T)); return r; }
+template <class T> static T unbits(unsigned long long r) { T v; std::memcpy(&v, &r, sizeof(T)); return v; }
+template <class T> T __shfl_sync(unsigned, T v, int src, int width = 32)
+{
+    xchgAll(bits(v));
+    const int s = (tlane & ~(width - 1)) | (src & (width - 1));
+    T r = unbits<T>(tw->slot[s]);
+    tw->bar.arrive_and_wait();
+    return r;
+}
+template <class T> T __shfl_xor_sync(unsigned, T v, int m, int width = 32)
+{
+    xchgAll(bits(v));
+    int s = tlane ^ m;
+    if ((s & ~(width - 1)) != (tlane & ~(width - 1))) s = tlane;
+    T r = unbits<T>(tw->slot[s]);
+    tw->bar.arrive_and_wait();
+    return r;
+}
+template <class T, class F> T reduceAll(unsigned mask, T v, F f)
+{
+    assert(mask == 0xFFFFFFFFu);
+    xchgAll(bits(v));
+    T r = unbits<T>(tw->slot[0]);
+    for (int i = 1; i < 32; i++) r = f(r, unbits<T>(tw->slot[i]));
+    tw->bar.arrive_and_wait();
+    return r;
+}
+int __reduce_min_sync(unsigned m, int v) { return reduceAll(m, v, [](int a, int b) { return std::min(a, b); }); }
+unsigned __reduce_min_sync(unsigned m, unsigned v) { return reduceAll(m, v, [](unsigned a, unsigned b) { return std::min(a, b); }); }
+int __reduce_max_sync(unsigned m, int v) { return reduceAll(m, v, [](int a, int b) { return std::max(a, b); }); }
+unsigned __reduce_max_sync(unsigned m, unsigned v) { return reduceAll(m, v, [](unsigned a, unsigned b) { return std::max(a, b); }); }
+int __any_sync(unsigned m, int p) { return reduceAll(m, p ? 1 : 0, [](int a, int b) { return a | b; }); }
+int __all_sync(unsigned m, int p) { return reduceAll(m, p ? 1 : 0, [](int a, int b) { return a & b; }); }
+void __syncwarp(unsigned = 0xFFFFFFFFu) { tw->bar.arrive_and_wait(); }
+void __syncthreads() { blockBar->arrive_and_wait(); }
+unsigned __byte_perm(unsigned x, unsigned y, unsigned s)
+{
+    const unsigned long long v = (unsigned long long)y << 32 | x;
+    unsigned r = 0;
+    for (int i = 0; i < 4; i++) r |= (unsigned)(v >> (8 * ((s >> (4 * i)) & 7)) & 0xFF) << (8 * i);
+    return r;
+}
+unsigned __vminu2(unsigned a, unsigned b)
+{
+    return std::min(a & 0xFFFF, b & 0xFFFF) | std::min(a >> 16, b >> 16) << 16;
+}
+unsigned atomicAdd(unsigned* a, unsigned v) { return __atomic_fetch_add(a, v, __ATOMIC_RELAXED); }
+unsigned long long atomicAdd(unsigned long long* a, unsigned long long v)
+{
+    if ((uintptr_t)a & 7) { fprintf(stderr, "misaligned 64-bit atomic\n"); abort(); }
+    return __atomic_fetch_add(a, v, __ATOMIC_RELAXED);
+}
+int min(int a, int b) { return a < b ? a : b; }
+unsigned min(unsigned a, unsigned b) { return a < b ? a : b; }
+int max(int a, int b) { return a > b ? a : b; }
+
+#include "aggregation.cuh"
+#include "cuda_stages.hpp"
+
+namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
+const int WARPS_PER_BLOCK = 4;
+using namespace aggregation;
+size_t wideMul(unsigned a, unsigned b) { return (size_t)a * b; }
+void reduceAddIf(bool p, unsigned* a, unsigned v) { if (p) atomicAdd(a, v); }
+void reduceAddIf(bool p, unsigned* a, unsigned lo, unsigned hi)
+{
+    if (p) atomicAdd((unsigned long long*)a, (unsigned long long)lo | (unsigned long long)hi << 32);
+}
+int tileSegmentEnd(int x, int y, int dx, int dy, int n, int s)
+{
+    const unsigned cx = x + s * dx, cy = y + s * dy;
+    int len = n - s;
+    if (dx != 0)
+        len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
+    if (dy != 0)
+        len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
+    return s + len;
+}
+namespace oldv {
+#include "old.inc"
+}
+namespace newv {
+#include "new.inc"
+}
+}}}}
+using namespace cv::lidarsgm::detail;
+using namespace cv::lidarsgm::detail::cuda_impl;
+
+// Runs kernel k over the grid: blocks one at a time, 128 threads each.
+template <class K> void launch(dim3 grid, K k)
+{
+    gridDim = grid; blockDim = dim3(128);
+    for (unsigned by = 0; by < grid.y; by++)
+        for (unsigned bx = 0; bx < grid.x; bx++)
+        {
+            std::barrier<> bb(128);
+            blockBar = &bb;
+            WarpSync ws[4];
+            std::vector<std::thread> th;
+            for (int t = 0; t < 128; t++)
+                th.emplace_back([&, t]() {
+                    threadIdx = make_uint3(t, 0, 0); blockIdx = make_uint3(bx, by, 0);
+                    tw = &ws[t / 32]; tlane = t % 32;
+                    k();
+                });
+            for (auto& x : th) x.join();
+        }
+}
+
+int main(int argc, char** argv)
+{
+    const int seed = argc > 1 ? atoi(argv[1]) : 1;
+    std::mt19937 rng(seed);
+    auto U = [&](int a, int b) { return std::uniform_int_distribution<int>(a, b)(rng); };
+    const int W = U(40, 140), H = U(20, 80), D = U(0, 1) ? 128 : 112, minD = U(0, 3) == 0 ? U(1, 8) : 0;
+    const int numPaths = U(0, 1) ? 8 : 4, mode = U(0, 3);
+    const bool ddc = U(0, 1), edges = U(0, 1), stored = !ddc && U(0, 1);
+    // census strings, the right one with a left margin of D + minD columns
+    const int M = D + 16;
+    std::vector<int> cl((size_t)W * H), cr((size_t)(W + M) * H);
+    for (auto& v : cl) v = (int)rng();
+    for (auto& v : cr) v = (int)rng();
+    cv::cuda::PtrStepSz<int> censusL(H, W, cl.data(), W * sizeof(int));
+    cv::cuda::PtrStepSz<int> censusR(H, W, cr.data() + M, (W + M) * sizeof(int));
+    std::vector<unsigned short> fa((size_t)W * H);
+    for (auto& v : fa)
+    {
+        const int cls = ddc ? U(0, 2) : 0;
+        v = (unsigned short)packFacts(U(0, D - 1), cls, edges ? U(0, 15) : 0);
+    }
+    cv::cuda::PtrStepSz<unsigned short> facts(H, W, fa.data(), W * sizeof(unsigned short));
+    const int TX = (W + WINDOW_TILE - 1) / WINDOW_TILE, TY = (H + WINDOW_TILE - 1) / WINDOW_TILE;
+    std::vector<int> tiles(TX * TY), bases(TX * TY + 1);
+    // modes: 0 random windows; 1 one window everywhere; 2 full range; 3 windows near a common one
+    const int glo = 16 * U(0, D / 16 - 1), ghi = std::min(D, glo + 16 * U(1, 4));
+    for (int t = 0; t < TX * TY; t++)
+    {
+        int lo, hi;
+        if (mode == 1) { lo = glo; hi = ghi; }
+        else if (mode == 2) { lo = 0; hi = D; }
+        else if (mode == 3) { lo = std::max(0, glo - 16 * U(0, 1)); hi = std::min(D, ghi + 16 * U(0, 1)); }
+        else { lo = 16 * U(0, D / 16 - 1); hi = std::min(D, lo + 16 * U(1, D / 16)); }
+        tiles[t] = lo | hi << 16;
+    }
+    for (int t = 0; t < TX * TY; t++) bases[t + 1] = bases[t] + ((tiles[t] >> 16) - (tiles[t] & 0xFFFF)) / WINDOW_ALIGN;
+    WindowMap windows;
+    windows.tiles = cv::cuda::PtrStepSz<int>(TY, TX, tiles.data(), TX * sizeof(int));
+    windows.bases = bases.data();
+    const size_t shorts = windowVolumeShorts(bases[TX * TY], stored);
+    PipelineParams p{};
+    p.minDisparity = minD; p.numDisparities = D; p.numPaths = numPaths;
+    p.w.census256 = 1536; p.w.q1 = 70; p.w.q2 = 2240; p.w.p1 = 200; p.w.p2 = 2400; p.w.p2Edge = 1200; p.w.scale = 20;
+    p.wCopy = p.w; p.wCopy.q1 = 35; p.wCopy.q2 = 1120;
+    p.edgeThreshold = edges ? 8 : 0;
+    std::vector<unsigned> vols[2];
+    for (int v = 0; v < 2; v++)
+    {
+        std::vector<unsigned> vol(shorts / 2 + 64, 0);   // uint4-aligned by the allocator (16 bytes)
+        unsigned* costs = stored ? windowCostsOf(vol.data(), shorts) : nullptr;
+        if (stored)
+        {
+            std::mt19937 r2(seed * 7 + 1);
+            for (unsigned* c = costs; c < vol.data() + shorts / 2; c++) *c = (r2() % 2500) | (r2() % 2500) << 16;
+        }
+        const int maxLines = numPaths == 8 ? W + H - 1 : std::max(W, H);
+        const int lineBlocks = (maxLines + 15) / 16;
+        const dim3 grid = numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, numPaths);
+        unsigned* volume = vol.data();
+#define RUN(NS, A, B, C) launch(grid, [&]() { NS::packedWindowPathKernel<A, B, C>(censusL, censusR, facts, windows, p, volume, costs); })
+#define PICK(NS) \
+        if (stored) { if (edges) RUN(NS, false, true, true); else RUN(NS, false, false, true); } \
+        else if (ddc) { if (edges) RUN(NS, true, true, false); else RUN(NS, true, false, false); } \
+        else { if (edges) RUN(NS, false, true, false); else RUN(NS, false, false, false); }
+        if (v == 0) { PICK(oldv) } else { PICK(newv) }
+        vols[v] = vol;
+    }
+    size_t diff = 0, nz = 0;
+    for (size_t i = 0; i < vols[0].size(); i++) { diff += vols[0][i] != vols[1][i]; nz += vols[0][i] != 0; }
+    printf("seed %d: %dx%d D %d minD %d paths %d mode %d ddc %d edges %d stored %d: %zu words, %zu nonzero, %zu differ\n",
+           seed, W, H, D, minD, numPaths, mode, ddc, edges, stored, vols[0].size(), nz, diff);
+    return diff != 0;
+}
