@@ -108,16 +108,6 @@ void reduceAddIf(bool p, unsigned* a, unsigned lo, unsigned hi)
 {
     if (p) atomicAdd((unsigned long long*)a, (unsigned long long)lo | (unsigned long long)hi << 32);
 }
-int tileSegmentEnd(int x, int y, int dx, int dy, int n, int s)
-{
-    const unsigned cx = x + s * dx, cy = y + s * dy;
-    int len = n - s;
-    if (dx != 0)
-        len = ::min(len, (int)(dx > 0 ? WINDOW_TILE - cx % WINDOW_TILE : cx % WINDOW_TILE + 1));
-    if (dy != 0)
-        len = ::min(len, (int)(dy > 0 ? WINDOW_TILE - cy % WINDOW_TILE : cy % WINDOW_TILE + 1));
-    return s + len;
-}
 namespace oldv {
 #include "old.inc"
 }
