@@ -265,6 +265,16 @@ static LIDARSGM_HD int subpixelOffset16(int sm, int s0, int sp)
     return num >= 0 ? (num + den / 2) / den : -((-num + den / 2) / den);
 }
 
+//! The most the visibility window grows on each side beyond its radii (hiddenBy).
+enum { VISIBILITY_MAX_GROWTH = 32 };
+/** The largest growth k (hiddenBy) that a value diff16 above a point allows: k * 16 * 256 <= visibilityParallax256 *
+diff16, at most VISIBILITY_MAX_GROWTH; 0 where diff16 <= 0. The product fits an int: visibilityParallax <= 1. */
+static LIDARSGM_HD int visibilityGrowthAllowed(int diff16, const PipelineParams& p)
+{
+    const int k = p.visibilityParallax256 * diff16 / 4096;   // truncated: the floor for a product >= 0
+    return k < 0 ? 0 : k < (int)VISIBILITY_MAX_GROWTH ? k : (int)VISIBILITY_MAX_GROWTH;
+}
+
 /** The visibility filter: a sparse value d16 is hidden (a LiDAR point the camera cannot see, projected onto the
 surface in front of it) by a value other16 at offset (dx, dy) when other16 is nearer, i.e. larger, by more than Tc and
 the offset lies within the (2 rx + 1) x (2 ry + 1) window grown on every side by visibilityParallax pixels per pixel
@@ -272,8 +282,7 @@ of their difference: the band beside a near object in which a LiDAR apart from t
 camera cannot see widens in proportion to the disparity step, by the LiDAR's offset across the line of sight over the
 stereo baseline (the stage sets parallax256 to 0 where the sparse map is no scan: visibilityGrowthApplies). In
 integers: a growth of k pixels needs k * 16 * 256 <= parallax256 * (other16 - d16), and k is at most
-VISIBILITY_MAX_GROWTH. */
-enum { VISIBILITY_MAX_GROWTH = 32 };
+VISIBILITY_MAX_GROWTH (visibilityGrowthAllowed). */
 static LIDARSGM_HD bool hiddenBy(int other16, int d16, int dx, int dy, const PipelineParams& p)
 {
     if (other16 == NO_DISP || other16 - d16 <= p.checkThreshold16)
@@ -281,7 +290,7 @@ static LIDARSGM_HD bool hiddenBy(int other16, int d16, int dx, int dy, const Pip
     const int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
     const int kx = ax - p.visibilityRadiusX, ky = ay - p.visibilityRadiusY;
     const int k = kx > ky ? kx : ky;
-    return k <= 0 || (k <= (int)VISIBILITY_MAX_GROWTH && k * 4096 <= p.visibilityParallax256 * (other16 - d16));
+    return k <= 0 || k <= visibilityGrowthAllowed(other16 - d16, p);
 }
 
 //! The most the visibility window grows on each side (sparse values differ by less than numDisparities pixels).

@@ -72,7 +72,7 @@ void filterHiddenPoints(const Mat& sparse16, const PipelineParams& params, Mat& 
         {
             const int above = windowMax[i].at<short>(y, x) - d16;
             if (above > p.checkThreshold16 &&
-                (i == 0 || (int64)p.visibilityParallax256 * above >= (int64)4096 * (growths[i - 1] + 1)))
+                (i == 0 || growths[i - 1] + 1 <= visibilityGrowthAllowed(above, p)))
                 return true;
         }
         return false;

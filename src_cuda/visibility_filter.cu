@@ -101,8 +101,7 @@ __global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, in
         const int src = __ffs(todo) - 1, dq = __shfl_sync(0xFFFFFFFFu, d, src), xq = x - lane + src;
         // No point of the tile hides dq beyond the growth its largest value allows (hiddenBy): the rows within
         // visibilityRadiusY plus that growth hold every point that can.
-        const int growth = ::min((int)VISIBILITY_MAX_GROWTH,
-                                 ::max(p.visibilityParallax256 * (tile.maxValue - dq), 0) / 4096);
+        const int growth = visibilityGrowthAllowed(tile.maxValue - dq, p);
         const int ry = p.visibilityRadiusY + growth;
         const int k1 = tile.end(y + ry);
         bool h = false;

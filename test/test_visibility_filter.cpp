@@ -68,6 +68,25 @@ TEST(Lidarsgm_VisibilityFilter, window_grows_with_the_disparity_step)
     EXPECT_FALSE(hiddenBy(42 * 16, 10 * 16, 3, 0, p));
 }
 
+TEST(Lidarsgm_VisibilityFilter, growth_allowed_is_the_largest_growth_its_inequality_admits)
+{
+    // visibilityGrowthAllowed, which hiddenBy, the CPU stage's dilation test and the CUDA kernel's row reach take,
+    // against its definition: the largest k <= VISIBILITY_MAX_GROWTH with k * 4096 <= parallax256 * diff16 (0 where
+    // none), at every parallax the matcher accepts (0 to 1) and differences of either sign.
+    PipelineParams p = PipelineParams();
+    for (int par = 0; par <= 256; par++)
+    {
+        p.visibilityParallax256 = par;
+        for (int diff = -64; diff <= 2 * SHRT_MAX; diff += 5)
+        {
+            int k = 0;
+            while (k < (int)VISIBILITY_MAX_GROWTH && (int64)(k + 1) * 4096 <= (int64)par * diff)
+                k++;
+            ASSERT_EQ(k, visibilityGrowthAllowed(diff, p)) << "parallax256 " << par << ", diff16 " << diff;
+        }
+    }
+}
+
 /* A synthetic LiDAR scan: rings every 5 rows with a shot every 2 columns, background at 10 px, and a near object at
 40 px on the rings of rows 20 and 25 (columns 40 to 60); the background point (30, 50) sits 5 rows below the object,
 beyond the 4 x 4 base window but within the growth (30 px step x 0.25). transposed: the same with rows and columns
