@@ -8,10 +8,7 @@
 set -eo pipefail
 cd "$(dirname "$0")/.."
 OLD=${1:-HEAD~1}; NEW=${2:-}; SEEDS=${3:-40}
-CACHE=${LIDARSGM_CACHE_DIR:-$HOME/.cache/lidarsgm}
-RULES=$(ls "$CACHE"/build-cuda90/modules/lidarsgm/CMakeFiles/cuda_compile_*.dir/__/__/src_cuda/*generated_aggregation.cu.o.Release.cmake 2>/dev/null | head -1)
-[ -f "$RULES" ] || { echo "no CUDA build in $CACHE/build-cuda90 (run the README's build first)"; exit 2; }
-inc=$(sed -n 's/^set(CUDA_NVCC_INCLUDE_DIRS \[==\[\(.*\)\]==\]).*/\1/p' "$RULES" | tr ';' '\n' | sed 's/^/-I/' | tr '\n' ' ')
+inc=$(bash tools/cuda_include_flags.sh)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 git show "$OLD:src_cuda/aggregation.cu" > "$tmp/old.cu"
 if [ -n "$NEW" ]; then git show "$NEW:src_cuda/aggregation.cu" > "$tmp/new.cu"; else cp src_cuda/aggregation.cu "$tmp/new.cu"; fi

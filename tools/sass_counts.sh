@@ -12,8 +12,7 @@ cd "$(dirname "$0")/.."
 CACHE=${1:-${LIDARSGM_CACHE_DIR:-$HOME/.cache/lidarsgm}}
 CUOBJDUMP=${CUOBJDUMP:-$(command -v cuobjdump || true)}
 [ -x "$CUOBJDUMP" ] || { echo "no cuobjdump: set CUOBJDUMP (pip install nvidia-cuda-cuobjdump ships one)"; exit 2; }
-RULES=$(ls "$CACHE"/build-cuda90/modules/lidarsgm/CMakeFiles/cuda_compile_*.dir/__/__/src_cuda/*generated_aggregation.cu.o.Release.cmake 2>/dev/null | head -1)
-[ -f "$RULES" ] || { echo "no CUDA build in $CACHE/build-cuda90 (run the README's build first)"; exit 2; }
+inc=$(bash tools/cuda_include_flags.sh "$CACHE")
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 # One operation on loaded words, stored: its count minus the XOR baseline's is what the operation takes.
 for op in base __vminu2 __vminu4 __vaddus4 __vadd4 __vsub4; do
@@ -32,43 +31,39 @@ for op in __vminu2 __vminu4 __vaddus4 __vadd4 __vsub4; do
     $(( $(count "$tmp/$op.90.cubin") - $(count "$tmp/base.90.cubin") + 1 ))
 done
 # The path kernel as the build compiles it, for each architecture.
-inc=$(sed -n 's/^set(CUDA_NVCC_INCLUDE_DIRS \[==\[\(.*\)\]==\]).*/\1/p' "$RULES" | tr ';' '\n' | sed 's/^/-I/' | tr '\n' ' ')
 for arch in 87 90; do
   nvcc -cubin -arch=sm_$arch --std=c++17 -D_FORCE_INLINES $inc -Isrc -Isrc_cuda -o "$tmp/agg.$arch.cubin" \
     src_cuda/aggregation.cu
   "$CUOBJDUMP" -sass "$tmp/agg.$arch.cubin" > "$tmp/agg.$arch.sass"
   python3 - "$tmp/agg.$arch.sass" $arch <<'EOF'
 import re, sys
-text = open(sys.argv[1]).read()
-for f in re.split(r'\n\s*Function : ', text)[1:]:
-    name = f.split('\n', 1)[0]
-    if 'pathKernelILi8ELi8ELi2ELb1ELb1ELb1ELb0E' not in name:
-        continue
-    ins = re.findall(r'/\*([0-9a-f]{4,})\*/\s+([^;]*);', f)
-    loop = 0   # the longest backward branch: the step loop (unrolled twice)
+text, arch = open(sys.argv[1]).read(), sys.argv[2]
+
+def functions():
+    # (name, [(address, instruction)]) of each function of the listing
+    for f in re.split(r'\n\s*Function : ', text)[1:]:
+        ins = [(int(a, 16), t.strip()) for a, t in re.findall(r'/\*([0-9a-f]{4,})\*/\s+([^;]*);', f)]
+        yield f.split('\n', 1)[0], ins
+
+def loops(ins):
+    # the instructions from each backward branch's target to the branch
     for addr, t in ins:
         m = re.search(r'BRA\s+(?:\S+\s+)?0x([0-9a-f]+)', t)
-        if m and 'DIV' not in t and int(m.group(1), 16) < int(addr, 16):
-            loop = max(loop, (int(addr, 16) - int(m.group(1), 16)) // 16 + 1)
-    print(f"sm_{sys.argv[2]}: pathKernel<8, 8> (128 disparities, DDC, edge rule): {len(ins)} SASS instructions, "
-          f"step loop (two steps of four lines) {loop}")
-EOF
-  python3 - "$tmp/agg.$arch.sass" $arch <<'EOF'
-import re, sys
-text = open(sys.argv[1]).read()
-kinds = {'ILb0ELb0ELb1E': 'stored costs', 'ILb1ELb0ELb0E': 'computed costs, DDC'}
-for f in re.split(r'\n\s*Function : ', text)[1:]:
-    name = f.split('\n', 1)[0]
-    kind = next((v for k, v in kinds.items() if 'packedWindowPathKernel' + k in name), None)
+        if m and 'DIV' not in t and int(m.group(1), 16) < addr:
+            yield [o for a, o in ins if int(m.group(1), 16) <= a <= addr]
+
+packed = {'ILb0ELb0ELb1E': 'stored costs', 'ILb1ELb0ELb0E': 'computed costs, DDC'}
+for name, ins in functions():
+    if 'pathKernelILi8ELi8ELi2ELb1ELb1ELb1ELb0E' in name:
+        loop = max(map(len, loops(ins)), default=0)   # the longest: the step loop (unrolled twice)
+        print(f"sm_{arch}: pathKernel<8, 8> (128 disparities, DDC, edge rule): {len(ins)} SASS instructions, "
+              f"step loop (two steps of four lines) {loop}")
+    kind = next((v for k, v in packed.items() if 'packedWindowPathKernel' + k in name), None)
     if kind is None:
         continue
-    ins = [(int(a, 16), t.strip()) for a, t in re.findall(r'/\*([0-9a-f]{4,})\*/\s+([^;]*);', f)]
-    loops = {}
-    for addr, t in ins:
-        m = re.search(r'BRA\s+(?:\S+\s+)?0x([0-9a-f]+)', t)
-        if not m or 'DIV' in t or int(m.group(1), 16) >= addr:
-            continue
-        body = [o for a, o in ins if int(m.group(1), 16) <= a <= addr and not o.startswith('NOP')]
+    perK = {}
+    for body in loops(ins):
+        body = [o for o in body if not o.startswith('NOP')]
         steps = sum('SHFL.BFLY' in o for o in body) // 3   # the line's minimum: three butterflies a step
         if steps not in (1, 2):   # a step loop runs one or two steps (not the segments' loop around them)
             continue
@@ -76,9 +71,9 @@ for f in re.split(r'\n\s*Function : ', text)[1:]:
         words = sum(4 if op.endswith('.128') else 2 if op.endswith('.64') else 1 for op in ops
                     if op.startswith('LDG')) // steps
         K = words if kind == 'stored costs' else (words - 2) // 2   # computed: 2 K right strings, left string, facts
-        loops.setdefault(K, []).append(len(body) / steps)
-    cells = ', '.join(f'K={K}: ' + ' / '.join(f'{v:g}' for v in sorted(loops[K])) for K in sorted(loops))
-    print(f"sm_{sys.argv[2]}: packedWindowPathKernel, {kind}: instructions a step (lines owning their pairs / "
-          f"masked): {cells}")
+        perK.setdefault(K, []).append(len(body) / steps)
+    cells = ', '.join(f'K={K}: ' + ' / '.join(f'{v:g}' for v in sorted(perK[K])) for K in sorted(perK))
+    print(f"sm_{arch}: packedWindowPathKernel, {kind}: instructions a step (lines owning their pairs / masked): "
+          f"{cells}")
 EOF
 done

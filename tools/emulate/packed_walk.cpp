@@ -2,7 +2,7 @@
 // two versions of that file (tools/emulate_packed_walk.sh extracts them into old.inc and new.inc): both walk the same
 // random inputs (census strings, facts, windows in four patterns, 4 or 8 paths, 112 or 128 disparities, each of the
 // kernel's instantiations), and their sum volumes are compared word for word. A warp's 32 lanes are threads that meet
-// at every warp intrinsic (shuffles, reductions, votes, __syncwarp); a block's 128 threads meet at __syncthreads; the
+// at every warp intrinsic (shuffles, reductions, votes, __syncwarp); a block's threads meet at __syncthreads; the
 // blocks run one after another. A check that a rewrite of the walk keeps its output where no GPU is at hand; it
 // measures nothing about speed.
 #include <cuda_runtime.h>
@@ -38,39 +38,40 @@ thread_local WarpSync* tw;
 thread_local int tlane;
 std::barrier<>* blockBar;
 
-static unsigned long long xchgAll(unsigned long long v) { tw->slot[tlane] = v; tw->bar.arrive_and_wait(); return 0; }
-template <class T> static unsigned long long bits(T v) { unsigned long long r = 0; std::memcpy(&r, &v, sizeof(T)); return r; }
-template <class T> static T unbits(unsigned long long r) { T v; std::memcpy(&v, &r, sizeof(T)); return v; }
+// Every lane publishes v, then reads what it needs of the lanes' values (lane i's value: at(i)) once all have.
+template <class T, class Read> T exchange(T v, Read read)
+{
+    std::memcpy(&tw->slot[tlane], &v, sizeof(T));
+    tw->bar.arrive_and_wait();
+    const auto at = [](int i) { T u; std::memcpy(&u, &tw->slot[i], sizeof(T)); return u; };
+    const T r = read(at);
+    tw->bar.arrive_and_wait();   // no lane publishes again before every lane has read
+    return r;
+}
 template <class T> T __shfl_sync(unsigned, T v, int src, int width = 32)
 {
-    xchgAll(bits(v));
-    const int s = (tlane & ~(width - 1)) | (src & (width - 1));
-    T r = unbits<T>(tw->slot[s]);
-    tw->bar.arrive_and_wait();
-    return r;
+    return exchange(v, [&](auto at) { return at((tlane & ~(width - 1)) | (src & (width - 1))); });
 }
 template <class T> T __shfl_xor_sync(unsigned, T v, int m, int width = 32)
 {
-    xchgAll(bits(v));
-    int s = tlane ^ m;
-    if ((s & ~(width - 1)) != (tlane & ~(width - 1))) s = tlane;
-    T r = unbits<T>(tw->slot[s]);
-    tw->bar.arrive_and_wait();
-    return r;
+    const int s = tlane ^ m;
+    return exchange(v, [&](auto at) { return at((s & ~(width - 1)) == (tlane & ~(width - 1)) ? s : tlane); });
 }
 template <class T, class F> T reduceAll(unsigned mask, T v, F f)
 {
-    assert(mask == 0xFFFFFFFFu);
-    xchgAll(bits(v));
-    T r = unbits<T>(tw->slot[0]);
-    for (int i = 1; i < 32; i++) r = f(r, unbits<T>(tw->slot[i]));
-    tw->bar.arrive_and_wait();
-    return r;
+    assert(mask == 0xFFFFFFFFu);   // the walk reduces over the whole warp only
+    return exchange(v, [&](auto at) {
+        T r = at(0);
+        for (int i = 1; i < 32; i++) r = f(r, at(i));
+        return r;
+    });
 }
-int __reduce_min_sync(unsigned m, int v) { return reduceAll(m, v, [](int a, int b) { return std::min(a, b); }); }
-unsigned __reduce_min_sync(unsigned m, unsigned v) { return reduceAll(m, v, [](unsigned a, unsigned b) { return std::min(a, b); }); }
-int __reduce_max_sync(unsigned m, int v) { return reduceAll(m, v, [](int a, int b) { return std::max(a, b); }); }
-unsigned __reduce_max_sync(unsigned m, unsigned v) { return reduceAll(m, v, [](unsigned a, unsigned b) { return std::max(a, b); }); }
+const auto lesser = [](auto a, auto b) { return std::min(a, b); };
+const auto greater = [](auto a, auto b) { return std::max(a, b); };
+int __reduce_min_sync(unsigned m, int v) { return reduceAll(m, v, lesser); }
+unsigned __reduce_min_sync(unsigned m, unsigned v) { return reduceAll(m, v, lesser); }
+int __reduce_max_sync(unsigned m, int v) { return reduceAll(m, v, greater); }
+unsigned __reduce_max_sync(unsigned m, unsigned v) { return reduceAll(m, v, greater); }
 int __any_sync(unsigned m, int p) { return reduceAll(m, p ? 1 : 0, [](int a, int b) { return a | b; }); }
 int __all_sync(unsigned m, int p) { return reduceAll(m, p ? 1 : 0, [](int a, int b) { return a & b; }); }
 void __syncwarp(unsigned = 0xFFFFFFFFu) { tw->bar.arrive_and_wait(); }
@@ -100,7 +101,6 @@ int max(int a, int b) { return a > b ? a : b; }
 #include "cuda_stages.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
-const int WARPS_PER_BLOCK = 4;
 using namespace aggregation;
 size_t wideMul(unsigned a, unsigned b) { return (size_t)a * b; }
 void reduceAddIf(bool p, unsigned* a, unsigned v) { if (p) atomicAdd(a, v); }
@@ -118,18 +118,18 @@ namespace newv {
 using namespace cv::lidarsgm::detail;
 using namespace cv::lidarsgm::detail::cuda_impl;
 
-// Runs kernel k over the grid: blocks one at a time, 128 threads each.
-template <class K> void launch(dim3 grid, K k)
+// Runs kernel k over the grid: blocks one at a time, warps warps each.
+template <class K> void launch(dim3 grid, int warps, K k)
 {
-    gridDim = grid; blockDim = dim3(128);
+    gridDim = grid; blockDim = dim3(32 * warps);
     for (unsigned by = 0; by < grid.y; by++)
         for (unsigned bx = 0; bx < grid.x; bx++)
         {
-            std::barrier<> bb(128);
+            std::barrier<> bb(32 * warps);
             blockBar = &bb;
-            WarpSync ws[4];
+            std::vector<WarpSync> ws(warps);
             std::vector<std::thread> th;
-            for (int t = 0; t < 128; t++)
+            for (int t = 0; t < 32 * warps; t++)
                 th.emplace_back([&, t]() {
                     threadIdx = make_uint3(t, 0, 0); blockIdx = make_uint3(bx, by, 0);
                     tw = &ws[t / 32]; tlane = t % 32;
@@ -194,11 +194,15 @@ int main(int argc, char** argv)
             std::mt19937 r2(seed * 7 + 1);
             for (unsigned* c = costs; c < vol.data() + shorts / 2; c++) *c = (r2() % 2500) | (r2() % 2500) << 16;
         }
-        const int maxLines = numPaths == 8 ? W + H - 1 : std::max(W, H);
-        const int lineBlocks = (maxLines + 15) / 16;
-        const dim3 grid = numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, numPaths);
         unsigned* volume = vol.data();
-#define RUN(NS, A, B, C) launch(grid, [&]() { NS::packedWindowPathKernel<A, B, C>(censusL, censusR, facts, windows, p, volume, costs); })
+        // The grid of runPackedWindowPaths: 32 WARPS_PER_BLOCK / LW lines a block.
+        const auto run = [&](int warps, int lw, auto kernel) {
+            const int maxLines = numPaths == 8 ? W + H - 1 : std::max(W, H), perBlock = 32 * warps / lw;
+            const int lineBlocks = (maxLines + perBlock - 1) / perBlock;
+            launch(numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, numPaths), warps, kernel);
+        };
+#define RUN(NS, A, B, C) run(NS::WARPS_PER_BLOCK, NS::PackedWindowWalk<A, B, C>::LW, [&]() { \
+            NS::packedWindowPathKernel<A, B, C>(censusL, censusR, facts, windows, p, volume, costs); })
 #define PICK(NS) \
         if (stored) { if (edges) RUN(NS, false, true, true); else RUN(NS, false, false, true); } \
         else if (ddc) { if (edges) RUN(NS, true, true, false); else RUN(NS, true, false, false); } \
@@ -208,7 +212,7 @@ int main(int argc, char** argv)
     }
     size_t diff = 0, nz = 0;
     for (size_t i = 0; i < vols[0].size(); i++) { diff += vols[0][i] != vols[1][i]; nz += vols[0][i] != 0; }
-    printf("seed %d: %dx%d D %d minD %d paths %d mode %d ddc %d edges %d stored %d: %zu words, %zu nonzero, %zu differ\n",
-           seed, W, H, D, minD, numPaths, mode, ddc, edges, stored, vols[0].size(), nz, diff);
+    printf("seed %d: %dx%d D %d minD %d paths %d mode %d ddc %d edges %d stored %d: %zu words, %zu nonzero, "
+           "%zu differ\n", seed, W, H, D, minD, numPaths, mode, ddc, edges, stored, vols[0].size(), nz, diff);
     return diff != 0;
 }
