@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The -I flags with which the README's CUDA build compiles src_cuda/ (from its generated rules for aggregation.cu), for
-# the tools that compile the kernels' sources by hand (tools/sass_counts.sh, tools/emulate_packed_walk.sh), with this
+# the tools that compile the kernels' sources by hand (tools/sass_counts.sh, tools/emulate_kernel.sh), with this
 # checkout's directories of the module.
 #   tools/cuda_include_flags.sh [cache dir, default ~/.cache/lidarsgm]
 set -eo pipefail

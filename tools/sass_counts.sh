@@ -3,7 +3,8 @@
 # costs for sm_87 (Jetson Orin) and sm_90 (H100, H200), and the main loop of the packed path kernel
 # (pathKernel<8, 8, ...>: two steps of four lines, KITTI's 128 disparities with DDC and the edge rule) for both; and
 # the packed windows' path kernel (packedWindowPathKernel, no edge rule) per step for each K pairs a lane, with the
-# costs stored (the few-SMs kernel) and computed with DDC, where every line owns its pairs and where some are masked.
+# costs stored (the few-SMs kernel) and computed with DDC, where every line owns its pairs and where some are masked;
+# the winner-takes-all's loop over a chunk of 16 disparities (wtaKernel), with and without the uniqueness check.
 # Needs nvcc and cuobjdump (the CUDA toolkit's, or PyPI's nvidia-cuda-cuobjdump: CUOBJDUMP=path/to/cuobjdump), and the
 # README's CUDA build (its include directories for src_cuda/aggregation.cu).
 #   tools/sass_counts.sh [cache dir, default ~/.cache/lidarsgm]
@@ -34,7 +35,10 @@ done
 for arch in 87 90; do
   nvcc -cubin -arch=sm_$arch --std=c++17 -D_FORCE_INLINES $inc -Isrc -Isrc_cuda -o "$tmp/agg.$arch.cubin" \
     src_cuda/aggregation.cu
+  nvcc -cubin -arch=sm_$arch --std=c++17 -D_FORCE_INLINES $inc -Isrc -Isrc_cuda -o "$tmp/wta.$arch.cubin" \
+    src_cuda/winner_takes_all.cu
   "$CUOBJDUMP" -sass "$tmp/agg.$arch.cubin" > "$tmp/agg.$arch.sass"
+  "$CUOBJDUMP" -sass "$tmp/wta.$arch.cubin" >> "$tmp/agg.$arch.sass"
   python3 - "$tmp/agg.$arch.sass" $arch <<'EOF'
 import re, sys
 text, arch = open(sys.argv[1]).read(), sys.argv[2]
@@ -58,6 +62,12 @@ for name, ins in functions():
         loop = max(map(len, loops(ins)), default=0)   # the longest: the step loop (unrolled twice)
         print(f"sm_{arch}: pathKernel<8, 8> (128 disparities, DDC, edge rule): {len(ins)} SASS instructions, "
               f"step loop (two steps of four lines) {loop}")
+    if 'wtaKernel' in name:
+        # the chunk loop: 16 keys, one shared-memory atomicMin each (the right view's)
+        body = next((b for b in loops(ins) if sum(o.startswith('ATOMS.MIN') for o in b) == 16), [])
+        check = 'with' if 'wtaKernelILb1E' in name else 'without'
+        print(f"sm_{arch}: wtaKernel {check} the uniqueness check: chunk loop (16 disparities) "
+              f"{sum(not o.startswith('NOP') for o in body)} SASS instructions")
     kind = next((v for k, v in packed.items() if 'packedWindowPathKernel' + k in name), None)
     if kind is None:
         continue

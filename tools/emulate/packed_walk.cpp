@@ -1,102 +1,8 @@
 // SIMT emulation, on the CPU, of the packed windows' path kernel (packedWindowPathKernel, src_cuda/aggregation.cu) in
-// two versions of that file (tools/emulate_packed_walk.sh extracts them into old.inc and new.inc): both walk the same
+// two versions of that file (tools/emulate_kernel.sh extracts them into old.inc and new.inc): both walk the same
 // random inputs (census strings, facts, windows in four patterns, 4 or 8 paths, 112 or 128 disparities, each of the
-// kernel's instantiations), and their sum volumes are compared word for word. A warp's 32 lanes are threads that meet
-// at every warp intrinsic (shuffles, reductions, votes, __syncwarp); a block's threads meet at __syncthreads; the
-// blocks run one after another. A check that a rewrite of the walk keeps its output where no GPU is at hand; it
-// measures nothing about speed.
-#include <cuda_runtime.h>
-#include <barrier>
-#include <thread>
-#include <vector>
-#include <random>
-#include <cstring>
-#include <cstdio>
-#include <cstdint>
-#include <cassert>
-#include <climits>
-#include <algorithm>
-#undef __device__
-#undef __host__
-#undef __forceinline__
-#undef __global__
-#undef __launch_bounds__
-#undef __shared__
-#undef __align__
-#define __device__
-#define __host__
-#define __forceinline__ inline
-#define __global__
-#define __launch_bounds__(...)
-#define __shared__ static
-#define __align__(n) __attribute__((aligned(n)))
-
-thread_local uint3 threadIdx, blockIdx;
-dim3 gridDim, blockDim;
-struct WarpSync { std::barrier<> bar{32}; unsigned long long slot[32]; };
-thread_local WarpSync* tw;
-thread_local int tlane;
-std::barrier<>* blockBar;
-
-// Every lane publishes v, then reads what it needs of the lanes' values (lane i's value: at(i)) once all have.
-template <class T, class Read> T exchange(T v, Read read)
-{
-    std::memcpy(&tw->slot[tlane], &v, sizeof(T));
-    tw->bar.arrive_and_wait();
-    const auto at = [](int i) { T u; std::memcpy(&u, &tw->slot[i], sizeof(T)); return u; };
-    const T r = read(at);
-    tw->bar.arrive_and_wait();   // no lane publishes again before every lane has read
-    return r;
-}
-template <class T> T __shfl_sync(unsigned, T v, int src, int width = 32)
-{
-    return exchange(v, [&](auto at) { return at((tlane & ~(width - 1)) | (src & (width - 1))); });
-}
-template <class T> T __shfl_xor_sync(unsigned, T v, int m, int width = 32)
-{
-    const int s = tlane ^ m;
-    return exchange(v, [&](auto at) { return at((s & ~(width - 1)) == (tlane & ~(width - 1)) ? s : tlane); });
-}
-template <class T, class F> T reduceAll(unsigned mask, T v, F f)
-{
-    assert(mask == 0xFFFFFFFFu);   // the walk reduces over the whole warp only
-    return exchange(v, [&](auto at) {
-        T r = at(0);
-        for (int i = 1; i < 32; i++) r = f(r, at(i));
-        return r;
-    });
-}
-const auto lesser = [](auto a, auto b) { return std::min(a, b); };
-const auto greater = [](auto a, auto b) { return std::max(a, b); };
-int __reduce_min_sync(unsigned m, int v) { return reduceAll(m, v, lesser); }
-unsigned __reduce_min_sync(unsigned m, unsigned v) { return reduceAll(m, v, lesser); }
-int __reduce_max_sync(unsigned m, int v) { return reduceAll(m, v, greater); }
-unsigned __reduce_max_sync(unsigned m, unsigned v) { return reduceAll(m, v, greater); }
-int __any_sync(unsigned m, int p) { return reduceAll(m, p ? 1 : 0, [](int a, int b) { return a | b; }); }
-int __all_sync(unsigned m, int p) { return reduceAll(m, p ? 1 : 0, [](int a, int b) { return a & b; }); }
-void __syncwarp(unsigned = 0xFFFFFFFFu) { tw->bar.arrive_and_wait(); }
-void __syncthreads() { blockBar->arrive_and_wait(); }
-unsigned __byte_perm(unsigned x, unsigned y, unsigned s)
-{
-    const unsigned long long v = (unsigned long long)y << 32 | x;
-    unsigned r = 0;
-    for (int i = 0; i < 4; i++) r |= (unsigned)(v >> (8 * ((s >> (4 * i)) & 7)) & 0xFF) << (8 * i);
-    return r;
-}
-unsigned __vminu2(unsigned a, unsigned b)
-{
-    return std::min(a & 0xFFFF, b & 0xFFFF) | std::min(a >> 16, b >> 16) << 16;
-}
-unsigned atomicAdd(unsigned* a, unsigned v) { return __atomic_fetch_add(a, v, __ATOMIC_RELAXED); }
-unsigned long long atomicAdd(unsigned long long* a, unsigned long long v)
-{
-    if ((uintptr_t)a & 7) { fprintf(stderr, "misaligned 64-bit atomic\n"); abort(); }
-    return __atomic_fetch_add(a, v, __ATOMIC_RELAXED);
-}
-int min(int a, int b) { return a < b ? a : b; }
-unsigned min(unsigned a, unsigned b) { return a < b ? a : b; }
-int max(int a, int b) { return a > b ? a : b; }
-
+// kernel's instantiations), and their sum volumes are compared word for word under simt.hpp's emulation.
+#include "simt.hpp"
 #include "aggregation.cuh"
 #include "cuda_stages.hpp"
 
@@ -117,27 +23,6 @@ namespace newv {
 }}}}
 using namespace cv::lidarsgm::detail;
 using namespace cv::lidarsgm::detail::cuda_impl;
-
-// Runs kernel k over the grid: blocks one at a time, warps warps each.
-template <class K> void launch(dim3 grid, int warps, K k)
-{
-    gridDim = grid; blockDim = dim3(32 * warps);
-    for (unsigned by = 0; by < grid.y; by++)
-        for (unsigned bx = 0; bx < grid.x; bx++)
-        {
-            std::barrier<> bb(32 * warps);
-            blockBar = &bb;
-            std::vector<WarpSync> ws(warps);
-            std::vector<std::thread> th;
-            for (int t = 0; t < 32 * warps; t++)
-                th.emplace_back([&, t]() {
-                    threadIdx = make_uint3(t, 0, 0); blockIdx = make_uint3(bx, by, 0);
-                    tw = &ws[t / 32]; tlane = t % 32;
-                    k();
-                });
-            for (auto& x : th) x.join();
-        }
-}
 
 int main(int argc, char** argv)
 {

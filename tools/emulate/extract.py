@@ -1,0 +1,26 @@
+# Extracts from one version of a kernel's source what tools/emulate/<kernel>.cpp runs under emulation:
+#   python3 extract.py packed_walk aggregation.cu out.inc: WARPS_PER_BLOCK, tileSegmentEnd, and from the predicated
+#     reduction helpers to packedWindowPathKernel's end, without its inline-asm helpers (packed_walk.cpp defines them);
+#   python3 extract.py winner_takes_all winner_takes_all.cu out.inc: the file's anonymous namespace (the kernels).
+import re, sys
+kind, src, out = sys.argv[1:4]
+s = open(src).read()
+if kind == "packed_walk":
+    a = s.index("/* *a += v where p: a predicated reduction")
+    b = s.index("/* LW lanes a line and PPT pairs a lane")
+    t = s[a:b]
+    # drop every reduceAddIf definition (comment + body)
+    t = re.sub(r"/\* \*a \+= v where p[^/]*?\*/\s*__device__ __forceinline__ void reduceAddIf\([^)]*\)\s*\{.*?\n\}\n",
+               "", t, flags=re.S)
+    # the walk's tile helper and the kernels' block size, from the same file
+    m = re.search(r"__device__ __forceinline__ int tileSegmentEnd\(.*?\n\}\n", s, flags=re.S)
+    w = re.search(r"\bWARPS_PER_BLOCK = (\d+)", s)
+    t = "const int WARPS_PER_BLOCK = %s;\n" % w.group(1) + m.group(0) + "\n" + t
+elif kind == "winner_takes_all":
+    a = s.index("\nnamespace {\n")
+    b = s.index("\n} // namespace\n", a)
+    t = s[a:b] + "\n} // namespace\n"
+else:
+    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all)" % kind)
+assert "asm" not in t, "asm left"
+open(out, "w").write(t)

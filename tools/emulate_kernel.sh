@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Whether a rewrite of a CUDA kernel keeps its output, with no GPU: tools/emulate/<kernel>.cpp runs the old and the new
+# version of the kernel's source under a SIMT emulation on the CPU (tools/emulate/simt.hpp; AddressSanitizer and UBSan
+# on: 8- and 16-byte accesses must be aligned) on one random case a seed, and compares their outputs word for word.
+# Prints one line a case; exits 1 if any case differs. Needs g++ with C++20, the CUDA toolkit's headers and the
+# README's CUDA build (its include directories). Kernels:
+#   packed_walk       packedWindowPathKernel (src_cuda/aggregation.cu): the sum volumes
+#   winner_takes_all  wtaKernel (src_cuda/winner_takes_all.cu): the disparity maps and the right view's keys
+#   tools/emulate_kernel.sh KERNEL [old revision, default HEAD~1] [new revision, default the working tree] [seeds, 40]
+set -eo pipefail
+cd "$(dirname "$0")/.."
+KERNEL=${1:?"usage: tools/emulate_kernel.sh packed_walk|winner_takes_all [old] [new] [seeds]"}
+OLD=${2:-HEAD~1}; NEW=${3:-}; SEEDS=${4:-40}
+case $KERNEL in
+  packed_walk) SRC=src_cuda/aggregation.cu ;;
+  winner_takes_all) SRC=src_cuda/winner_takes_all.cu ;;
+  *) echo "emulate_kernel.sh: unknown kernel $KERNEL (packed_walk, winner_takes_all)" >&2; exit 2 ;;
+esac
+inc=$(bash tools/cuda_include_flags.sh)
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+git show "$OLD:$SRC" > "$tmp/old.cu"
+if [ -n "$NEW" ]; then git show "$NEW:$SRC" > "$tmp/new.cu"; else cp "$SRC" "$tmp/new.cu"; fi
+python3 tools/emulate/extract.py "$KERNEL" "$tmp/old.cu" "$tmp/old.inc"
+python3 tools/emulate/extract.py "$KERNEL" "$tmp/new.cu" "$tmp/new.inc"
+g++ -std=c++20 -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -Isrc -Isrc_cuda -I"$tmp" $inc \
+  "tools/emulate/$KERNEL.cpp" -o "$tmp/emulate" -lpthread
+seq 1 "$SEEDS" | xargs -P "$(nproc)" -I{} "$tmp/emulate" {} > "$tmp/cases.txt" 2>&1 || true
+sort -t' ' -k2n "$tmp/cases.txt"
+total=$(grep -c "^seed" "$tmp/cases.txt" || true); same=$(grep -c " 0 differ$" "$tmp/cases.txt" || true)
+echo "$KERNEL, $OLD against ${NEW:-the working tree}: $same of $SEEDS cases the same word for word ($total ran)"
+[ "$same" = "$SEEDS" ]
