@@ -6,15 +6,17 @@
 # README's CUDA build (its include directories). Kernels:
 #   packed_walk       packedWindowPathKernel (src_cuda/aggregation.cu): the sum volumes
 #   winner_takes_all  wtaKernel (src_cuda/winner_takes_all.cu): the disparity maps and the right view's keys
+#   matching_cost     windowCostsKernel (src_cuda/matching_cost.cu): the stored costs and the zeroed sums
 #   tools/emulate_kernel.sh KERNEL [old revision, default HEAD~1] [new revision, default the working tree] [seeds, 40]
 set -eo pipefail
 cd "$(dirname "$0")/.."
-KERNEL=${1:?"usage: tools/emulate_kernel.sh packed_walk|winner_takes_all [old] [new] [seeds]"}
+KERNEL=${1:?"usage: tools/emulate_kernel.sh packed_walk|winner_takes_all|matching_cost [old] [new] [seeds]"}
 OLD=${2:-HEAD~1}; NEW=${3:-}; SEEDS=${4:-40}
 case $KERNEL in
   packed_walk) SRC=src_cuda/aggregation.cu ;;
   winner_takes_all) SRC=src_cuda/winner_takes_all.cu ;;
-  *) echo "emulate_kernel.sh: unknown kernel $KERNEL (packed_walk, winner_takes_all)" >&2; exit 2 ;;
+  matching_cost) SRC=src_cuda/matching_cost.cu ;;
+  *) echo "emulate_kernel.sh: unknown kernel $KERNEL (packed_walk, winner_takes_all, matching_cost)" >&2; exit 2 ;;
 esac
 inc=$(bash tools/cuda_include_flags.sh)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

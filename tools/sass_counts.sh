@@ -4,7 +4,8 @@
 # (pathKernel<8, 8, ...>: two steps of four lines, KITTI's 128 disparities with DDC and the edge rule) for both; and
 # the packed windows' path kernel (packedWindowPathKernel, no edge rule) per step for each K pairs a lane, with the
 # costs stored (the few-SMs kernel) and computed with DDC, where every line owns its pairs and where some are masked;
-# the winner-takes-all's loop over a chunk of 16 disparities (wtaKernel), with and without the uniqueness check.
+# the winner-takes-all's loop over a chunk of 16 disparities (wtaKernel), with and without the uniqueness check; the
+# stored matching costs' loop (windowCostsKernel) per disparity, with and without DDC.
 # Needs nvcc and cuobjdump (the CUDA toolkit's, or PyPI's nvidia-cuda-cuobjdump: CUOBJDUMP=path/to/cuobjdump), and the
 # README's CUDA build (its include directories for src_cuda/aggregation.cu).
 #   tools/sass_counts.sh [cache dir, default ~/.cache/lidarsgm]
@@ -38,7 +39,10 @@ for arch in 87 90; do
   nvcc -cubin -arch=sm_$arch --std=c++17 -D_FORCE_INLINES $inc -Isrc -Isrc_cuda -o "$tmp/wta.$arch.cubin" \
     src_cuda/winner_takes_all.cu
   "$CUOBJDUMP" -sass "$tmp/agg.$arch.cubin" > "$tmp/agg.$arch.sass"
+  nvcc -cubin -arch=sm_$arch --std=c++17 -D_FORCE_INLINES $inc -Isrc -Isrc_cuda -o "$tmp/mc.$arch.cubin" \
+    src_cuda/matching_cost.cu
   "$CUOBJDUMP" -sass "$tmp/wta.$arch.cubin" >> "$tmp/agg.$arch.sass"
+  "$CUOBJDUMP" -sass "$tmp/mc.$arch.cubin" >> "$tmp/agg.$arch.sass"
   python3 - "$tmp/agg.$arch.sass" $arch <<'EOF'
 import re, sys
 text, arch = open(sys.argv[1]).read(), sys.argv[2]
@@ -68,6 +72,14 @@ for name, ins in functions():
         check = 'with' if 'wtaKernelILb1E' in name else 'without'
         print(f"sm_{arch}: wtaKernel {check} the uniqueness check: chunk loop (16 disparities) "
               f"{sum(not o.startswith('NOP') for o in body)} SASS instructions")
+    if 'windowCostsKernel' in name:
+        # each loop stores a thread's costs and zeroes its sums with 16-byte stores, eight disparities a pair of them
+        for body in loops(ins):
+            stores = sum('STG.E.128' in o for o in body)
+            if stores:
+                n = sum(not o.startswith('NOP') for o in body)
+                print(f"sm_{arch}: windowCostsKernel {'with' if 'windowCostsKernelILb1E' in name else 'without'} "
+                      f"DDC: {n} SASS instructions a loop of {4 * stores} disparities, {n / (4 * stores):.2f} each")
     kind = next((v for k, v in packed.items() if 'packedWindowPathKernel' + k in name), None)
     if kind is None:
         continue

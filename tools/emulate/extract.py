@@ -1,7 +1,8 @@
 # Extracts from one version of a kernel's source what tools/emulate/<kernel>.cpp runs under emulation:
 #   python3 extract.py packed_walk aggregation.cu out.inc: WARPS_PER_BLOCK, tileSegmentEnd, and from the predicated
 #     reduction helpers to packedWindowPathKernel's end, without its inline-asm helpers (packed_walk.cpp defines them);
-#   python3 extract.py winner_takes_all winner_takes_all.cu out.inc: the file's anonymous namespace (the kernels).
+#   python3 extract.py winner_takes_all winner_takes_all.cu out.inc (or matching_cost matching_cost.cu): the file's
+#     anonymous namespace (the kernels).
 import re, sys
 kind, src, out = sys.argv[1:4]
 s = open(src).read()
@@ -16,11 +17,11 @@ if kind == "packed_walk":
     m = re.search(r"__device__ __forceinline__ int tileSegmentEnd\(.*?\n\}\n", s, flags=re.S)
     w = re.search(r"\bWARPS_PER_BLOCK = (\d+)", s)
     t = "const int WARPS_PER_BLOCK = %s;\n" % w.group(1) + m.group(0) + "\n" + t
-elif kind == "winner_takes_all":
+elif kind in ("winner_takes_all", "matching_cost"):
     a = s.index("\nnamespace {\n")
     b = s.index("\n} // namespace\n", a)
     t = s[a:b] + "\n} // namespace\n"
 else:
-    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all)" % kind)
+    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost)" % kind)
 assert "asm" not in t, "asm left"
 open(out, "w").write(t)

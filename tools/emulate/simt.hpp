@@ -96,6 +96,7 @@ unsigned long long atomicAdd(unsigned long long* a, unsigned long long v)
 int min(int a, int b) { return a < b ? a : b; }
 unsigned min(unsigned a, unsigned b) { return a < b ? a : b; }
 int max(int a, int b) { return a > b ? a : b; }
+unsigned __umulhi(unsigned a, unsigned b) { return (unsigned)((unsigned long long)a * b >> 32); }
 unsigned atomicMin(unsigned* a, unsigned v)
 {
     unsigned old = __atomic_load_n(a, __ATOMIC_RELAXED);
