@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Several builds on one GPU in one device call, for a before/after of candidate changes: every
 # .device/prebuilt*.tar.xz (tools/pack_device_build.sh; PACK_NAME=prebuilt_<name> for each candidate, prebuilt_base
-# for the commit they start from), each unpacked to /tmp/variants/<name>.
+# for the commit they start from), each unpacked to /tmp/variants/<name>; a build packed with MODULE_ONLY=1 takes the
+# other libraries from prebuilt_base.
 # - TESTS=1: each build's CUDA tests first (gtest filter TEST_FILTER, default *CUDA*): passed and failed counts.
 # - TIMING=1 (default): ROUNDS rounds (default 2), each build in turn, of lidarsgm_fuse --timing REPS (default 20) on
 #   KITTI 000002 with kitti_best.yml, on the whole card and on SMS SMs (default 8, a green context): with the windows
@@ -22,6 +23,13 @@ for a in $archives; do
   mkdir -p "/tmp/variants/$n" && tar -xJf "$a" -C "/tmp/variants/$n"
   echo "build $n: $(head -c 12 "/tmp/variants/$n/prebuilt/COMMIT") $(tail -n +2 "/tmp/variants/$n/prebuilt/COMMIT")"
   names="$names $n"
+done
+for n in $names; do
+  d=/tmp/variants/$n/prebuilt
+  [ -e "$d/MODULE_ONLY" ] || continue
+  [ -e /tmp/variants/base/prebuilt/lib ] && [ ! -e /tmp/variants/base/prebuilt/MODULE_ONLY ] ||
+    { echo "build $n is packed MODULE_ONLY=1 but there is no full .device/prebuilt_base.tar.xz"; exit 2; }
+  cp -Pn /tmp/variants/base/prebuilt/lib/* "$d/lib/"
 done
 run() {  # build, then the tool's arguments
   local d=/tmp/variants/$1/prebuilt; shift
