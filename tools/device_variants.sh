@@ -8,6 +8,7 @@
 #   KITTI 000002 with kitti_best.yml, on the whole card and on SMS SMs (default 8, a green context): with the windows
 #   (margin 4) and at full range at KITTI size, with the windows at 1280x720 (SIZES: the sizes). Then a table of the
 #   medians over the rounds per build, cv::cuda::StereoSGM's 8 paths on the same SMs beside.
+# BUILDS: the names of the builds to test and time (default: every archive's), so that one call need not run them all.
 # Run on the device machine from the repository root, .device carried:
 #   TESTS=1 bash tools/device_variants.sh
 set -eo pipefail
@@ -31,6 +32,12 @@ for n in $names; do
     { echo "build $n is packed MODULE_ONLY=1 but there is no full .device/prebuilt_base.tar.xz"; exit 2; }
   cp -Pn /tmp/variants/base/prebuilt/lib/* "$d/lib/"
 done
+if [ -n "${BUILDS:-}" ]; then
+  for n in $BUILDS; do
+    [ -d "/tmp/variants/$n" ] || { echo "BUILDS names $n, which no .device/prebuilt_$n.tar.xz holds"; exit 2; }
+  done
+  names=$BUILDS
+fi
 run() {  # build, then the tool's arguments
   local d=/tmp/variants/$1/prebuilt; shift
   LD_LIBRARY_PATH=$d/lib $d/bin/lidarsgm_fuse "$@"
