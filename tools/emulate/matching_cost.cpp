@@ -3,34 +3,22 @@
 // new.inc): both take the same random census strings, facts and windows (edge tiles included), with and without DDC,
 // into a volume of garbage, and the volumes (the costs and the zeroed sums) are compared word for word.
 #include "simt.hpp"
+#include "cases.hpp"
 #include "aggregation.cuh"
 #include "cuda_stages.hpp"
 
-namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
-namespace oldv {
-#include "old.inc"
-}
-namespace newv {
-#include "new.inc"
-}
-}}}}
-using namespace cv::lidarsgm::detail;
-using namespace cv::lidarsgm::detail::cuda_impl;
+#include "versions.hpp"
 using namespace cv::lidarsgm::detail::cuda_impl::aggregation;
 
 int main(int argc, char** argv)
 {
-    const int seed = argc > 1 ? atoi(argv[1]) : 1;
-    std::mt19937 rng(seed);
-    auto U = [&](int a, int b) { return std::uniform_int_distribution<int>(a, b)(rng); };
+    CaseRandom U(argc, argv);
+    const int seed = U.seed;
     const int W = U(20, 140), H = U(10, 80), D = 16 * U(1, 8), minD = U(0, 3) == 0 ? U(1, 8) : 0;
     const bool ddc = U(0, 1);
     const int M = D + 16;   // the right strings' left margin
-    std::vector<int> cl((size_t)W * H), cr((size_t)(W + M) * H);
-    for (auto& v : cl) v = (int)rng();
-    for (auto& v : cr) v = (int)rng();
-    cv::cuda::PtrStepSz<int> censusL(H, W, cl.data(), W * sizeof(int));
-    cv::cuda::PtrStepSz<int> censusR(H, W, cr.data() + M, (W + M) * sizeof(int));
+    const RandomCensus census(U.rng, W, H, M);
+    const cv::cuda::PtrStepSz<int> censusL = census.left, censusR = census.right;
     std::vector<unsigned short> fa((size_t)W * H);
     for (auto& v : fa)
         v = (unsigned short)packFacts(U(0, D - 1), ddc ? U(0, 2) : 0, U(0, 15));

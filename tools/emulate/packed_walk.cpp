@@ -3,6 +3,7 @@
 // random inputs (census strings, facts, windows in four patterns, 4 or 8 paths, 112 or 128 disparities, each of the
 // kernel's instantiations), and their sum volumes are compared word for word under simt.hpp's emulation.
 #include "simt.hpp"
+#include "cases.hpp"
 #include "aggregation.cuh"
 #include "cuda_stages.hpp"
 
@@ -14,31 +15,20 @@ void reduceAddIf(bool p, unsigned* a, unsigned lo, unsigned hi)
 {
     if (p) atomicAdd((unsigned long long*)a, (unsigned long long)lo | (unsigned long long)hi << 32);
 }
-namespace oldv {
-#include "old.inc"
-}
-namespace newv {
-#include "new.inc"
-}
 }}}}
-using namespace cv::lidarsgm::detail;
-using namespace cv::lidarsgm::detail::cuda_impl;
+#include "versions.hpp"
 
 int main(int argc, char** argv)
 {
-    const int seed = argc > 1 ? atoi(argv[1]) : 1;
-    std::mt19937 rng(seed);
-    auto U = [&](int a, int b) { return std::uniform_int_distribution<int>(a, b)(rng); };
+    CaseRandom U(argc, argv);
+    const int seed = U.seed;
     const int W = U(40, 140), H = U(20, 80), D = U(0, 1) ? 128 : 112, minD = U(0, 3) == 0 ? U(1, 8) : 0;
     const int numPaths = U(0, 1) ? 8 : 4, mode = U(0, 3);
     const bool ddc = U(0, 1), edges = U(0, 1), stored = !ddc && U(0, 1);
     // census strings, the right one with a left margin of D + minD columns
     const int M = D + 16;
-    std::vector<int> cl((size_t)W * H), cr((size_t)(W + M) * H);
-    for (auto& v : cl) v = (int)rng();
-    for (auto& v : cr) v = (int)rng();
-    cv::cuda::PtrStepSz<int> censusL(H, W, cl.data(), W * sizeof(int));
-    cv::cuda::PtrStepSz<int> censusR(H, W, cr.data() + M, (W + M) * sizeof(int));
+    const RandomCensus census(U.rng, W, H, M);
+    const cv::cuda::PtrStepSz<int> censusL = census.left, censusR = census.right;
     std::vector<unsigned short> fa((size_t)W * H);
     for (auto& v : fa)
     {

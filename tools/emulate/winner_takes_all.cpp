@@ -4,25 +4,16 @@
 // and near ties occur), with and without the uniqueness check, the parabola and the non-unique map, and their maps
 // (disparities x16 and whole, right-view keys, non-unique winners) are compared value for value.
 #include "simt.hpp"
+#include "cases.hpp"
 #include <array>
 #include "cuda_stages.hpp"
 
-namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
-namespace oldv {
-#include "old.inc"
-}
-namespace newv {
-#include "new.inc"
-}
-}}}}
-using namespace cv::lidarsgm::detail;
-using namespace cv::lidarsgm::detail::cuda_impl;
+#include "versions.hpp"
 
 int main(int argc, char** argv)
 {
-    const int seed = argc > 1 ? atoi(argv[1]) : 1;
-    std::mt19937 rng(seed);
-    auto U = [&](int a, int b) { return std::uniform_int_distribution<int>(a, b)(rng); };
+    CaseRandom U(argc, argv);
+    const int seed = U.seed;
     const int W = U(20, 300), H = U(1, 40), D = 16 * U(1, 8), minD = U(0, 3) == 0 ? U(1, 8) : 0;
     const bool windowed = U(0, 1), unique = U(0, 3) != 0, subpixel = U(0, 3) != 0, nonUnique = unique && U(0, 1);
     const int spread = std::array<int, 4>{ 2, 6, 40, 4000 }[U(0, 3)];   // the costs' range above each pixel's floor
