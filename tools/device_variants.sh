@@ -8,6 +8,8 @@
 #   KITTI 000002 with kitti_best.yml, on the whole card and on SMS SMs (default 8, a green context): with the windows
 #   (margin 4) and at full range at KITTI size, with the windows at 1280x720 (SIZES: the sizes). Then a table of the
 #   medians over the rounds per build, cv::cuda::StereoSGM's 8 paths on the same SMs beside.
+# - PROFILE=1: each build's kernels of one KITTI-size kitti_best.yml call (margin 4) on SMS SMs under ncu, time and
+#   warp instructions per kernel (tools/ncu_call.py), before the timing.
 # BUILDS: the names of the builds to test and time (default: every archive's), so that one call need not run them all.
 # Run on the device machine from the repository root, .device carried:
 #   TESTS=1 bash tools/device_variants.sh
@@ -49,6 +51,17 @@ if [ "${TESTS:-0}" = 1 ]; then
       --gtest_filter="${TEST_FILTER:-*CUDA*}" > "$OUT/tests_$n.log" 2>&1 || true
     echo "tests $n: $(grep -E '^\[  (PASSED|FAILED)  \] [0-9]+ test' "$OUT/tests_$n.log" | tr '\n' ' ')"
     grep -E '^\[  FAILED  \] [A-Za-z]' "$OUT/tests_$n.log" | head -5 || true
+  done
+fi
+if [ "${PROFILE:-0}" = 1 ]; then
+  command -v ncu > /dev/null || { echo "PROFILE=1: no ncu on this machine"; exit 2; }
+  for n in $names; do
+    d=/tmp/variants/$n/prebuilt
+    LD_LIBRARY_PATH=$d/lib ncu --profile-from-start off --clock-control none --csv --print-units base \
+      --metrics gpu__time_duration.sum,smsp__inst_executed.sum $d/bin/lidarsgm_fuse --kitti-frame testdata/kitti \
+      --id 000002 --cuda --timing 1 --sm-count "${SMS:-8}" --params doc/params/kitti_best.yml --search-window 4 \
+      > "$OUT/profile_$n.csv" 2> "$OUT/profile_$n.err"
+    python3 tools/ncu_call.py "$OUT/profile_$n.csv" "build $n, ${SMS:-8} SMs" || tail -5 "$OUT/profile_$n.err"
   done
 fi
 [ "${TIMING:-1}" = 1 ] || exit 0
