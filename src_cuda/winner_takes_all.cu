@@ -20,38 +20,76 @@ const int ROW_QUADS = 3;
 //! The sentinel key: no candidate.
 const unsigned NO_KEY = 0xFFFFFFFFu;
 
-/* One pixel's winner as its keys arrive in disparity order (one lane, one pixel): the lowest key and, for the
- uniqueness check (UNIQUE), the lowest key more than one disparity away from it (second). A new winner at d replaces
- second with the lowest key up to d - 2 (below2); the key at the winner's successor does not enter second. */
-template <bool UNIQUE> struct Winner
+/* One pixel's winner as the minima of its chunks of CHUNK keys arrive in disparity order (one lane, one pixel): the
+ lowest key (best, in chunk bestChunk) and, for the uniqueness check (UNIQUE), the lowest chunk minimum more than one
+ chunk away from it (second), as well as the minima of the chunks just before and after it (before, after). Taking
+ each key once into a chunk minimum and the rest once per chunk costs a compare a key instead of the whole rule;
+ secondKey() then completes the exact runner-up from the three chunks around the winner. */
+template <bool UNIQUE> struct ChunkWinner
 {
-    unsigned best = NO_KEY, second = NO_KEY, below2 = NO_KEY, last = NO_KEY;
+    unsigned best = NO_KEY, second = NO_KEY, below2 = NO_KEY, last = NO_KEY, before = NO_KEY, after = NO_KEY;
     bool lastWon = false;
 
-    __device__ __forceinline__ void take(unsigned key)
+    __device__ __forceinline__ void take(unsigned m)
     {
-        const bool won = key < best;
-        best = ::min(best, key);
+        const bool won = m < best;
+        best = ::min(best, m);
         if (UNIQUE)
         {
-            const unsigned kept = lastWon ? second : ::min(second, key);
+            // A new winning chunk replaces second with the lowest minimum up to two chunks before it (below2).
+            before = won ? last : before;
+            after = won ? NO_KEY : (lastWon ? m : after);
+            const unsigned kept = lastWon ? second : ::min(second, m);
             second = won ? below2 : kept;
             below2 = ::min(below2, last);
             lastWon = won;
-            last = key;
+            last = m;
         }
     }
 };
+
+/* The lowest key, cost << 16 | d, of one pixel's CHUNK sums s (disparities d0 .. d0 + CHUNK - 1) more than one
+ disparity away from bd. */
+__device__ __forceinline__ unsigned lowestKeyApart(const ushort* s, int d0, int bd)
+{
+    const uint4 a = ((const uint4*)s)[0], b = ((const uint4*)s)[1];
+    const unsigned pair[8] = { a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w };
+    unsigned lowest = NO_KEY;
+#pragma unroll
+    for (int k = 0; k < CHUNK; k++)
+    {
+        const int d = d0 + k;
+        const unsigned key = (pair[k >> 1] >> (16 * (k & 1))) << 16 | (unsigned)d;
+        lowest = ::abs(d - bd) > 1 ? ::min(lowest, key) : lowest;
+    }
+    return lowest;
+}
+
+/* The uniqueness check's runner-up of a pixel whose sums over [lo, hi) start at s: the lowest key more than one
+ disparity away from the winner, from w's chunk minima and, where the winner's chunk or a neighbour's minimum lies
+ within one disparity of it, from those chunks' sums (read again: one chunk, at most three). */
+template <bool UNIQUE>
+__device__ __forceinline__ unsigned secondKey(const ChunkWinner<UNIQUE>& w, const ushort* s, int lo)
+{
+    const int bd = (int)(w.best & 0xFFFFu), c = (bd - lo) / CHUNK;
+    unsigned second = ::min(w.second, lowestKeyApart(s + c * CHUNK, lo + c * CHUNK, bd));
+    // A neighbour's minimum counts as it is unless it sits right next to the winner.
+    second = ::min(second, (int)(w.before & 0xFFFFu) == bd - 1
+                               ? lowestKeyApart(s + (c - 1) * CHUNK, lo + (c - 1) * CHUNK, bd) : w.before);
+    second = ::min(second, (int)(w.after & 0xFFFFu) == bd + 1
+                               ? lowestKeyApart(s + (c + 1) * CHUNK, lo + (c + 1) * CHUNK, bd) : w.after);
+    return second;
+}
 
 /* Walk the keys of a warp's 32 pixels (lane i: pixel x0 + i) over the window [lo, hi) (a multiple of CHUNK wide),
  their sums at first + i * stride + (d - lo). Each key is also the right view's candidate of the right pixel
  x0 + i - d - minD, whose slot in rkey is slot0 + i - (d - lo): consecutive across the lanes, so that the warp's
  atomicMin of a disparity falls on distinct banks. */
 template <bool UNIQUE>
-__device__ __forceinline__ Winner<UNIQUE> walkWindow(const ushort* first, int stride, int lo, int hi, int pixels,
-                                                     int lane, uint4* stage, unsigned* rkey, int slot0)
+__device__ __forceinline__ ChunkWinner<UNIQUE> walkWindow(const ushort* first, int stride, int lo, int hi, int pixels,
+                                                          int lane, uint4* stage, unsigned* rkey, int slot0)
 {
-    Winner<UNIQUE> w;
+    ChunkWinner<UNIQUE> w;
     unsigned* const rk = rkey + slot0 + lane;
     const unsigned invalid = lane < pixels ? 0u : NO_KEY;
     // Chunk c of the window: pixel p's 32 bytes at first + p * stride + c * CHUNK, two 16-byte loads; lane t loads
@@ -81,6 +119,7 @@ __device__ __forceinline__ Winner<UNIQUE> walkWindow(const ushort* first, int st
         const unsigned pair[8] = { a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w };
         const unsigned dc = (unsigned)(lo + c * CHUNK) | invalid;   // disparities dc | 0 .. dc | 15
         const int s0 = c * CHUNK;
+        unsigned m = NO_KEY;
 #pragma unroll
         for (int j = 0; j < 8; j++)
         {
@@ -89,10 +128,11 @@ __device__ __forceinline__ Winner<UNIQUE> walkWindow(const ushort* first, int st
             {
                 // (pixels past the row's end have pairs of NO_KEY: their keys are NO_KEY)
                 const unsigned key = __byte_perm(pair[j], dc | (unsigned)(2 * j + half), half ? 0x3254 : 0x1054);
-                w.take(key);
+                m = ::min(m, key);
                 atomicMin(rk - (s0 + 2 * j + half), key);
             }
         }
+        w.take(m);
     }
     return w;
 }
@@ -131,16 +171,17 @@ wtaKernel(PtrStepSz<ushort> sum, int W, PipelineParams p, WindowMap windows, Ptr
         }
         // Slot of the right pixel x0 - lo - minD (lane 0 at disparity lo); slot 0 is X0 - minD - (D - 1).
         const int slot0 = x0 - X0 - lo + D - 1;
-        const Winner<UNIQUE> w =
+        const ChunkWinner<UNIQUE> w =
             walkWindow<UNIQUE>(first, hi - lo, lo, hi, W - x0, lane, stage[warp], rkey, slot0);
         const int x = x0 + lane;
         if (x < W)
         {
             const int bd = (int)(w.best & 0xFFFFu), minv = (int)(w.best >> 16);
-            const bool valid = !UNIQUE || uniqueWinner(minv, (int)(w.second >> 16), p.uniqueness1024);
+            // The pixel's sums, read again once (cached: just read) rather than tracked at every step.
+            const ushort* const sums = first + (size_t)lane * (hi - lo);
+            const bool valid = !UNIQUE || uniqueWinner(minv, (int)(secondKey(w, sums, lo) >> 16), p.uniqueness1024);
             const bool parabola = (valid || nonUnique16.data) && p.subpixel && bd > lo && bd < hi - 1;
-            // The neighbours' sums once per pixel from memory (cached: just read) rather than tracked at every step.
-            const ushort* const s = first + (size_t)lane * (hi - lo) + (bd - lo);
+            const ushort* const s = sums + (bd - lo);
             const int d16 = (bd + minD) * 16 + (parabola ? subpixelOffset16(s[-1], minv, s[1]) : 0);
             disp16(y, x) = valid ? (short)d16 : NO_DISP;
             dispInt(y, x) = valid ? (short)(bd + minD) : NO_DISP;
