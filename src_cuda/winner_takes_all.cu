@@ -21,10 +21,10 @@ const int ROW_QUADS = 3;
 const unsigned NO_KEY = 0xFFFFFFFFu;
 
 /* One pixel's winner as the minima of its chunks of CHUNK keys arrive in disparity order (one lane, one pixel): the
- lowest key (best, in chunk bestChunk) and, for the uniqueness check (UNIQUE), the lowest chunk minimum more than one
- chunk away from it (second), as well as the minima of the chunks just before and after it (before, after). Taking
- each key once into a chunk minimum and the rest once per chunk costs a compare a key instead of the whole rule;
- secondKey() then completes the exact runner-up from the three chunks around the winner. */
+ lowest key (best; its chunk follows from its disparity) and, for the uniqueness check (UNIQUE), the lowest chunk
+ minimum more than one chunk away from it (second), as well as the minima of the chunks just before and after it
+ (before, after). Taking each key once into a chunk minimum and the rest once per chunk costs a compare a key instead
+ of the whole rule; secondKey() then completes the exact runner-up from the three chunks around the winner. */
 template <bool UNIQUE> struct ChunkWinner
 {
     unsigned best = NO_KEY, second = NO_KEY, below2 = NO_KEY, last = NO_KEY, before = NO_KEY, after = NO_KEY;
