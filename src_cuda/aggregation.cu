@@ -629,6 +629,14 @@ __device__ __forceinline__ void reduceAddIf(bool p, unsigned* a, unsigned v)
                  :: "r"((unsigned)p), "l"(a), "r"(v) : "memory");
 }
 
+/* *a += v where p for two words at once, v = lo | hi << 32, in one 64-bit reduction (a 8-byte aligned; the 16-bit
+ sums never carry). */
+__device__ __forceinline__ void reduceAddIf(bool p, unsigned* a, unsigned lo, unsigned hi)
+{
+    asm volatile("{\n\t.reg .pred q;\n\tsetp.ne.u32 q, %0, 0;\n\t@q red.global.add.u64 [%1], %2;\n\t}"
+                 :: "r"((unsigned)p), "l"(a), "l"((unsigned long long)lo | (unsigned long long)hi << 32) : "memory");
+}
+
 /* The packed layout over the disparity windows, up to 128 disparities, on any number of SMs (pathKernel's packed
  layout computes every cell of the range and masks it to the windows): LW = 8 lanes walk a line, four lines a warp,
  whose pixels lie side by side (warpLine), so that they cross the same tiles at the same steps or nearly. The
@@ -647,7 +655,10 @@ __device__ __forceinline__ void reduceAddIf(bool p, unsigned* a, unsigned v)
 template <bool DDC, bool EDGES, bool STORED>
 struct PackedWindowWalk
 {
-    enum { LW = 8, NR = 8 };   // lanes a line; the range's rows of 16 disparities at most
+    /* Lanes a line and pairs a lane in a row (PL = 8 / LW), the range's rows of 16 disparities at most. Stored costs
+     (a few SMs): 4 lanes, eight lines a warp, so that a step's fixed part serves twice the lines, a shuffle reaches a
+     neighbour for two pairs and one 64-bit load and reduction serve both. */
+    enum { LW = STORED ? 4 : 8, PL = 8 / LW, NR = 8 };
     static constexpr bool FACTS = (DDC && !STORED) || EDGES;   // whether a step reads the pixel's facts
     const unsigned* ddcTable;
     WindowMap windows;
@@ -660,12 +671,12 @@ struct PackedWindowWalk
     unsigned edgeMask;
     PairWeights wk;
     // The loaded pixel's census strings (or costs, STORED) and facts; the previous pixel's facts.
-    unsigned l, f, fPrev, r[2 * NR];   // STORED: the costs in r[k]
-    // Path costs, two per register as pathKernel's, in the layout's rows; mp2: the previous pixel's minimum.
-    unsigned P[NR], mp2;
+    unsigned l, f, fPrev, r[2 * NR * PL];   // STORED: the costs in r[PL k + j]
+    // Path costs, two per register as pathKernel's: pair j of row k in P[PL k + j]; mp2: the previous pixel's minimum.
+    unsigned P[NR * PL], mp2;
     int base, rows;       // the layout: [base, base + 16 rows)
     unsigned ownRows;     // bit k: row k lies in this line's window (none past its end)
-    unsigned* sums;       // lane t's pair of row 0 for the current pixel, in its window's compact layout
+    unsigned* sums;       // lane t's first pair of row 0 for the current pixel, in its window's compact layout
     const unsigned* costs;   // STORED: the same pair of the pixel whose costs are loaded
     int sumStep;
     // The pairs just below and above the layout that the registers do not hold (set where it moves, for one step).
@@ -685,7 +696,7 @@ struct PackedWindowWalk
         nLive = hasLine ? n : 0;
         ad = lineAddressing(x, y, dx, dy, n, censusL.step, censusR.step, facts.step, 0, p.numDisparities);
         oL = (const char*)(censusL.ptr(ad.yo) + ad.xo);
-        oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - p.minDisparity - 2 * lane);
+        oR = (const char*)(censusR.ptr(ad.yo) + ad.xo - p.minDisparity - 2 * PL * lane);
         oF = FACTS ? (const char*)(facts.ptr(ad.yo) + ad.xo) : nullptr;
         idx = ad.idx;
         edgeMask = edgeMaskOf(dir);
@@ -693,7 +704,7 @@ struct PackedWindowWalk
         f = fPrev = 0;
         // Zero costs and minimum before the first pixel give its matching costs, whatever the layout.
 #pragma unroll
-        for (int k = 0; k < NR; k++)
+        for (int k = 0; k < NR * PL; k++)
             P[k] = 0;
         mp2 = 0;
         base = 0;
@@ -715,16 +726,25 @@ struct PackedWindowWalk
         {
 #pragma unroll
             for (int k = 0; k < K; k++)
-                r[k] = costs[LW * k];
+            {
+                if constexpr (PL == 2)
+                {
+                    const uint2 c = *(const uint2*)(costs + 8 * k);
+                    r[2 * k] = c.x;
+                    r[2 * k + 1] = c.y;
+                }
+                else
+                    r[k] = costs[8 * k];
+            }
             return;
         }
         l = *(const unsigned*)(oL + wideMul(idx, ad.stepL));
         const int* pR = (const int*)(oR + wideMul(idx, ad.stepR)) - base;
 #pragma unroll
-        for (int k = 0; k < K; k++)
+        for (int k = 0; k < K * PL; k++)
         {
-            r[2 * k] = (unsigned)pR[-16 * k];
-            r[2 * k + 1] = (unsigned)pR[-16 * k - 1];
+            r[2 * k] = (unsigned)pR[-16 * (k / PL) - 2 * (k % PL)];
+            r[2 * k + 1] = (unsigned)pR[-16 * (k / PL) - 2 * (k % PL) - 1];
         }
     }
 
@@ -734,22 +754,22 @@ struct PackedWindowWalk
     __device__ __forceinline__ void moveLayout(int newBase, int newRows)
     {
         const int delta = (newBase - base) / 16;
-        // Old row j, selected by compares (an index into P would put it in local memory).
-        const auto oldRow = [&](int j) {
+        // Pair i of old row j, selected by compares (an index into P would put it in local memory).
+        const auto oldPair = [&](int j, int i) {
             unsigned v = BIG16X2;
 #pragma unroll
             for (int k = 0; k < NR; k++)
-                v = j == k && k < rows ? P[k] : v;
+                v = j == k && k < rows ? P[PL * k + i] : v;
             return v;
         };
-        belowEdge = __shfl_sync(0xFFFFFFFFu, oldRow(delta - 1), LW - 1, LW);
-        aboveEdge = __shfl_sync(0xFFFFFFFFu, oldRow(delta + newRows), 0, LW);
-        unsigned R[NR];
+        belowEdge = __shfl_sync(0xFFFFFFFFu, oldPair(delta - 1, PL - 1), LW - 1, LW);
+        aboveEdge = __shfl_sync(0xFFFFFFFFu, oldPair(delta + newRows, 0), 0, LW);
+        unsigned R[NR * PL];
 #pragma unroll
-        for (int k = 0; k < NR; k++)
-            R[k] = oldRow(k + delta);
+        for (int k = 0; k < NR * PL; k++)
+            R[k] = oldPair(k / PL + delta, k % PL);
 #pragma unroll
-        for (int k = 0; k < NR; k++)
+        for (int k = 0; k < NR * PL; k++)
             P[k] = R[k];
         base = newBase;
         rows = newRows;
@@ -773,8 +793,8 @@ struct PackedWindowWalk
         ownRows = live ? (1u << (hi - base) / 16) - (1u << (lo - base) / 16) : 0u;
         // The rows lie within WINDOW_GUARD_PAIRS of the pixel's window; a line past its end stays at the volume's
         // start (STORED: its rows add zeros there).
-        const size_t at = live ? windowPairOffset(windows.base(tx, ty), px, py, lo, hi) + (base - lo) / 2 + lane
-                               : WINDOW_GUARD_PAIRS + lane;
+        const size_t at = live ? windowPairOffset(windows.base(tx, ty), px, py, lo, hi) + (base - lo) / 2 + PL * lane
+                               : WINDOW_GUARD_PAIRS + PL * lane;
         sums = volume + at;
         if (STORED)
             costs = costVolume + at;
@@ -782,25 +802,25 @@ struct PackedWindowWalk
         return end;
     }
 
-    //! matchingCost of the loaded pixel in pairs, less the previous minimum: add[k] for row k.
-    template <int K> __device__ __forceinline__ void matchingCosts(unsigned (&add)[K]) const
+    //! matchingCost of the loaded pixel in pairs, less the previous minimum: add[PL k + j] for pair j of row k.
+    template <int K> __device__ __forceinline__ void matchingCosts(unsigned (&add)[K * PL]) const
     {
         if constexpr (STORED)
         {
 #pragma unroll
-            for (int k = 0; k < K; k++)
+            for (int k = 0; k < K * PL; k++)
                 add[k] = r[k] - mp2;
             return;
         }
         // The census term, and the DDC term from the table (u: the pair's index from the one that holds k - 1, plus
         // one, clamped to 2).
-        const unsigned a = (f & ((1u << FACT_PAIR_BITS) - 1)) - (unsigned)((base >> 1) + lane);   // u of row 0
+        const unsigned a = (f & ((1u << FACT_PAIR_BITS) - 1)) - (unsigned)((base >> 1) + PL * lane);   // pair 0's u
         const unsigned* row = ddcRow(ddcTable, f);
 #pragma unroll
-        for (int k = 0; k < K; k++)
+        for (int k = 0; k < K * PL; k++)
         {
             add[k] = censusPairTerm(l, r[2 * k], r[2 * k + 1], wk) +
-                     (DDC ? row[::min(a - (unsigned)(LW * k), 2u)] : 0u) - mp2;
+                     (DDC ? row[::min(a - (unsigned)(8 * (k / PL) + k % PL), 2u)] : 0u) - mp2;
         }
     }
 
@@ -809,7 +829,7 @@ struct PackedWindowWalk
      tiles of one window, as they mostly do), so no row is masked. */
     template <int K, bool NEXT, bool OWN> __device__ __forceinline__ void step(int s)
     {
-        unsigned add[K];
+        unsigned add[K * PL];
         matchingCosts<K>(add);
         unsigned jump = mp2 + wk.p2x2;
         if (EDGES)
@@ -822,28 +842,32 @@ struct PackedWindowWalk
         idx += s + 1 < n ? ad.dIdx : 0;   // a line shorter than the warp's longest stays on its last pixel
         if (NEXT)
             load<K>();
-        // Neighbour pairs across lanes by shuffles that rotate the line's lanes: lane 0 takes lane LW - 1's pair of
-        // the row below, lane LW - 1 lane 0's of the row above.
+        // Neighbour pairs across lanes by shuffles that rotate the line's lanes (a row's last pair up a lane, its
+        // first down one): lane 0 takes lane LW - 1's pair of the row below, lane LW - 1 lane 0's of the row above.
         unsigned up[K], down[K];
 #pragma unroll
         for (int k = 0; k < K; k++)
         {
-            up[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + LW - 1) & (LW - 1), LW);
-            down[k] = __shfl_sync(0xFFFFFFFFu, P[k], (lane + 1) & (LW - 1), LW);
+            up[k] = __shfl_sync(0xFFFFFFFFu, P[PL * k + PL - 1], (lane + LW - 1) & (LW - 1), LW);
+            down[k] = __shfl_sync(0xFFFFFFFFu, P[PL * k], (lane + 1) & (LW - 1), LW);
         }
-        unsigned m = BIG16X2, out[K];   // out: the sums' terms, 0 past the line's window
+        unsigned m = BIG16X2, out[K * PL], V[K * PL];   // out: the sums' terms, 0 past the line's window
 #pragma unroll
-        for (int k = 0; k < K; k++)
+        for (int i = 0; i < K * PL; i++)
         {
-            const unsigned below = lane > 0 ? up[k] : k > 0 ? up[k - 1] : belowEdge;
-            const unsigned above = lane < LW - 1 ? down[k] : k + 1 < K ? down[k + 1] : aboveEdge;
-            const unsigned lm = __byte_perm(below, P[k], 0x5432);
-            const unsigned lp = __byte_perm(P[k], above, 0x5432);
-            const unsigned v = vmin2(vmin2(P[k], jump), vmin2(lm, lp) + wk.p1x2) + add[k];
-            P[k] = OWN || ownRows >> k & 1u ? v : BIG16X2;
-            out[k] = OWN || ownRows >> k & 1u ? v : 0u;
-            m = vmin2(m, P[k]);
+            const int k = i / PL, j = i % PL;
+            const unsigned below = j > 0 ? P[i - 1] : lane > 0 ? up[k] : k > 0 ? up[k - 1] : belowEdge;
+            const unsigned above = j < PL - 1 ? P[i + 1] : lane < LW - 1 ? down[k] : k + 1 < K ? down[k + 1] : aboveEdge;
+            const unsigned lm = __byte_perm(below, P[i], 0x5432);
+            const unsigned lp = __byte_perm(P[i], above, 0x5432);
+            const unsigned v = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + wk.p1x2) + add[i];
+            V[i] = OWN || ownRows >> k & 1u ? v : BIG16X2;
+            out[i] = OWN || ownRows >> k & 1u ? v : 0u;
+            m = vmin2(m, V[i]);
         }
+#pragma unroll
+        for (int i = 0; i < K * PL; i++)
+            P[i] = V[i];
         // The line's minimum in both halves: over the pairs, then its lanes.
         m = vmin2(m, __byte_perm(m, 0, 0x1032));
 #pragma unroll
@@ -854,10 +878,18 @@ struct PackedWindowWalk
 #pragma unroll
         for (int k = 0; k < K; k++)
         {
-            if (STORED || OWN)
-                atomicAdd(S + LW * k, out[k]);
+            if constexpr (PL == 2)
+            {
+                if (STORED || OWN)
+                    atomicAdd((unsigned long long*)(S + 8 * k),
+                              (unsigned long long)out[2 * k] | (unsigned long long)out[2 * k + 1] << 32);
+                else
+                    reduceAddIf(ownRows >> k & 1u, S + 8 * k, P[2 * k], P[2 * k + 1]);
+            }
+            else if (STORED || OWN)
+                atomicAdd(S + 8 * k, out[k]);
             else
-                reduceAddIf(ownRows >> k & 1u, S + LW * k, P[k]);
+                reduceAddIf(ownRows >> k & 1u, S + 8 * k, P[k]);
         }
         belowEdge = aboveEdge = BIG16X2;
     }
@@ -994,7 +1026,8 @@ void runPackedWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSte
         windowMatchingCosts(censusL, censusR, facts, windows, p, ddc, (unsigned*)sum.data, costs, stream);
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-    const int linesPerBlock = WARPS_PER_BLOCK * 32 / PackedWindowWalk<false, false, false>::LW;
+    const int linesPerBlock = WARPS_PER_BLOCK * 32 / (costs ? PackedWindowWalk<false, false, true>::LW
+                                                            : PackedWindowWalk<false, false, false>::LW);
     const int lineBlocks = cv::cudev::divUp(maxLines, linesPerBlock);
     const dim3 grid = p.numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, p.numPaths);
     const bool e = p.edgeThreshold > 0;   // the edge rule
