@@ -638,10 +638,10 @@ __device__ __forceinline__ void reduceAddIf(bool p, unsigned* a, unsigned lo, un
 }
 
 /* The packed layout over the disparity windows, up to 128 disparities, on any number of SMs (pathKernel's packed
- layout computes every cell of the range and masks it to the windows): LW = 8 lanes walk a line, four lines a warp,
+ layout computes every cell of the range and masks it to the windows): LW lanes walk a line, 32 / LW lines a warp,
  whose pixels lie side by side (warpLine), so that they cross the same tiles at the same steps or nearly. The
- warp's layout covers the union of its live lines' windows, [base, base + 16 K): lane t holds in row k the pair of
- disparities base + 16 k + 2 t and its successor, so that a window's ends (multiples of 16) fall between rows and a
+ warp's layout covers the union of its live lines' windows, [base, base + 16 K): lane t holds in row k the PL = 8 / LW
+ pairs of disparities from base + 16 k + 2 PL t on, so that a window's ends (multiples of 16) fall between rows and a
  new base moves whole registers (moveLayout), with no shuffle but the two edge pairs'. Each line keeps the rows of its
  own window (ownRows) and the sentinel BIG16 in the others, as the CPU's window-only recursion leaves them. A segment
  is a run of steps in which no live line changes tile (startSegment): the union, the rows, each line's sums' (and
@@ -857,7 +857,8 @@ struct PackedWindowWalk
         {
             const int k = i / PL, j = i % PL;
             const unsigned below = j > 0 ? P[i - 1] : lane > 0 ? up[k] : k > 0 ? up[k - 1] : belowEdge;
-            const unsigned above = j < PL - 1 ? P[i + 1] : lane < LW - 1 ? down[k] : k + 1 < K ? down[k + 1] : aboveEdge;
+            const unsigned above = j < PL - 1 ? P[i + 1]
+                                   : lane < LW - 1 ? down[k] : k + 1 < K ? down[k + 1] : aboveEdge;
             const unsigned lm = __byte_perm(below, P[i], 0x5432);
             const unsigned lp = __byte_perm(P[i], above, 0x5432);
             const unsigned v = vmin2(vmin2(P[i], jump), vmin2(lm, lp) + wk.p1x2) + add[i];
@@ -1016,7 +1017,7 @@ __global__ void zeroWindowsKernel(WindowMap windows, int W, unsigned* volume)
 
 /* The packed layout's path kernel over the windows (up to 128 disparities): with costs, the windows' matching costs
 first (windowMatchingCosts, which zeroes the sums too), then the paths that read them; grid and block as runPaths'
-for LW = 8. */
+for the walk's LW (4 with the costs, else 8). */
 void runPackedWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<ushort> facts, WindowMap windows,
                           const PipelineParams& p, bool ddc, PtrStepSz<ushort> sum, unsigned* costs,
                           cudaStream_t stream)
@@ -1081,8 +1082,9 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
                                                   p.edgeThreshold, facts);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
-    // With windows from 112 to 128 disparities, 8 lanes a line over the union of a warp's windows (PackedWindowWalk)
-    // on any number of multiprocessors: on the whole H200 it beats one line a warp too (doc/perf.md).
+    // With windows from 112 to 128 disparities, 4 or 8 lanes a line over the union of a warp's windows
+    // (PackedWindowWalk) on any number of multiprocessors: on the whole H200 it beats one line a warp too
+    // (doc/perf.md).
     if (packedWindows)
         return runPackedWindowPaths(censusL, censusR, facts, windows, p, ddc, sum, out.costs, stream);
     const int lines = pathLines(p, W, H);

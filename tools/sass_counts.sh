@@ -2,7 +2,7 @@
 # SASS instruction counts that doc/perf.md and doc/design.md quote (no GPU needed): what one packed minimum or add
 # costs for sm_87 (Jetson Orin) and sm_90 (H100, H200), and the main loop of the packed path kernel
 # (pathKernel<8, 8, ...>: two steps of four lines, KITTI's 128 disparities with DDC and the edge rule) for both; and
-# the packed windows' path kernel (packedWindowPathKernel, no edge rule) per step for each K pairs a lane, with the
+# the packed windows' path kernel (packedWindowPathKernel, no edge rule) per step for each K rows of 16 disparities, with the
 # costs stored (the few-SMs kernel) and computed with DDC, where every line owns its pairs and where some are masked;
 # the winner-takes-all's loop over a chunk of 16 disparities (wtaKernel), with and without the uniqueness check; the
 # stored matching costs' loop (windowCostsKernel) per disparity, with and without DDC.
@@ -60,7 +60,8 @@ def loops(ins):
         if m and 'DIV' not in t and int(m.group(1), 16) < addr:
             yield [o for a, o in ins if int(m.group(1), 16) <= a <= addr]
 
-packed = {'ILb0ELb0ELb1E': 'stored costs', 'ILb1ELb0ELb0E': 'computed costs, DDC'}
+# the kernels' lanes a line as butterflies of the line's minimum (log2 LW), and the words a row loads
+packed = {'ILb0ELb0ELb1E': ('stored costs', 2, 2), 'ILb1ELb0ELb0E': ('computed costs, DDC', 3, 2)}
 for name, ins in functions():
     if 'pathKernelILi8ELi8ELi2ELb1ELb1ELb1ELb0E' in name:
         loop = max(map(len, loops(ins)), default=0)   # the longest: the step loop (unrolled twice)
@@ -83,19 +84,21 @@ for name, ins in functions():
     kind = next((v for k, v in packed.items() if 'packedWindowPathKernel' + k in name), None)
     if kind is None:
         continue
+    kind, butterflies, rowWords = kind
     perK = {}
     for body in loops(ins):
         body = [o for o in body if not o.startswith('NOP')]
-        steps = sum('SHFL.BFLY' in o for o in body) // 3   # the line's minimum: three butterflies a step
+        steps = sum('SHFL.BFLY' in o for o in body) // butterflies   # the line's minimum: log2 LW a step
         if steps not in (1, 2):   # a step loop runs one or two steps (not the segments' loop around them)
             continue
         ops = [o.split()[1] if o.startswith('@') else o.split()[0] for o in body]
         words = sum(4 if op.endswith('.128') else 2 if op.endswith('.64') else 1 for op in ops
                     if op.startswith('LDG')) // steps
-        K = words if kind == 'stored costs' else (words - 2) // 2   # computed: 2 K right strings, left string, facts
+        # stored: a row's costs; computed: its right strings, then the left string and the facts
+        K = words // rowWords if kind == 'stored costs' else (words - 2) // rowWords
         perK.setdefault(K, []).append(len(body) / steps)
     cells = ', '.join(f'K={K}: ' + ' / '.join(f'{v:g}' for v in sorted(perK[K])) for K in sorted(perK))
-    print(f"sm_{arch}: packedWindowPathKernel, {kind}: instructions a step (lines owning their pairs / masked): "
-          f"{cells}")
+    print(f"sm_{arch}: packedWindowPathKernel, {kind}: instructions a step of {32 >> butterflies} lines (lines "
+          f"owning their rows / masked): {cells}")
 EOF
 done
