@@ -302,11 +302,8 @@ if [ -n "${SM_PIPES:-}" ] && command -v ncu >/dev/null; then
   for spec in $SM_PIPES; do
     IFS=: read -r n nw pf <<< "$spec"
     echo "== $n SMs, $spec: ${STALL_KERNEL:-pathKernel}, pipes (% of peak, active cycles) and stalls per issue"
-    ncu --profile-from-start off --clock-control none -k regex:${STALL_KERNEL:-pathKernel} --launch-count 1 \
-      --metrics "regex:sm__pipe_.*_cycles_active\.avg\.pct_of_peak_sustained_active,regex:sm__inst_executed_pipe_.*\.avg\.pct_of_peak_sustained_active,regex:smsp__average_warps_issue_stalled_.*_per_issue_active\.ratio,smsp__issue_active.avg.pct_of_peak_sustained_active,gpu__time_duration.sum" \
-      $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 1 --sm-count $n ${pf:+--params $pf} \
-      --search-window ${nw:-0} 2>&1 | grep -E "^ +[a-z_]+__" | awk '{gsub(/,/, "", $NF); print $NF, $1}' \
-      | sort -g -r | awk '$1 > 0.5' | head -24 | sed 's/^/    /'
+    bash tools/ncu_pipes.sh "${STALL_KERNEL:-pathKernel}" $B/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 \
+      --cuda --timing 1 --sm-count $n ${pf:+--params $pf} --search-window ${nw:-0}
   done
 fi
 if [ -n "${PROFILE_SIZES:-}" ] && command -v ncu >/dev/null; then

@@ -55,30 +55,26 @@ if [ "${TESTS:-0}" = 1 ]; then
     grep -E '^\[  FAILED  \] [A-Za-z]' "$OUT/tests_$n.log" | head -5 || true
   done
 fi
+# The call that PROFILE and PIPES look into.
+profiled=(--kitti-frame testdata/kitti --id 000002 --cuda --timing 1 --sm-count "${SMS:-8}"
+          --params doc/params/kitti_best.yml --search-window 4)
 if [ "${PROFILE:-0}" = 1 ]; then
   command -v ncu > /dev/null || { echo "PROFILE=1: no ncu on this machine"; exit 2; }
   for n in $names; do
     d=/tmp/variants/$n/prebuilt
     LD_LIBRARY_PATH=$d/lib ncu --profile-from-start off --clock-control none --csv --print-units base \
-      --metrics gpu__time_duration.sum,smsp__inst_executed.sum $d/bin/lidarsgm_fuse --kitti-frame testdata/kitti \
-      --id 000002 --cuda --timing 1 --sm-count "${SMS:-8}" --params doc/params/kitti_best.yml --search-window 4 \
+      --metrics gpu__time_duration.sum,smsp__inst_executed.sum $d/bin/lidarsgm_fuse "${profiled[@]}" \
       > "$OUT/profile_$n.csv" 2> "$OUT/profile_$n.err"
     python3 tools/ncu_call.py "$OUT/profile_$n.csv" "build $n, ${SMS:-8} SMs" || tail -5 "$OUT/profile_$n.err"
   done
 fi
 if [ "${PIPES:-0}" = 1 ]; then
-  # What limits one kernel (STALL_KERNEL, default packedWindowPathKernel) of the same call: the busiest pipes and the
-  # largest stall reasons per issued instruction, as tools/device_check.sh's SM_PIPES prints them.
   command -v ncu > /dev/null || { echo "PIPES=1: no ncu on this machine"; exit 2; }
   for n in $names; do
     d=/tmp/variants/$n/prebuilt
     echo "== build $n, ${SMS:-8} SMs: ${STALL_KERNEL:-packedWindowPathKernel}, pipes (% of peak) and stalls per issue"
-    LD_LIBRARY_PATH=$d/lib ncu --profile-from-start off --clock-control none \
-      -k regex:${STALL_KERNEL:-packedWindowPathKernel} --launch-count 1 \
-      --metrics "regex:sm__pipe_.*_cycles_active\.avg\.pct_of_peak_sustained_active,regex:sm__inst_executed_pipe_.*\.avg\.pct_of_peak_sustained_active,regex:smsp__average_warps_issue_stalled_.*_per_issue_active\.ratio,smsp__issue_active.avg.pct_of_peak_sustained_active,smsp__warps_active.avg.per_cycle_active,gpu__time_duration.sum" \
-      $d/bin/lidarsgm_fuse --kitti-frame testdata/kitti --id 000002 --cuda --timing 1 --sm-count "${SMS:-8}" \
-      --params doc/params/kitti_best.yml --search-window 4 2>&1 | grep -E "^ +[a-z_]+__" \
-      | awk '{gsub(/,/, "", $NF); print $NF, $1}' | sort -g -r | awk '$1 > 0.5' | head -24 | sed 's/^/    /'
+    LD_LIBRARY_PATH=$d/lib bash tools/ncu_pipes.sh "${STALL_KERNEL:-packedWindowPathKernel}" $d/bin/lidarsgm_fuse \
+      "${profiled[@]}"
   done
 fi
 [ "${TIMING:-1}" = 1 ] || exit 0
