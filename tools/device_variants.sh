@@ -12,6 +12,8 @@
 #   warp instructions per kernel (tools/ncu_call.py), before the timing.
 # - PIPES=1: the pipes and stall reasons of one kernel (STALL_KERNEL, default packedWindowPathKernel) of that call on
 #   SMS SMs under ncu, each build's.
+# - SOURCE=1: the same kernel's SASS instructions with the most warp stall samples (tools/ncu_source.sh; TOP of them,
+#   default 30), each build's; the report and its source page stay in OUT.
 # BUILDS: the names of the builds to test and time (default: every archive's), so that one call need not run them all.
 # Run on the device machine from the repository root, .device carried:
 #   TESTS=1 bash tools/device_variants.sh
@@ -75,6 +77,15 @@ if [ "${PIPES:-0}" = 1 ]; then
     echo "== build $n, ${SMS:-8} SMs: ${STALL_KERNEL:-packedWindowPathKernel}, pipes (% of peak) and stalls per issue"
     LD_LIBRARY_PATH=$d/lib bash tools/ncu_pipes.sh "${STALL_KERNEL:-packedWindowPathKernel}" $d/bin/lidarsgm_fuse \
       "${profiled[@]}"
+  done
+fi
+if [ "${SOURCE:-0}" = 1 ]; then
+  command -v ncu > /dev/null || { echo "SOURCE=1: no ncu on this machine"; exit 2; }
+  for n in $names; do
+    d=/tmp/variants/$n/prebuilt
+    echo "== build $n, ${SMS:-8} SMs: ${STALL_KERNEL:-packedWindowPathKernel}, SASS instructions by stall samples"
+    LD_LIBRARY_PATH=$d/lib bash tools/ncu_source.sh "${STALL_KERNEL:-packedWindowPathKernel}" "$OUT/source_$n" \
+      $d/bin/lidarsgm_fuse "${profiled[@]}" || true
   done
 fi
 [ "${TIMING:-1}" = 1 ] || exit 0
