@@ -57,7 +57,7 @@ if [ "${TESTS:-0}" = 1 ]; then
     grep -E '^\[  FAILED  \] [A-Za-z]' "$OUT/tests_$n.log" | head -5 || true
   done
 fi
-# The call that PROFILE and PIPES look into.
+# The call that PROFILE, PIPES and SOURCE look into.
 profiled=(--kitti-frame testdata/kitti --id 000002 --cuda --timing 1 --sm-count "${SMS:-8}"
           --params doc/params/kitti_best.yml --search-window 4)
 if [ "${PROFILE:-0}" = 1 ]; then
@@ -70,22 +70,20 @@ if [ "${PROFILE:-0}" = 1 ]; then
     python3 tools/ncu_call.py "$OUT/profile_$n.csv" "build $n, ${SMS:-8} SMs" || tail -5 "$OUT/profile_$n.err"
   done
 fi
-if [ "${PIPES:-0}" = 1 ]; then
-  command -v ncu > /dev/null || { echo "PIPES=1: no ncu on this machine"; exit 2; }
+if [ "${PIPES:-0}" = 1 ] || [ "${SOURCE:-0}" = 1 ]; then
+  command -v ncu > /dev/null || { echo "PIPES=1, SOURCE=1: no ncu on this machine"; exit 2; }
+  kernel=${STALL_KERNEL:-packedWindowPathKernel}
   for n in $names; do
     d=/tmp/variants/$n/prebuilt
-    echo "== build $n, ${SMS:-8} SMs: ${STALL_KERNEL:-packedWindowPathKernel}, pipes (% of peak) and stalls per issue"
-    LD_LIBRARY_PATH=$d/lib bash tools/ncu_pipes.sh "${STALL_KERNEL:-packedWindowPathKernel}" $d/bin/lidarsgm_fuse \
-      "${profiled[@]}"
-  done
-fi
-if [ "${SOURCE:-0}" = 1 ]; then
-  command -v ncu > /dev/null || { echo "SOURCE=1: no ncu on this machine"; exit 2; }
-  for n in $names; do
-    d=/tmp/variants/$n/prebuilt
-    echo "== build $n, ${SMS:-8} SMs: ${STALL_KERNEL:-packedWindowPathKernel}, SASS instructions by stall samples"
-    LD_LIBRARY_PATH=$d/lib bash tools/ncu_source.sh "${STALL_KERNEL:-packedWindowPathKernel}" "$OUT/source_$n" \
-      $d/bin/lidarsgm_fuse "${profiled[@]}" || true
+    if [ "${PIPES:-0}" = 1 ]; then
+      echo "== build $n, ${SMS:-8} SMs: $kernel, pipes (% of peak) and stalls per issue"
+      LD_LIBRARY_PATH=$d/lib bash tools/ncu_pipes.sh "$kernel" $d/bin/lidarsgm_fuse "${profiled[@]}"
+    fi
+    if [ "${SOURCE:-0}" = 1 ]; then
+      echo "== build $n, ${SMS:-8} SMs: $kernel, SASS instructions by stall samples"
+      LD_LIBRARY_PATH=$d/lib bash tools/ncu_source.sh "$kernel" "$OUT/source_$n" $d/bin/lidarsgm_fuse \
+        "${profiled[@]}" || true
+    fi
   done
 fi
 [ "${TIMING:-1}" = 1 ] || exit 0

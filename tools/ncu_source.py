@@ -25,7 +25,7 @@ def number(s):
 
 def main(path, top):
     with open(path, newline="") as f:
-        rows = [r for r in csv.reader(f)]
+        rows = list(csv.reader(f))
     start = next((i for i, r in enumerate(rows) if find(r, "source") is not None and find(r, "address") is not None),
                  None)
     if start is None:
