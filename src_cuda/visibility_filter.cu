@@ -11,65 +11,87 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
 namespace {
 
-/* rowPointGap and columnPointGap of a warp's 32 pixels of a row together: the row's points to their right and the
- rows below come as ballots (32 columns a load), so that each row below is one load for the warp rather than a
- search of RING_COLUMNS-wide rows by each point's thread; the warp stops at the row where every point has its gap.
- Most points fall in a few bins: a block counts in shared memory first, so that the global atomics do not all meet on
- the same addresses. */
+//! The 32 x 32 bit transpose of a warp's words: bit i of lane t's result is bit t of lane i's word.
+__device__ __forceinline__ unsigned warpTransposeBits(unsigned w, int lane)
+{
+    const unsigned low[5] = { 0x0000FFFFu, 0x00FF00FFu, 0x0F0F0F0Fu, 0x33333333u, 0x55555555u };
+#pragma unroll
+    for (int k = 0, j = 16; k < 5; k++, j >>= 1)
+    {
+        // Swap the off-diagonal j x j blocks of each 2j x 2j block.
+        const unsigned other = __shfl_xor_sync(0xFFFFFFFFu, w, j);
+        w = (lane & j) ? (w & ~low[k]) | ((other >> j) & low[k]) : (w & low[k]) | ((other & low[k]) << j);
+    }
+    return w;
+}
+
+enum { SCAN_BLOCK_ROWS = 32, SCAN_ROWS = SCAN_BLOCK_ROWS + SCAN_GAP_BINS - 2 };
+
+/* rowPointGap and columnPointGap of a block's 32 x 32 pixels, a warp a row. The block first stores, for its rows and
+ the 30 below, which of the 96 columns around its own hold a point (three ballots a row); then a point's row gap is
+ one shift of its row's bits, and its column gap the first of the next 30 rows whose 5 columns around it hold one:
+ lane i takes row y + 1 + i's dilated bits and a bit transpose gives each lane its column's, so no warp walks the
+ rows one load after the other. Most points fall in a few bins: a block counts in shared memory first, so that the
+ global atomics do not all meet on the same addresses. */
 __global__ void scanGapHistogramKernel(PtrStepSz<short> sparse16, int* stats)
 {
     static_assert(RING_COLUMNS == 2, "the column windows below are 5 bits wide");
     static_assert(SCAN_GAP_BINS == 32, "a gap below the cap lies in the next 30 columns or rows");
     __shared__ int hist[2 * SCAN_GAP_BINS];
-    const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
-    for (int i = tid; i < 2 * SCAN_GAP_BINS; i += nthreads)
-        hist[i] = 0;
-    __syncthreads();
-    const int W = sparse16.cols, H = sparse16.rows, lane = threadIdx.x;
-    const int x0 = blockIdx.x * blockDim.x, x = x0 + lane, y = blockIdx.y * blockDim.y + threadIdx.y;
-    const auto has = [&](int v, int c) { return c >= 0 && c < W && sparse16(v, c) != NO_DISP; };
-    if (y < H)   // the whole warp
+    __shared__ unsigned bits[SCAN_ROWS][3];   // columns x0 - 32 + 32 k + bit
+    const int lane = threadIdx.x, warp = threadIdx.y, tid = warp * 32 + lane;
+    const int W = sparse16.cols, H = sparse16.rows;
+    const int x0 = blockIdx.x * 32, by = blockIdx.y * SCAN_BLOCK_ROWS, x = x0 + lane, y = by + warp;
+    if (tid < 2 * SCAN_GAP_BINS)
+        hist[tid] = 0;
+    const int LOADS = (3 * SCAN_ROWS + SCAN_BLOCK_ROWS - 1) / SCAN_BLOCK_ROWS;
+    bool point[LOADS];
+#pragma unroll   // the loads all in flight at once
+    for (int k = 0; k < LOADS; k++)
     {
-        const bool point = has(y, x);
-        if (__any_sync(0xFFFFFFFFu, point))
+        const int i = warp + k * SCAN_BLOCK_ROWS, v = by + i / 3, c = x0 - 32 + 32 * (i % 3) + lane;
+        point[k] = i < 3 * SCAN_ROWS && v < H && c >= 0 && c < W && sparse16(v, c) != NO_DISP;
+    }
+#pragma unroll
+    for (int k = 0; k < LOADS; k++)
+    {
+        const int i = warp + k * SCAN_BLOCK_ROWS;
+        const unsigned b = __ballot_sync(0xFFFFFFFFu, point[k]);
+        if (lane == 0 && i < 3 * SCAN_ROWS)
+            bits[i / 3][i % 3] = b;
+    }
+    __syncthreads();
+    const unsigned own = bits[warp][1];
+    if (y < H && own != 0u)   // the whole warp
+    {
+        const unsigned cap = SCAN_GAP_BINS - 1;
+        const bool point = (own >> lane) & 1u;
+        // The row: the first point among the next cap - 1 columns.
+        const unsigned long long right = (unsigned long long)bits[warp][2] << 32 | own;
+        const unsigned ahead = (unsigned)(right >> (lane + 1)) & ((1u << (cap - 1)) - 1);
+        const int gr = ahead ? __ffs(ahead) : x + (int)cap < W ? (int)cap : -1;
+        // The rows below: lane i's bit t says whether row y + 1 + i holds a point in columns x0 + t -+ 2.
+        unsigned near = 0u;
+        if (lane < (int)cap - 1)
         {
-            const unsigned cap = SCAN_GAP_BINS - 1;
-            // The row: the first point among the next cap - 1 columns.
-            const unsigned next = __ballot_sync(0xFFFFFFFFu, has(y, x + 32));
-            const unsigned long long right = (unsigned long long)next << 32 | __ballot_sync(0xFFFFFFFFu, point);
-            const unsigned ahead = (unsigned)(right >> (lane + 1)) & ((1u << (cap - 1)) - 1);
-            const int gr = ahead ? __ffs(ahead) : x + (int)cap < W ? (int)cap : -1;
-            // The rows below: bit i of a row's window mask is column x0 - RING_COLUMNS + i.
-            int gc = -1;
-            bool open = point;
-            for (int v = y + 1; v < H && v - y < (int)cap && __any_sync(0xFFFFFFFFu, open); v++)
-            {
-                const int c = lane < 2 ? x0 - 2 + lane : x0 + 30 + lane;   // the columns beside the warp's
-                const unsigned edge = __ballot_sync(0xFFFFFFFFu, lane < 4 && has(v, c));
-                const unsigned long long row = (unsigned long long)(edge & 3u) |
-                                               (unsigned long long)__ballot_sync(0xFFFFFFFFu, has(v, x)) << 2 |
-                                               (unsigned long long)(edge >> 2) << 34;
-                if (open && ((row >> lane) & 0x1Fu))
-                {
-                    gc = v - y;
-                    open = false;
-                }
-            }
-            if (open && y + (int)cap < H)
-                gc = (int)cap;
-            if (point)
-            {
-                if (gr >= 0)
-                    atomicAdd(hist + gr, 1);
-                if (gc >= 0)
-                    atomicAdd(hist + SCAN_GAP_BINS + gc, 1);
-            }
+            const unsigned* const b = bits[warp + 1 + lane];
+            const unsigned long long w = b[0] >> 30 | (unsigned long long)b[1] << 2 |
+                                         (unsigned long long)(b[2] & 3u) << 34;   // bit j: column x0 - 2 + j
+            near = (unsigned)(w | w >> 1 | w >> 2 | w >> 3 | w >> 4);
+        }
+        const unsigned below = warpTransposeBits(near, lane);   // bit i: row y + 1 + i, for this lane's column
+        const int gc = below ? __ffs(below) : y + (int)cap < H ? (int)cap : -1;
+        if (point)
+        {
+            if (gr >= 0)
+                atomicAdd(hist + gr, 1);
+            if (gc >= 0)
+                atomicAdd(hist + SCAN_GAP_BINS + gc, 1);
         }
     }
     __syncthreads();
-    for (int i = tid; i < 2 * SCAN_GAP_BINS; i += nthreads)
-        if (hist[i] > 0)
-            atomicAdd(stats + i, hist[i]);
+    if (tid < 2 * SCAN_GAP_BINS && hist[tid] > 0)
+        atomicAdd(stats + tid, hist[tid]);
 }
 
 //! One warp: visibilityGrowthApplies.
@@ -121,7 +143,7 @@ __global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, in
 
 void testScan(PtrStepSz<short> sparse16, int* stats, cudaStream_t stream)
 {
-    const dim3 block(32, 8);
+    const dim3 block(32, SCAN_BLOCK_ROWS);
     const dim3 grid(cv::cudev::divUp(sparse16.cols, block.x), cv::cudev::divUp(sparse16.rows, block.y));
     CV_CUDEV_SAFE_CALL(cudaMemsetAsync(stats, 0, 2 * SCAN_GAP_BINS * sizeof(int), stream));
     scanGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, stats);

@@ -7,16 +7,20 @@
 #   packed_walk       packedWindowPathKernel (src_cuda/aggregation.cu): the sum volumes
 #   winner_takes_all  wtaKernel (src_cuda/winner_takes_all.cu): the disparity maps and the right view's keys
 #   matching_cost     windowCostsKernel (src_cuda/matching_cost.cu): the stored costs and the zeroed sums
+#   scan_gaps         scanGapHistogramKernel (src_cuda/visibility_filter.cu): the scan test's histograms, also
+#                     against the CPU's
 #   tools/emulate_kernel.sh KERNEL [old revision, default HEAD~1] [new revision, default the working tree] [seeds, 40]
 set -eo pipefail
 cd "$(dirname "$0")/.."
-KERNEL=${1:?"usage: tools/emulate_kernel.sh packed_walk|winner_takes_all|matching_cost [old] [new] [seeds]"}
+KERNEL=${1:?"usage: tools/emulate_kernel.sh packed_walk|winner_takes_all|matching_cost|scan_gaps [old] [new] [seeds]"}
 OLD=${2:-HEAD~1}; NEW=${3:-}; SEEDS=${4:-40}
 case $KERNEL in
   packed_walk) SRC=src_cuda/aggregation.cu ;;
   winner_takes_all) SRC=src_cuda/winner_takes_all.cu ;;
   matching_cost) SRC=src_cuda/matching_cost.cu ;;
-  *) echo "emulate_kernel.sh: unknown kernel $KERNEL (packed_walk, winner_takes_all, matching_cost)" >&2; exit 2 ;;
+  scan_gaps) SRC=src_cuda/visibility_filter.cu ;;
+  *) echo "emulate_kernel.sh: unknown kernel $KERNEL (packed_walk, winner_takes_all, matching_cost, scan_gaps)" >&2
+     exit 2 ;;
 esac
 inc=$(bash tools/cuda_include_flags.sh)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

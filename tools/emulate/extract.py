@@ -2,7 +2,9 @@
 #   python3 extract.py packed_walk aggregation.cu out.inc: WARPS_PER_BLOCK, tileSegmentEnd, and from the predicated
 #     reduction helpers to packedWindowPathKernel's end, without its inline-asm helpers (packed_walk.cpp defines them);
 #   python3 extract.py winner_takes_all winner_takes_all.cu out.inc (or matching_cost matching_cost.cu): the file's
-#     anonymous namespace (the kernels).
+#     anonymous namespace (the kernels);
+#   python3 extract.py scan_gaps visibility_filter.cu out.inc: scanGapHistogramKernel and its helpers, and its launch's
+#     block rows (SCAN_LAUNCH_ROWS).
 import re, sys
 kind, src, out = sys.argv[1:4]
 s = open(src).read()
@@ -21,7 +23,14 @@ elif kind in ("winner_takes_all", "matching_cost"):
     a = s.index("\nnamespace {\n")
     b = s.index("\n} // namespace\n", a)
     t = s[a:b] + "\n} // namespace\n"
+elif kind == "scan_gaps":
+    # the histogram kernel and what it calls, and the block rows its launch takes
+    a = s.index("\nnamespace {\n") + len("\nnamespace {\n")
+    b = s.index("//! One warp: visibilityGrowthApplies.")
+    rows = re.search(r"scanGapHistogramKernel<<<.*", s) and re.search(r"const dim3 block\(32, (\w+)\);\s*\n[^\n]*\n"
+                                                                       r"[^\n]*cudaMemsetAsync\(stats", s)
+    t = s[a:b] + "const int SCAN_LAUNCH_ROWS = %s;\n" % rows.group(1)
 else:
-    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost)" % kind)
+    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost, scan_gaps)" % kind)
 assert "asm" not in t, "asm left"
 open(out, "w").write(t)

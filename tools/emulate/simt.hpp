@@ -1,5 +1,5 @@
 // SIMT emulation on the CPU for the tools that check a CUDA kernel's rewrite where no GPU is at hand
-// (packed_walk.cpp, winner_takes_all.cpp; tools/emulate_kernel.sh): the CUDA qualifiers as plain C++, and the warp
+// (tools/emulate/*.cpp, tools/emulate_kernel.sh): the CUDA qualifiers as plain C++, and the warp
 // intrinsics and atomics the kernels use. A warp's 32 lanes are threads that meet at every warp intrinsic (shuffles,
 // reductions, votes, __syncwarp); a block's threads meet at __syncthreads; the blocks run one after another (launch).
 // It measures nothing about speed.
@@ -74,6 +74,12 @@ int __reduce_max_sync(unsigned m, int v) { return reduceAll(m, v, greater); }
 unsigned __reduce_max_sync(unsigned m, unsigned v) { return reduceAll(m, v, greater); }
 int __any_sync(unsigned m, int p) { return reduceAll(m, p ? 1 : 0, [](int a, int b) { return a | b; }); }
 int __all_sync(unsigned m, int p) { return reduceAll(m, p ? 1 : 0, [](int a, int b) { return a & b; }); }
+unsigned __ballot_sync(unsigned m, int p)
+{
+    return reduceAll(m, p ? 1u << tlane : 0u, [](unsigned a, unsigned b) { return a | b; });
+}
+int __ffs(unsigned v) { return v ? __builtin_ctz(v) + 1 : 0; }
+int __popc(unsigned v) { return __builtin_popcount(v); }
 void __syncwarp(unsigned = 0xFFFFFFFFu) { tw->bar.arrive_and_wait(); }
 void __syncthreads() { blockBar->arrive_and_wait(); }
 unsigned __byte_perm(unsigned x, unsigned y, unsigned s)
@@ -87,6 +93,7 @@ unsigned __vminu2(unsigned a, unsigned b)
 {
     return std::min(a & 0xFFFF, b & 0xFFFF) | std::min(a >> 16, b >> 16) << 16;
 }
+int atomicAdd(int* a, int v) { return __atomic_fetch_add(a, v, __ATOMIC_RELAXED); }
 unsigned atomicAdd(unsigned* a, unsigned v) { return __atomic_fetch_add(a, v, __ATOMIC_RELAXED); }
 unsigned long long atomicAdd(unsigned long long* a, unsigned long long v)
 {
@@ -106,25 +113,30 @@ unsigned atomicMin(unsigned* a, unsigned v)
     return old;
 }
 
-// Runs kernel k over the grid: blocks one at a time, warps warps each.
-template <class K> void launch(dim3 grid, int warps, K k)
+// Runs kernel k over the grid: blocks one at a time, of `block` threads (a whole number of warps, x fastest).
+template <class K> void launch(dim3 grid, dim3 block, K k)
 {
-    gridDim = grid; blockDim = dim3(32 * warps);
+    gridDim = grid; blockDim = block;
+    const int threads = (int)(block.x * block.y * block.z);
+    assert(threads % 32 == 0);
     for (unsigned by = 0; by < grid.y; by++)
         for (unsigned bx = 0; bx < grid.x; bx++)
         {
-            std::barrier<> bb(32 * warps);
+            std::barrier<> bb(threads);
             blockBar = &bb;
-            std::vector<WarpSync> ws(warps);
+            std::vector<WarpSync> ws(threads / 32);
             std::vector<std::thread> th;
-            for (int t = 0; t < 32 * warps; t++)
+            for (int t = 0; t < threads; t++)
                 th.emplace_back([&, t]() {
-                    threadIdx = make_uint3(t, 0, 0); blockIdx = make_uint3(bx, by, 0);
+                    threadIdx = make_uint3(t % block.x, t / block.x % block.y, t / (block.x * block.y));
+                    blockIdx = make_uint3(bx, by, 0);
                     tw = &ws[t / 32]; tlane = t % 32;
                     k();
                 });
             for (auto& x : th) x.join();
         }
 }
+//! The same with blocks of `warps` warps in x.
+template <class K> void launch(dim3 grid, int warps, K k) { launch(grid, dim3(32 * warps), k); }
 
 #endif
