@@ -39,8 +39,8 @@ __host__ __device__ __forceinline__ int listRadius(const PipelineParams& p)
  p.confidence both tests run wherever they can (the confidence's evidence), whatever the check keeps. */
 template <typename T>
 __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                            PtrStepSz<short> sparse16, RingCheckMaps rings, PipelineParams p, PtrStepSz<T> out,
-                            PtrStepSz<float> confidence)
+                            PtrStepSz<short> sparse16, SparseRows sparseRows, RingCheckMaps rings, PipelineParams p,
+                            PtrStepSz<T> out, PtrStepSz<float> confidence)
 {
     extern __shared__ int smem[];   // listTilePoints
     const int W = disp16.cols, H = disp16.rows;
@@ -66,7 +66,7 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
     // pixel of the block needs them (most pixels pass the left-right check).
     TilePoints tile = {};
     if (lidarTest && __syncthreads_or(v != NO_DISP && (needCheck || needNear)))
-        tile = listTilePoints(sparse16, listRadius(p), smem);
+        tile = listTilePoints(sparseRows, listRadius(p), smem);
     if (!inside)
         return;
     const bool useRings = rings.gap != nullptr;
@@ -130,12 +130,12 @@ static dim3 gridFor(int cols, int rows)
 
 template <typename T>
 void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-              PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p, PtrStepSz<T> out,
-              PtrStepSz<float> confidence, cudaStream_t stream)
+              PtrStepSz<short> sparse16, const SparseRows& sparseRows, const RingCheckMaps& rings,
+              const PipelineParams& p, PtrStepSz<T> out, PtrStepSz<float> confidence, cudaStream_t stream)
 {
     const size_t smem = lidarTestOn(p, sparse16) ? tileKernelSmem(checkKernel<T>, BLOCK, listRadius(p)) : 0;
     checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
-                                                                                rings, p, out, confidence);
+                                                                                sparseRows, rings, p, out, confidence);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
@@ -149,17 +149,17 @@ void runEncode(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out, cudaStream_t
 } // namespace
 
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
-                      PtrStepSz<short> out, PtrStepSz<float> confidence, cudaStream_t stream)
+                      PtrStepSz<short> sparse16, const SparseRows& rows, const RingCheckMaps& rings,
+                      const PipelineParams& p, PtrStepSz<short> out, PtrStepSz<float> confidence, cudaStream_t stream)
 {
-    runCheck(disp16, dispInt, dispRight, sparse16, rings, p, out, confidence, stream);
+    runCheck(disp16, dispInt, dispRight, sparse16, rows, rings, p, out, confidence, stream);
 }
 
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
-                      PtrStepSz<float> out, PtrStepSz<float> confidence, cudaStream_t stream)
+                      PtrStepSz<short> sparse16, const SparseRows& rows, const RingCheckMaps& rings,
+                      const PipelineParams& p, PtrStepSz<float> out, PtrStepSz<float> confidence, cudaStream_t stream)
 {
-    runCheck(disp16, dispInt, dispRight, sparse16, rings, p, out, confidence, stream);
+    runCheck(disp16, dispInt, dispRight, sparse16, rows, rings, p, out, confidence, stream);
 }
 
 void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<short> out, cudaStream_t stream)

@@ -101,6 +101,7 @@ struct CudaPipeline::Buffers
     cuda::GpuMat censusRPadded;      //!< censusR is its middle (censusTransform)
     cuda::GpuMat ring, ringStats;    //!< ring interpolation's maps (above, then below) and gap statistics
     cuda::GpuMat scanStats;          //!< the visibility filter's scan test (gap histograms and result)
+    cuda::GpuMat sparseChunks, sparseEntries;   //!< the sparse map's points row by row (ci::SparseRows)
     ci::WindowBuffers windows;       //!< the disparity windows and their coarse pass
     int* windowUnits = nullptr;      //!< pinned host memory: the compact volume's size (windowLayout's total)
     cuda::GpuMat unitsCounts;        //!< the units check's SparseCounts, on the device
@@ -163,6 +164,7 @@ struct CudaPipeline::Buffers
         bool capturing;
         Size sz;
         int* scanStats = nullptr;         //!< the scan test's statistics where it ran
+        ci::SparseRows sparseRows = {};   //!< sparse16's points row by row, where the call has a sparse map
         bool rings = false;               //!< ring interpolation ran: ringAbove, ringBelow and ringStats hold its maps
         cuda::GpuMat ringAbove, ringBelow;
         ci::WindowMap windows = ci::WindowMap();
@@ -245,8 +247,15 @@ struct CudaPipeline::Buffers
             c.scanStats = scanStats.ptr<int>();
             ci::testScan(converted, c.scanStats, c.st);
         }
+        // The points row by row for the stages that list a tile's points: of the converted map for the filter,
+        // then (in the same memory, which the filter has read by then in stream order) of the map it keeps.
+        c.sparseRows = ci::sparseRowsBuffers(c.sz, sparseChunks, sparseEntries);
+        ci::listSparseRows(converted, c.sparseRows, c.st);
         if (filter)
-            ci::filterHiddenPoints(converted, p, sparse16, c.scanStats, c.st);
+        {
+            ci::filterHiddenPoints(converted, c.sparseRows, p, sparse16, c.scanStats, c.st);
+            ci::listSparseRows(sparse16, c.sparseRows, c.st);
+        }
     }
 
     void census(const Call& c)
@@ -264,7 +273,7 @@ struct CudaPipeline::Buffers
     void semidense(Call& c)
     {
         semidense16.create(c.sz, CV_16SC1);
-        ci::semidensify(censusL, censusR, sparse16, c.p, semidense16, c.st);
+        ci::semidensify(censusL, censusR, sparse16, c.sparseRows, c.p, semidense16, c.st);
         if (!c.rings)
             return;
         ring.create(2 * c.sz.height, c.sz.width, CV_16SC1);
@@ -414,10 +423,10 @@ struct CudaPipeline::Buffers
             conf = confidence.getGpuMat();
         }
         if (c.p.floatOutput)
-            ci::consistencyCheck(maps.disp16, maps.dispInt, maps.dispRight, sparse, ringCheck, c.p,
+            ci::consistencyCheck(maps.disp16, maps.dispInt, maps.dispRight, sparse, c.sparseRows, ringCheck, c.p,
                                  cuda::PtrStepSz<float>(o), conf, c.st);
         else
-            ci::consistencyCheck(maps.disp16, maps.dispInt, maps.dispRight, sparse, ringCheck, c.p,
+            ci::consistencyCheck(maps.disp16, maps.dispInt, maps.dispRight, sparse, c.sparseRows, ringCheck, c.p,
                                  cuda::PtrStepSz<short>(o), conf, c.st);
     }
 

@@ -25,14 +25,35 @@ void convertSparse(PtrStepSz<ushort> sparse, int minDisparity, int numDisparitie
 void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16,
                    int* counts, cudaStream_t stream);
 
+/** A sparse map's points row by row (listSparseRows), for the kernels that list a block's tile of them
+(sparse_window.cuh): row y's points left to right from entries(y, 0) on, each (value << 16) | x; chunks(y, c) = { the
+row's points left of column 32 c, the bits of columns 32 c to 32 c + 31 that hold one }, cols / 32 + 1 chunks a row
+(the last one's count is the row's). entries: the map's size, CV_32SC1; chunks: its rows, CV_32SC2. */
+struct SparseRows
+{
+    PtrStepSz<int2> chunks;
+    PtrStepSz<int> entries;
+};
+
+//! The buffers of SparseRows for a map of size sz (created where needed).
+inline SparseRows sparseRowsBuffers(cv::Size sz, cuda::GpuMat& chunks, cuda::GpuMat& entries)
+{
+    chunks.create(sz.height, sz.width / 32 + 1, CV_32SC2);
+    entries.create(sz, CV_32SC1);
+    return SparseRows{ chunks, entries };
+}
+
+//! Fills rows (sparseRowsBuffers of sparse16's size) with sparse16's points.
+void listSparseRows(PtrStepSz<short> sparse16, const SparseRows& rows, cudaStream_t stream);
+
 /** The scan test (visibilityGrowthApplies) on the sparse map: stats, 2 SCAN_GAP_BINS + 1 ints of device memory,
 receives the gap histograms and, at stats[2 SCAN_GAP_BINS], the result (1: a LiDAR scan). */
 void testScan(PtrStepSz<short> sparse16, int* stats, cudaStream_t stream);
 
 /** The visibility filter (hiddenBy). stats: testScan's output where p.visibilityParallax256 > 0 (the growth applies
-to scans only), else unused. */
-void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16,
-                        const int* stats, cudaStream_t stream);
+to scans only), else unused. rows: sparse16's (listSparseRows). */
+void filterHiddenPoints(PtrStepSz<short> sparse16, const SparseRows& rows, const PipelineParams& p,
+                        PtrStepSz<short> visible16, const int* stats, cudaStream_t stream);
 
 /** The columns the path kernel reads before and after a row of right census strings: the right pixel of disparity
 index d at x is x - minDisparity - d, for x in [0, W) and d in [0, numDisparities). */
@@ -53,7 +74,8 @@ void censusTransform(PtrStepSz<uchar> left, PtrStepSz<uchar> right, PtrStepSz<in
 void censusTransform(PtrStepSz<ushort> left, PtrStepSz<ushort> right, PtrStepSz<int> censusL,
                      PtrStepSz<int> censusR, int padBefore, int padAfter, cudaStream_t stream);
 
-void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
+//! rows: sparse16's (listSparseRows).
+void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16, const SparseRows& rows,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream);
 
 /** Ring interpolation (pipeline.hpp) into semidense16's empty pixels; above and below are maps of the image's size,
@@ -240,13 +262,14 @@ struct RingCheckMaps
 };
 
 /** The check and the conversion to the output format, in one pass (one overload per output type). confidence:
-written where p.confidence (outputConfidence, 0 where out has no disparity). */
+written where p.confidence (outputConfidence, 0 where out has no disparity). rows: sparse16's (listSparseRows;
+unused where sparse16 has no data). */
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
-                      PtrStepSz<short> out, PtrStepSz<float> confidence, cudaStream_t stream);
+                      PtrStepSz<short> sparse16, const SparseRows& rows, const RingCheckMaps& rings,
+                      const PipelineParams& p, PtrStepSz<short> out, PtrStepSz<float> confidence, cudaStream_t stream);
 void consistencyCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
-                      PtrStepSz<short> sparse16, const RingCheckMaps& rings, const PipelineParams& p,
-                      PtrStepSz<float> out, PtrStepSz<float> confidence, cudaStream_t stream);
+                      PtrStepSz<short> sparse16, const SparseRows& rows, const RingCheckMaps& rings,
+                      const PipelineParams& p, PtrStepSz<float> out, PtrStepSz<float> confidence, cudaStream_t stream);
 
 //! A 1/16-pixel map in the output format without any check (the semidense map of semidensify()).
 void encodeOutput(PtrStepSz<short> disp16, int minDisparity, PtrStepSz<short> out, cudaStream_t stream);

@@ -65,6 +65,14 @@ GpuMat scanStats(const GpuMat& sparse16)
     return stats;
 }
 
+//! sparse16's points row by row, in chunks and entries.
+ci::SparseRows sparseRows(const GpuMat& sparse16, GpuMat& chunks, GpuMat& entries)
+{
+    const ci::SparseRows rows = ci::sparseRowsBuffers(sparse16.size(), chunks, entries);
+    ci::listSparseRows(sparse16, rows, 0);
+    return rows;
+}
+
 } // namespace
 
 void convertSparse(const GpuMat& sparse, int minDisparity, int numDisparities, GpuMat& sparse16)
@@ -100,7 +108,9 @@ void filterHiddenPoints(const GpuMat& sparse16, const PipelineParams& p, GpuMat&
 {
     const GpuMat stats = scanStats(sparse16);
     visible16.create(sparse16.size(), CV_16SC1);
-    ci::filterHiddenPoints(sparse16, p, visible16, stats.ptr<int>(), 0);
+    GpuMat chunks, entries;
+    const ci::SparseRows rows = sparseRows(sparse16, chunks, entries);
+    ci::filterHiddenPoints(sparse16, rows, p, visible16, stats.ptr<int>(), 0);
     finish();
 }
 
@@ -126,7 +136,9 @@ void semidensify(const GpuMat& censusL, const GpuMat& censusR, const GpuMat& spa
                  GpuMat& semidense16)
 {
     semidense16.create(sparse16.size(), CV_16SC1);
-    ci::semidensify(censusL, censusR, sparse16, p, semidense16, 0);
+    GpuMat chunks, entries;
+    const ci::SparseRows rows = sparseRows(sparse16, chunks, entries);
+    ci::semidensify(censusL, censusR, sparse16, rows, p, semidense16, 0);
     finish();
 }
 
@@ -280,6 +292,8 @@ void consistencyCheck(const GpuMat& disp16, const GpuMat& dispInt, const GpuMat&
     if (!above16.empty() && ringCheckOn(p))
         rings = { above16, below16, nonUnique16, gapBuf.ptr<int>() };
     const cuda::PtrStepSz<short> sparse = sparse16.empty() ? cuda::PtrStepSz<short>() : cuda::PtrStepSz<short>(sparse16);
+    GpuMat chunks, entries;
+    const ci::SparseRows rows = sparse16.empty() ? ci::SparseRows() : sparseRows(sparse16, chunks, entries);
     out.create(disp16.size(), p.floatOutput ? CV_32FC1 : CV_16SC1);
     cuda::PtrStepSz<float> conf;
     if (p.confidence)
@@ -288,9 +302,11 @@ void consistencyCheck(const GpuMat& disp16, const GpuMat& dispInt, const GpuMat&
         conf = confidence;
     }
     if (p.floatOutput)
-        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rings, p, cuda::PtrStepSz<float>(out), conf, 0);
+        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rows, rings, p, cuda::PtrStepSz<float>(out), conf,
+                             0);
     else
-        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rings, p, cuda::PtrStepSz<short>(out), conf, 0);
+        ci::consistencyCheck(disp16, dispInt, dispRight, sparse, rows, rings, p, cuda::PtrStepSz<short>(out), conf,
+                             0);
     finish();
 }
 

@@ -14,12 +14,12 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
  wide tile (at rs 6), where one of 32 x 1 visits 13 rows of a 44 wide one. The choice uses the full key (semidenseKey),
  so it does not depend on the order of the list. */
 __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
-                                int rs, int Ts, PtrStepSz<short> out)
+                                SparseRows rows, int rs, int Ts, PtrStepSz<short> out)
 {
     extern __shared__ int smem[];   // listTilePoints
     const int W = out.cols, H = out.rows;
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    const TilePoints tile = listTilePoints(sparse16, rs, smem);
+    const TilePoints tile = listTilePoints(rows, rs, smem);
     // The warp's rows: blockDim.x is 8, so a warp is four rows.
     const int yw = (int)(blockIdx.y * blockDim.y + (threadIdx.y & ~3u));
     const int k0 = tile.begin(yw - rs), k1 = tile.end(yw + 3 + rs);
@@ -47,14 +47,15 @@ __global__ void semidenseKernel(PtrStepSz<int> censusL, PtrStepSz<int> censusR, 
     out(y, x) = semidenseKeyCost(best) < Ts ? bestVal : sparse16(y, x);
 }
 
-void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16,
+void semidensify(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<short> sparse16, const SparseRows& rows,
                  const PipelineParams& p, PtrStepSz<short> semidense16, cudaStream_t stream)
 {
     const dim3 block(8, 32);
     const dim3 grid(cv::cudev::divUp(semidense16.cols, block.x), cv::cudev::divUp(semidense16.rows, block.y));
     const int rs = p.semidenseRadius;
     const size_t smem = tileKernelSmem(semidenseKernel, block, rs);
-    semidenseKernel<<<grid, block, smem, stream>>>(censusL, censusR, sparse16, rs, p.semidenseThreshold, semidense16);
+    semidenseKernel<<<grid, block, smem, stream>>>(censusL, censusR, sparse16, rows, rs, p.semidenseThreshold,
+                                                   semidense16);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 

@@ -2,7 +2,7 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory of this distribution.
 
 // Sparse input to the internal 1/16-pixel map, CUDA twin of src/sparse_input.cpp (sparseFromKitti16, sparseFromFloat,
-// and the units check's counts).
+// and the units check's counts); the map's points row by row (SparseRows) for the kernels that list a tile's points.
 
 #include "cuda_stages.hpp"
 #include "opencv2/cudev/common.hpp"
@@ -59,6 +59,49 @@ void convertSparse(PtrStepSz<float> sparse, int minDisparity, int numDisparities
                    int* counts, cudaStream_t stream)
 {
     runConvert(sparse, minDisparity, numDisparities, sparse16, counts, stream);
+}
+
+/* A warp a row: 32 columns a chunk, four chunks' loads in flight before their ballots; a chunk's count is the points
+ before it, each point stored at its rank in the row. */
+__global__ void listSparseRowsKernel(PtrStepSz<short> sparse16, SparseRows rows)
+{
+    const int lane = threadIdx.x, y = blockIdx.x * blockDim.y + threadIdx.y;
+    if (y >= sparse16.rows)
+        return;   // the whole warp
+    const int W = sparse16.cols, chunks = W / 32 + 1;
+    const short* const row = sparse16.ptr(y);
+    int* const entries = rows.entries.ptr(y);
+    int2* const chunk = rows.chunks.ptr(y);
+    int n = 0;
+    for (int c0 = 0; c0 < chunks; c0 += 4)
+    {
+        short v[4];
+#pragma unroll
+        for (int k = 0; k < 4; k++)
+        {
+            const int x = 32 * (c0 + k) + lane;
+            v[k] = x < W ? row[x] : NO_DISP;
+        }
+#pragma unroll
+        for (int k = 0; k < 4 && c0 + k < chunks; k++)
+        {
+            const unsigned hits = __ballot_sync(0xFFFFFFFFu, v[k] != NO_DISP);
+            if (lane == 0)
+                chunk[c0 + k] = make_int2(n, (int)hits);
+            if (v[k] != NO_DISP)
+                entries[n + __popc(hits & ((1u << lane) - 1u))] = (int)((unsigned)v[k] << 16) | (32 * (c0 + k) + lane);
+            n += __popc(hits);
+        }
+    }
+}
+
+void listSparseRows(PtrStepSz<short> sparse16, const SparseRows& rows, cudaStream_t stream)
+{
+    CV_DbgAssert(rows.entries.cols == sparse16.cols && rows.entries.rows == sparse16.rows &&
+                 rows.chunks.cols == sparse16.cols / 32 + 1 && sparse16.cols < 32768);
+    const dim3 block(32, 8);
+    listSparseRowsKernel<<<cv::cudev::divUp(sparse16.rows, block.y), block, 0, stream>>>(sparse16, rows);
+    CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 }}}} // namespace cv::lidarsgm::detail::cuda_impl

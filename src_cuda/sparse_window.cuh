@@ -4,7 +4,7 @@
 // Visiting the sparse disparities inside a square window around each pixel, CUDA twin of src/sparse_window.hpp.
 // A block lists the sparse points of its tile (its pixels plus r on every side) in shared memory once, row by row, so
 // each pixel scans the part of that short list in its window's rows instead of its whole (2r + 1)^2 window of mostly
-// empty pixels.
+// empty pixels. The list comes from the map's points row by row (listSparseRows), made once for every block.
 
 #ifndef OPENCV_LIDARSGM_SPARSE_WINDOW_CUH
 #define OPENCV_LIDARSGM_SPARSE_WINDOW_CUH
@@ -15,11 +15,11 @@
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 
-//! Bytes of shared memory listTilePoints needs for a block of bw x bh pixels and radius r: two ints a tile pixel, the
-//! rows' starts and the largest value.
+//! Bytes of shared memory listTilePoints needs for a block of bw x bh pixels and radius r: two ints a tile pixel, two
+//! a tile row, the largest value.
 static inline size_t tilePointsBytes(int bw, int bh, int r)
 {
-    return ((size_t)(bw + 2 * r) * (bh + 2 * r) * 2 + (bh + 2 * r) + 2) * sizeof(int);
+    return ((size_t)(bw + 2 * r) * (bh + 2 * r) * 2 + 2 * (bh + 2 * r) + 2) * sizeof(int);
 }
 
 /** Dynamic shared memory for a kernel whose blocks call listTilePoints with radius r; raises the kernel's limit where
@@ -47,55 +47,39 @@ struct TilePoints
     __device__ __forceinline__ int end(int yb) const { return rowStart[::min(::max(yb - y0 + 1, 0), rows)]; }
 };
 
-/** Called by every thread of the block (a whole number of warps), smem of tilePointsBytes. Lists the sparse points of
- the block's tile (its pixels plus r on every side, within the image; coordinates below 32768). A warp takes the
- tile's rows in turn, 32 pixels a load, and writes each row's points to the row's own part of the list (row t from
- 2 t width ints on); a scan of the rows' counts gives their starts in the packed list, and the block packs the list in
- place in rounds of one entry a thread (an entry never moves up, so a round's stores never reach a later round's
- loads). No atomics order it: the list is the same on every run. */
-__device__ __forceinline__ TilePoints listTilePoints(PtrStepSz<short> sparse16, int r, int* smem)
+//! The points of row y of `rows` left of column x (0 <= x <= the map's width).
+__device__ __forceinline__ int pointsBefore(const SparseRows& rows, int y, int x)
 {
-    const int W = sparse16.cols, H = sparse16.rows;
+    const int2 c = rows.chunks(y, x >> 5);
+    return c.x + __popc((unsigned)c.y & ((1u << (x & 31)) - 1u));
+}
+
+/** Called by every thread of the block (a whole number of warps), smem of tilePointsBytes. Lists the sparse points of
+ the block's tile (its pixels plus r on every side, within the image; coordinates below 32768) from the map's rows
+ (listSparseRows): a tile row's points are one run of its row's, found from two chunks' counts and bits, so a thread
+ a row finds the counts, a scan of them gives each row's start in the list, and a warp a row copies its run there. No
+ atomics order it: the list is the same on every run. */
+__device__ __forceinline__ TilePoints listTilePoints(const SparseRows& sparse, int r, int* smem)
+{
+    const int W = sparse.entries.cols, H = sparse.entries.rows;
     const int tid = threadIdx.y * blockDim.x + threadIdx.x, lane = tid & 31, warp = tid >> 5;
     const int threads = (int)(blockDim.x * blockDim.y), warps = threads >> 5;
     // The tile within the image.
     const int bx = (int)(blockIdx.x * blockDim.x), by = (int)(blockIdx.y * blockDim.y);
     const int x0 = ::max(bx - r, 0), x1 = ::min(bx + (int)blockDim.x + r, W);
     const int y0 = ::max(by - r, 0), y1 = ::min(by + (int)blockDim.y + r, H);
-    const int rows = y1 - y0, width = x1 - x0;
+    const int rows = y1 - y0;
     int* const maxValue = smem;
-    int* const rowStart = smem + 1;   // the rows' counts first
-    int* const points = smem + ((rows + 2 + 1) & ~1);
+    int* const rowStart = smem + 1;          // the rows' counts first
+    int* const rowFrom = rowStart + rows + 1;   // a row's first point among its row's
+    int* const points = smem + ((2 * rows + 2 + 1) & ~1);
     if (tid == 0)
         *maxValue = INT_MIN;
-    __syncthreads();
-    for (int ty = y0 + warp; ty < y1; ty += warps)
+    for (int t = tid; t < rows; t += threads)
     {
-        const short* row = sparse16.ptr(ty);
-        int* const out = points + 2 * (ty - y0) * width;
-        int n = 0, top = INT_MIN;
-        for (int c = x0; c < x1; c += 32)
-        {
-            const int tx = c + lane;
-            const int v = tx < x1 ? row[tx] : NO_DISP;
-            const unsigned hits = __ballot_sync(0xFFFFFFFFu, v != NO_DISP);
-            if (v != NO_DISP)
-            {
-                const int at = n + __popc(hits & ((1u << lane) - 1));
-                out[2 * at] = (ty << 16) | tx;
-                out[2 * at + 1] = v;
-                top = ::max(top, v);
-            }
-            n += __popc(hits);
-        }
-        if (n > 0)
-        {
-            top = __reduce_max_sync(0xFFFFFFFFu, top);
-            if (lane == 0)
-                atomicMax(maxValue, top);
-        }
-        if (lane == 0)
-            rowStart[ty - y0] = n;
+        const int from = pointsBefore(sparse, y0 + t, x0);
+        rowFrom[t] = from;
+        rowStart[t] = pointsBefore(sparse, y0 + t, x1) - from;
     }
     __syncthreads();
     if (warp == 0)
@@ -112,35 +96,23 @@ __device__ __forceinline__ TilePoints listTilePoints(PtrStepSz<short> sparse16, 
         }
     }
     __syncthreads();
-    const int n = rowStart[rows];
-    for (int j0 = 0; j0 < n; j0 += threads)
+    int top = INT_MIN;
+    for (int t = warp; t < rows; t += warps)
     {
-        const int j = j0 + tid;
-        int at = 0, value = 0;
-        if (j < n)
+        const int* const run = sparse.entries.ptr(y0 + t) + rowFrom[t];
+        const int start = rowStart[t], n = rowStart[t + 1] - start;
+        for (int j = lane; j < n; j += 32)
         {
-            // Entry j's row: the last whose start is at most j.
-            int lo = 0, hi = rows - 1;
-            while (lo < hi)
-            {
-                const int mid = (lo + hi + 1) >> 1;
-                if (rowStart[mid] <= j)
-                    lo = mid;
-                else
-                    hi = mid - 1;
-            }
-            const int from = lo * width + j - rowStart[lo];
-            at = points[2 * from];
-            value = points[2 * from + 1];
+            const int e = run[j], v = e >> 16;
+            points[2 * (start + j)] = (y0 + t) << 16 | (e & 0xFFFF);
+            points[2 * (start + j) + 1] = v;
+            top = ::max(top, v);
         }
-        __syncthreads();
-        if (j < n)
-        {
-            points[2 * j] = at;
-            points[2 * j + 1] = value;
-        }
-        __syncthreads();
     }
+    top = __reduce_max_sync(0xFFFFFFFFu, top);
+    if (lane == 0 && top != INT_MIN)
+        atomicMax(maxValue, top);
+    __syncthreads();
     const TilePoints t = { points, rowStart, y0, rows, *maxValue };
     return t;
 }

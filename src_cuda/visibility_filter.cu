@@ -107,13 +107,15 @@ __global__ void scanTestKernel(int* stats)
  pixels (blocks of 32 x 32); it takes its sparse pixels one at a time, and its 32 lanes test each against the tile's
  points in the rows that can hide it together: a pixel's own loop over the list would hold the whole warp for its
  longest search (the window grows with the parallax: hundreds of points a tile on a 64-line scan). */
-__global__ void visibilityKernel(PtrStepSz<short> sparse16, PipelineParams p, int reach, const int* stats,
-                                 PtrStepSz<short> out)
+// (Two blocks an SM: 32 registers. Without the bound nvcc takes 40, which leaves one block of 1024 an SM.)
+__global__ void __launch_bounds__(1024, 2) visibilityKernel(PtrStepSz<short> sparse16, SparseRows rows,
+                                                            PipelineParams p, int reach, const int* stats,
+                                                            PtrStepSz<short> out)
 {
     extern __shared__ int smem[];   // listTilePoints
     if (stats && stats[2 * SCAN_GAP_BINS] == 0)
         p.visibilityParallax256 = 0;
-    const TilePoints tile = listTilePoints(sparse16, reach, smem);
+    const TilePoints tile = listTilePoints(rows, reach, smem);
     const int lane = threadIdx.x, x = blockIdx.x * blockDim.x + lane, y = blockIdx.y * blockDim.y + threadIdx.y;
     const bool inside = x < sparse16.cols && y < sparse16.rows;
     const int d = inside ? sparse16(y, x) : NO_DISP;
@@ -152,8 +154,8 @@ void testScan(PtrStepSz<short> sparse16, int* stats, cudaStream_t stream)
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
-void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrStepSz<short> visible16,
-                        const int* stats, cudaStream_t stream)
+void filterHiddenPoints(PtrStepSz<short> sparse16, const SparseRows& rows, const PipelineParams& p,
+                        PtrStepSz<short> visible16, const int* stats, cudaStream_t stream)
 {
     // A warp per row (visibilityKernel). 32 rows a block: with doc/params/kitti_best.yml's margin of 27 pixels, a
     // block lists 7.2 pixels a pixel of it, against 11.8 with 16 rows, and a point's search covers the same rows
@@ -164,7 +166,8 @@ void filterHiddenPoints(PtrStepSz<short> sparse16, const PipelineParams& p, PtrS
     // The tile's margin: the larger half-size of the base window grown by the largest parallax growth.
     const int reach = std::max(p.visibilityRadiusX, p.visibilityRadiusY) + visibilityGrowth(p);
     const size_t smem = tileKernelSmem(visibilityKernel, block, reach);
-    visibilityKernel<<<grid, block, smem, stream>>>(sparse16, p, reach, growth ? stats : nullptr, visible16);
+    visibilityKernel<<<grid, block, smem, stream>>>(sparse16, rows, p, reach, growth ? stats : nullptr,
+                                                    visible16);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
