@@ -34,9 +34,10 @@ struct TileWindow
 };
 
 /* Both images in one launch: blockIdx.z picks the image. Column c of the grid is pixel c - padBefore; the right
- image's padding columns get the string of the nearest pixel of the row. The block's tile (with the clamped border,
- as ClampedWindow reads it) goes to shared memory once; each pixel reads its 62 window values from there. Padding
- pixels, whose window is their row end's, read the image directly. */
+ image's padding columns get the string of the nearest pixel of the row (their window is its window). The block's tile
+ (with the clamped border, as ClampedWindow reads it) goes to shared memory once, from the block's first pixel
+ clamped to the row: the windows of its pixels, their columns clamped to the row, all lie in it, so padding pixels
+ read it too, not the image. */
 template <typename T>
 __global__ void censusKernel(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<int> censusL, PtrStepSz<int> censusR,
                              int padBefore, int padAfter)
@@ -44,7 +45,8 @@ __global__ void censusKernel(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<in
     __shared__ T tile[TH * TW];
     const bool isLeft = blockIdx.z == 0;
     const PtrStepSz<T> img = isLeft ? left : right;
-    const ClampedWindow<T> origin = { img, (int)blockIdx.x * BX - padBefore - RX, (int)blockIdx.y * BY - RY };
+    const int x0 = ::min(::max((int)blockIdx.x * BX - padBefore, 0), img.cols - 1);   // the block's first pixel
+    const ClampedWindow<T> origin = { img, x0 - RX, (int)blockIdx.y * BY - RY };
     for (int i = threadIdx.y * BX + threadIdx.x; i < TH * TW; i += BX * BY)
     {
         const int ty = i / TW, tx = i - ty * TW;
@@ -54,18 +56,8 @@ __global__ void censusKernel(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<in
     const int x = blockIdx.x * BX + threadIdx.x - padBefore, y = blockIdx.y * BY + threadIdx.y;
     if (y >= img.rows || x >= img.cols + (isLeft ? 0 : padAfter) || (isLeft && x < 0))
         return;
-    unsigned c;
-    if (x >= 0 && x < img.cols)
-    {
-        const TileWindow<T> at = { tile, (int)threadIdx.x + RX, (int)threadIdx.y + RY };
-        c = censusString(at);
-    }
-    else
-    {
-        const ClampedWindow<T> at = { img, ::min(::max(x, 0), img.cols - 1), y };
-        c = censusString(at);
-    }
-    (isLeft ? censusL : censusR).ptr(y)[x] = (int)c;
+    const TileWindow<T> at = { tile, ::min(::max(x, 0), img.cols - 1) - x0 + RX, (int)threadIdx.y + RY };
+    (isLeft ? censusL : censusR).ptr(y)[x] = (int)censusString(at);
 }
 
 template <typename T>
