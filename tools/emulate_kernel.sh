@@ -9,23 +9,28 @@
 #   matching_cost     windowCostsKernel (src_cuda/matching_cost.cu): the stored costs and the zeroed sums
 #   scan_gaps         scanGapHistogramKernel (src_cuda/visibility_filter.cu): the scan test's histograms, also
 #                     against the CPU's
+#   tile_points       listSparseRowsKernel and listTilePoints (src_cuda/sparse_input.cu, sparse_window.cuh): every
+#                     block's tile list, also against a direct listing of the tile's pixels
 #   tools/emulate_kernel.sh KERNEL [old revision, default HEAD~1] [new revision, default the working tree] [seeds, 40]
 set -eo pipefail
 cd "$(dirname "$0")/.."
-KERNEL=${1:?"usage: tools/emulate_kernel.sh packed_walk|winner_takes_all|matching_cost|scan_gaps [old] [new] [seeds]"}
+USAGE="usage: tools/emulate_kernel.sh packed_walk|winner_takes_all|matching_cost|scan_gaps|tile_points [old] [new]"
+KERNEL=${1:?"$USAGE [seeds]"}
 OLD=${2:-HEAD~1}; NEW=${3:-}; SEEDS=${4:-40}
 case $KERNEL in
   packed_walk) SRC=src_cuda/aggregation.cu ;;
   winner_takes_all) SRC=src_cuda/winner_takes_all.cu ;;
   matching_cost) SRC=src_cuda/matching_cost.cu ;;
   scan_gaps) SRC=src_cuda/visibility_filter.cu ;;
-  *) echo "emulate_kernel.sh: unknown kernel $KERNEL (packed_walk, winner_takes_all, matching_cost, scan_gaps)" >&2
+  tile_points) SRC="src_cuda/sparse_window.cuh src_cuda/sparse_input.cu" ;;
+  *) echo "emulate_kernel.sh: unknown kernel $KERNEL (packed_walk, winner_takes_all, matching_cost, scan_gaps," \
+          "tile_points)" >&2
      exit 2 ;;
 esac
 inc=$(bash tools/cuda_include_flags.sh)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-git show "$OLD:$SRC" > "$tmp/old.cu"
-if [ -n "$NEW" ]; then git show "$NEW:$SRC" > "$tmp/new.cu"; else cp "$SRC" "$tmp/new.cu"; fi
+for f in $SRC; do git show "$OLD:$f"; done > "$tmp/old.cu"   # (a kernel of two files: one after the other)
+for f in $SRC; do if [ -n "$NEW" ]; then git show "$NEW:$f"; else cat "$f"; fi; done > "$tmp/new.cu"
 python3 tools/emulate/extract.py "$KERNEL" "$tmp/old.cu" "$tmp/old.inc"
 python3 tools/emulate/extract.py "$KERNEL" "$tmp/new.cu" "$tmp/new.inc"
 g++ -std=c++20 -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -Isrc -Isrc_cuda -I"$tmp" $inc \

@@ -4,7 +4,9 @@
 #   python3 extract.py winner_takes_all winner_takes_all.cu out.inc (or matching_cost matching_cost.cu): the file's
 #     anonymous namespace (the kernels);
 #   python3 extract.py scan_gaps visibility_filter.cu out.inc: scanGapHistogramKernel and its helpers, and its launch's
-#     block rows (SCAN_LAUNCH_ROWS).
+#     block rows (SCAN_LAUNCH_ROWS);
+#   python3 extract.py tile_points both.cu out.inc (sparse_window.cuh and sparse_input.cu one after the other):
+#     tilePointsBytes, TilePoints, listTilePoints and listSparseRowsKernel.
 import re, sys
 kind, src, out = sys.argv[1:4]
 s = open(src).read()
@@ -30,7 +32,17 @@ elif kind == "scan_gaps":
     rows = re.search(r"scanGapHistogramKernel<<<.*", s) and re.search(r"const dim3 block\(32, (\w+)\);\s*\n[^\n]*\n"
                                                                        r"[^\n]*cudaMemsetAsync\(stats", s)
     t = s[a:b] + "const int SCAN_LAUNCH_ROWS = %s;\n" % rows.group(1)
+elif kind == "tile_points":
+    # sparse_window.cuh then sparse_input.cu, one after the other: the list's size, the tile listing, the rows' listing
+    a = s.index("//! Bytes of shared memory listTilePoints needs")
+    b = s.index("/** Dynamic shared memory for a kernel")
+    c = s.index("/** A block's tile of sparse points")
+    d = s.index("}}}} // namespace", c)
+    e = s.index("/* A warp a row: 32 columns a chunk")
+    f = s.index("void listSparseRows(", e)
+    t = s[a:b] + s[c:d] + s[e:f]
 else:
-    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost, scan_gaps)" % kind)
+    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost, scan_gaps, tile_points)"
+             % kind)
 assert "asm" not in t, "asm left"
 open(out, "w").write(t)

@@ -52,6 +52,10 @@ template <class T> T __shfl_sync(unsigned, T v, int src, int width = 32)
 {
     return exchange(v, [&](auto at) { return at((tlane & ~(width - 1)) | (src & (width - 1))); });
 }
+template <class T> T __shfl_up_sync(unsigned, T v, unsigned d, int width = 32)
+{
+    return exchange(v, [&](auto at) { return (tlane & (width - 1)) >= (int)d ? at(tlane - (int)d) : at(tlane); });
+}
 template <class T> T __shfl_xor_sync(unsigned, T v, int m, int width = 32)
 {
     const int s = tlane ^ m;
@@ -104,6 +108,14 @@ int min(int a, int b) { return a < b ? a : b; }
 unsigned min(unsigned a, unsigned b) { return a < b ? a : b; }
 int max(int a, int b) { return a > b ? a : b; }
 unsigned __umulhi(unsigned a, unsigned b) { return (unsigned)((unsigned long long)a * b >> 32); }
+int atomicMax(int* a, int v)
+{
+    int old = __atomic_load_n(a, __ATOMIC_RELAXED);
+    while (v > old && !__atomic_compare_exchange_n(a, &old, v, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+    {
+    }
+    return old;
+}
 unsigned atomicMin(unsigned* a, unsigned v)
 {
     unsigned old = __atomic_load_n(a, __ATOMIC_RELAXED);
