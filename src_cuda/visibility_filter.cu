@@ -45,18 +45,18 @@ __global__ void scanGapHistogramKernel(PtrStepSz<short> sparse16, int* stats)
     if (tid < 2 * SCAN_GAP_BINS)
         hist[tid] = 0;
     const int LOADS = (3 * SCAN_ROWS + SCAN_BLOCK_ROWS - 1) / SCAN_BLOCK_ROWS;
-    bool point[LOADS];
+    bool hit[LOADS];
 #pragma unroll   // the loads all in flight at once
     for (int k = 0; k < LOADS; k++)
     {
         const int i = warp + k * SCAN_BLOCK_ROWS, v = by + i / 3, c = x0 - 32 + 32 * (i % 3) + lane;
-        point[k] = i < 3 * SCAN_ROWS && v < H && c >= 0 && c < W && sparse16(v, c) != NO_DISP;
+        hit[k] = i < 3 * SCAN_ROWS && v < H && c >= 0 && c < W && sparse16(v, c) != NO_DISP;
     }
 #pragma unroll
     for (int k = 0; k < LOADS; k++)
     {
         const int i = warp + k * SCAN_BLOCK_ROWS;
-        const unsigned b = __ballot_sync(0xFFFFFFFFu, point[k]);
+        const unsigned b = __ballot_sync(0xFFFFFFFFu, hit[k]);
         if (lane == 0 && i < 3 * SCAN_ROWS)
             bits[i / 3][i % 3] = b;
     }
@@ -71,15 +71,15 @@ __global__ void scanGapHistogramKernel(PtrStepSz<short> sparse16, int* stats)
         const unsigned ahead = (unsigned)(right >> (lane + 1)) & ((1u << (cap - 1)) - 1);
         const int gr = ahead ? __ffs(ahead) : x + (int)cap < W ? (int)cap : -1;
         // The rows below: lane i's bit t says whether row y + 1 + i holds a point in columns x0 + t -+ 2.
-        unsigned near = 0u;
+        unsigned dilated = 0u;
         if (lane < (int)cap - 1)
         {
             const unsigned* const b = bits[warp + 1 + lane];
             const unsigned long long w = b[0] >> 30 | (unsigned long long)b[1] << 2 |
                                          (unsigned long long)(b[2] & 3u) << 34;   // bit j: column x0 - 2 + j
-            near = (unsigned)(w | w >> 1 | w >> 2 | w >> 3 | w >> 4);
+            dilated = (unsigned)(w | w >> 1 | w >> 2 | w >> 3 | w >> 4);
         }
-        const unsigned below = warpTransposeBits(near, lane);   // bit i: row y + 1 + i, for this lane's column
+        const unsigned below = warpTransposeBits(dilated, lane);   // bit i: row y + 1 + i, for this lane's column
         const int gc = below ? __ffs(below) : y + (int)cap < H ? (int)cap : -1;
         if (point)
         {
