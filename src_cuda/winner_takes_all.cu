@@ -21,63 +21,60 @@ const int ROW_QUADS = 3;
 const unsigned NO_KEY = 0xFFFFFFFFu;
 
 /* One pixel's winner as the minima of its chunks of CHUNK keys arrive in disparity order (one lane, one pixel): the
- lowest key (best; its chunk follows from its disparity) and, for the uniqueness check (UNIQUE), the lowest chunk
- minimum more than one chunk away from it (second), as well as the minima of the chunks just before and after it
- (before, after). Taking each key once into a chunk minimum and the rest once per chunk costs a compare a key instead
- of the whole rule; secondKey() then completes the exact runner-up from the three chunks around the winner. */
+ lowest key (best) and, for the uniqueness check (UNIQUE), what the runner-up, the lowest key more than one disparity
+ away from it, needs (secondKey): the lowest chunk minimum more than one chunk away (second); the minima of the chunks
+ just before and after the winner's (before, after), each without its key next to the winner where that is the
+ chunk's minimum; and the winner's chunk's minima of its pairs of disparities (pairs). A chunk's minimum comes from its
+ pairs' minima, and its minima without its first or last key from the same tree, so the whole rule costs the tree, a
+ few selects a chunk and nothing that reads the sums again but two values. */
 template <bool UNIQUE> struct ChunkWinner
 {
-    unsigned best = NO_KEY, second = NO_KEY, below2 = NO_KEY, last = NO_KEY, before = NO_KEY, after = NO_KEY;
+    unsigned best = NO_KEY, second = NO_KEY, below2 = NO_KEY, last = NO_KEY, lastNoEnd = NO_KEY, before = NO_KEY,
+             after = NO_KEY, pairs[CHUNK / 2];
     bool lastWon = false;
 
-    __device__ __forceinline__ void take(unsigned m)
+    /* The next chunk: its pairs' minima pm, its minimum m and its minima without its first key (noFirst) and without
+     its last (noEnd). */
+    __device__ __forceinline__ void take(const unsigned (&pm)[CHUNK / 2], unsigned m, unsigned noFirst, unsigned noEnd)
     {
         const bool won = m < best;
-        best = ::min(best, m);
         if (UNIQUE)
         {
-            // A new winning chunk replaces second with the lowest minimum up to two chunks before it (below2).
-            before = won ? last : before;
-            after = won ? NO_KEY : (lastWon ? m : after);
+            // A new winning chunk replaces second with the lowest minimum up to two chunks before it (below2). The
+            // previous chunk's minimum is next to the winner only at its last disparity, the next chunk's at its first.
+            const unsigned d = m & 0xFFFFu;
+            before = won ? ((last & 0xFFFFu) + 1 == d ? lastNoEnd : last) : before;
+            after = won ? NO_KEY : (lastWon ? ((best & 0xFFFFu) + 1 == d ? noFirst : m) : after);
             const unsigned kept = lastWon ? second : ::min(second, m);
             second = won ? below2 : kept;
             below2 = ::min(below2, last);
+#pragma unroll
+            for (int j = 0; j < CHUNK / 2; j++)
+                pairs[j] = won ? pm[j] : pairs[j];
             lastWon = won;
             last = m;
+            lastNoEnd = noEnd;
         }
+        best = ::min(best, m);
     }
 };
 
-/* The lowest key, cost << 16 | d, of one pixel's CHUNK sums s (disparities d0 .. d0 + CHUNK - 1) more than one
- disparity away from bd. */
-__device__ __forceinline__ unsigned lowestKeyApart(const ushort* s, int d0, int bd)
-{
-    const uint4 a = ((const uint4*)s)[0], b = ((const uint4*)s)[1];
-    const unsigned pair[8] = { a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w };
-    unsigned lowest = NO_KEY;
-#pragma unroll
-    for (int k = 0; k < CHUNK; k++)
-    {
-        const int d = d0 + k;
-        const unsigned key = (pair[k >> 1] >> (16 * (k & 1))) << 16 | (unsigned)d;
-        lowest = ::abs(d - bd) > 1 ? ::min(lowest, key) : lowest;
-    }
-    return lowest;
-}
-
 /* The uniqueness check's runner-up of a pixel whose sums over [lo, hi) start at s: the lowest key more than one
- disparity away from the winner, from w's chunk minima and, where the winner's chunk or a neighbour's minimum lies
- within one disparity of it, from those chunks' sums (read again: one chunk, at most three). */
+ disparity away from the winner bd, from w's minima of the other chunks and, in the winner's chunk, from the pairs that
+ hold neither bd - 1, bd nor bd + 1, and the keys of bd - 2 and bd + 2 (whose pairs may hold bd - 1 or bd + 1). */
 template <bool UNIQUE>
 __device__ __forceinline__ unsigned secondKey(const ChunkWinner<UNIQUE>& w, const ushort* s, int lo)
 {
-    const int bd = (int)(w.best & 0xFFFFu), c = (bd - lo) / CHUNK;
-    unsigned second = ::min(w.second, lowestKeyApart(s + c * CHUNK, lo + c * CHUNK, bd));
-    // A neighbour's minimum counts as it is unless it sits right next to the winner.
-    second = ::min(second, (int)(w.before & 0xFFFFu) == bd - 1
-                               ? lowestKeyApart(s + (c - 1) * CHUNK, lo + (c - 1) * CHUNK, bd) : w.before);
-    second = ::min(second, (int)(w.after & 0xFFFFu) == bd + 1
-                               ? lowestKeyApart(s + (c + 1) * CHUNK, lo + (c + 1) * CHUNK, bd) : w.after);
+    const int bd = (int)(w.best & 0xFFFFu), o = (bd - lo) % CHUNK;   // the winner's place in its chunk
+    unsigned second = ::min(w.second, ::min(w.before, w.after));
+#pragma unroll
+    for (int j = 0; j < CHUNK / 2; j++)
+        second = 2 * j + 2 < o || 2 * j > o + 1 ? ::min(second, w.pairs[j]) : second;
+    const ushort* const sb = s + (bd - lo);
+    if (o >= 2)
+        second = ::min(second, (unsigned)sb[-2] << 16 | (unsigned)(bd - 2));
+    if (o + 2 < CHUNK)
+        second = ::min(second, (unsigned)sb[2] << 16 | (unsigned)(bd + 2));
     return second;
 }
 
@@ -119,20 +116,26 @@ __device__ __forceinline__ ChunkWinner<UNIQUE> walkWindow(const ushort* first, i
         const unsigned pair[8] = { a.x, a.y, a.z, a.w, b.x, b.y, b.z, b.w };
         const unsigned dc = (unsigned)(lo + c * CHUNK) | invalid;   // disparities dc | 0 .. dc | 15
         const int s0 = c * CHUNK;
-        unsigned m = NO_KEY;
+        unsigned key[CHUNK], pm[CHUNK / 2];
 #pragma unroll
-        for (int j = 0; j < 8; j++)
+        for (int k = 0; k < CHUNK; k++)
         {
-#pragma unroll
-            for (int half = 0; half < 2; half++)
-            {
-                // (pixels past the row's end have pairs of NO_KEY: their keys are NO_KEY)
-                const unsigned key = __byte_perm(pair[j], dc | (unsigned)(2 * j + half), half ? 0x3254 : 0x1054);
-                m = ::min(m, key);
-                atomicMin(rk - (s0 + 2 * j + half), key);
-            }
+            // (pixels past the row's end have pairs of NO_KEY: their keys are NO_KEY)
+            key[k] = __byte_perm(pair[k >> 1], dc | (unsigned)k, k & 1 ? 0x3254 : 0x1054);
+            atomicMin(rk - (s0 + k), key[k]);
         }
-        w.take(m);
+#pragma unroll
+        for (int j = 0; j < CHUNK / 2; j++)
+            pm[j] = ::min(key[2 * j], key[2 * j + 1]);
+        // The pairs' minima as a tree whose inner part serves the minima without the first or the last key.
+        unsigned inner = pm[1];
+#pragma unroll
+        for (int j = 2; j < CHUNK / 2 - 1; j++)
+            inner = ::min(inner, pm[j]);
+        const unsigned m = ::min(inner, ::min(pm[0], pm[CHUNK / 2 - 1]));
+        const unsigned noFirst = UNIQUE ? ::min(inner, ::min(key[1], pm[CHUNK / 2 - 1])) : NO_KEY;
+        const unsigned noEnd = UNIQUE ? ::min(inner, ::min(pm[0], key[CHUNK - 2])) : NO_KEY;
+        w.take(pm, m, noFirst, noEnd);
     }
     return w;
 }
