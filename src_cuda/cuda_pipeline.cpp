@@ -398,15 +398,21 @@ struct CudaPipeline::Buffers
             ringCheck = { c.ringAbove, c.ringBelow, plan.nonUnique16(), ringStats.ptr<int>() + RING_GAP_BINS };
             maps.nonUnique16 = ringCheck.nonUnique16;
         }
-        ci::winnerTakesAll(sums, c.p, maps, plan.rightKey(), c.st);
-        if (c.p.medianSize != 3)
+        const bool median = c.p.medianSize == 3;
+        // With the median, it reads the right view's keys itself: no pass converts them first.
+        ci::WinnerMaps unfiltered = maps;
+        if (median)
+            unfiltered.dispRight = cuda::PtrStepSz<short>();
+        ci::winnerTakesAll(sums, c.p, unfiltered, plan.rightKey(), c.st);
+        if (!median)
             return maps;
         ci::WinnerMaps med = maps;
         med.disp16 = plan.afterSums(c.volume, 1);
         med.dispInt = plan.afterSums(c.volume, 2);
         med.dispRight = plan.afterSums(c.volume, 3);
-        const ci::MedianMaps filter = { { maps.disp16, maps.dispInt, maps.dispRight },
-                                        { med.disp16, med.dispInt, med.dispRight } };
+        const ci::MedianMaps filter = { { maps.disp16, maps.dispInt, cuda::PtrStepSz<short>() },
+                                        { med.disp16, med.dispInt, med.dispRight },
+                                        plan.rightKey(), c.p.minDisparity };
         ci::medianFilter(filter, 3, c.st);
         return med;
     }

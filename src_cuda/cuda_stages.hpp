@@ -214,7 +214,15 @@ struct WinnerMaps
     PtrStepSz<short> disp16, dispInt, dispRight, nonUnique16;
 };
 
-/** rightKey (rows x width, int): scratch for the right view's (cost << 16 | d) minima. */
+//! A right pixel's disparity from its key (cost << 16 | d, the minimum over the left pixels that reach it; all ones:
+//! none reached it), as winnerTakesAll writes dispRight.
+LIDARSGM_HD short rightKeyDisparity(unsigned key, int minDisparity)
+{
+    return (short)(key == 0xFFFFFFFFu ? NO_DISP : (int)(key & 0xFFFFu) + minDisparity);
+}
+
+/** rightKey (rows x width, int): the right view's (cost << 16 | d) minima; out.dispRight: their disparities, or no
+data where the caller reads the keys itself (medianFilter's rightKey). */
 void winnerTakesAll(const WinnerInputs& in, const PipelineParams& p, const WinnerMaps& out, PtrStepSz<int> rightKey,
                     cudaStream_t stream);
 
@@ -246,10 +254,14 @@ void enqueueSearchWindows(const cv::cuda::GpuMat& prior16, const cv::cuda::GpuMa
                           const cv::cuda::GpuMat& right, const PipelineParams& p, WindowBuffers& w,
                           cudaStream_t stream);
 
-//! Up to three maps of one size filtered in one launch: dst[i] = median3x3(src[i]).
+/** Up to three maps of one size filtered in one launch: dst[i] = median3x3(src[i]). Where rightKey has data, the
+third map's values are rightKeyDisparity(rightKey, minDisparity) (src[2] unused): the right view's keys filtered
+without a pass that converts them first. */
 struct MedianMaps
 {
     PtrStepSz<short> src[3], dst[3];
+    PtrStepSz<int> rightKey;
+    int minDisparity;
 };
 void medianFilter(const MedianMaps& maps, int count, cudaStream_t stream);
 

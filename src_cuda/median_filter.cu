@@ -21,20 +21,24 @@ __global__ void __launch_bounds__(32 * WARPS) medianKernel(MedianMaps maps)
 {
     const PtrStepSz<short> src = maps.src[blockIdx.z];
     PtrStepSz<short> dst = maps.dst[blockIdx.z];
+    const bool keys = blockIdx.z == 2 && maps.rightKey.data;   // the whole block
     const int lane = threadIdx.x, x = (int)blockIdx.x * OUT_COLS - 1 + lane;
     const int y0 = ((int)blockIdx.y * WARPS + (int)threadIdx.y) * ROWS;
-    if (y0 >= src.rows)   // the whole warp
+    if (y0 >= dst.rows)   // the whole warp
         return;
-    const int xc = ::min(::max(x, 0), src.cols - 1);
+    const int xc = ::min(::max(x, 0), dst.cols - 1);
     int v[ROWS + 2];
 #pragma unroll
     for (int i = 0; i < ROWS + 2; i++)
-        v[i] = medianKey(src(::min(::max(y0 - 1 + i, 0), src.rows - 1), xc));
-    const bool writes = lane >= 1 && lane <= OUT_COLS && x < src.cols;
+    {
+        const int yc = ::min(::max(y0 - 1 + i, 0), dst.rows - 1);
+        v[i] = medianKey(keys ? rightKeyDisparity((unsigned)maps.rightKey(yc, xc), maps.minDisparity) : src(yc, xc));
+    }
+    const bool writes = lane >= 1 && lane <= OUT_COLS && x < dst.cols;
 #pragma unroll
     for (int r = 0; r < ROWS; r++)
     {
-        if (y0 + r >= src.rows)   // the whole warp
+        if (y0 + r >= dst.rows)   // the whole warp
             break;
         int l = v[r], m = v[r + 1], h = v[r + 2];
         sortColumn3<ScalarMinMax>(l, m, h);
@@ -51,7 +55,7 @@ __global__ void __launch_bounds__(32 * WARPS) medianKernel(MedianMaps maps)
 void medianFilter(const MedianMaps& maps, int count, cudaStream_t stream)
 {
     const dim3 block(32, WARPS);
-    const dim3 grid(cv::cudev::divUp(maps.src[0].cols, OUT_COLS), cv::cudev::divUp(maps.src[0].rows, WARPS * ROWS),
+    const dim3 grid(cv::cudev::divUp(maps.dst[0].cols, OUT_COLS), cv::cudev::divUp(maps.dst[0].rows, WARPS * ROWS),
                     count);
     medianKernel<<<grid, block, 0, stream>>>(maps);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());

@@ -209,8 +209,7 @@ __global__ void rightKeyToDisparity(PtrStepSz<int> rightKey, int minD, PtrStepSz
     const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
     if (x >= dispRight.cols || y >= dispRight.rows)
         return;
-    const unsigned key = (unsigned)rightKey(y, x);
-    dispRight(y, x) = (short)(key == NO_KEY ? NO_DISP : (int)(key & 0xFFFFu) + minD);
+    dispRight(y, x) = rightKeyDisparity((unsigned)rightKey(y, x), minD);
 }
 
 } // namespace
@@ -228,6 +227,8 @@ void winnerTakesAll(const WinnerInputs& in, const PipelineParams& p, const Winne
         wtaKernel<false><<<grid, 32 * WARPS, 0, stream>>>(in.sum, in.width, p, in.windows, out.disp16, out.dispInt,
                                                           rightKey, out.nonUnique16);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
+    if (!out.dispRight.data)
+        return;
     const dim3 block(32, 8);
     const dim3 grid2(cv::cudev::divUp(in.width, block.x), cv::cudev::divUp(in.height, block.y));
     rightKeyToDisparity<<<grid2, block, 0, stream>>>(rightKey, p.minDisparity, out.dispRight);
