@@ -34,8 +34,9 @@ __host__ __device__ __forceinline__ int listRadius(const PipelineParams& p)
     return p.confidence && p.semidenseRadius > p.checkRadius ? p.semidenseRadius : p.checkRadius;
 }
 
-/* One block = 32 x 8 pixels. For the LiDAR test each pixel scans the sparse points of its block's tile
- (sparse_window.cuh). The test is "does any point qualify", so the list's order cannot change the result. With
+/* One block = 8 x 32 pixels (CHECK_BLOCK), a warp 8 x 4 of them. For the LiDAR test each pixel scans the sparse points
+ of its block's tile (sparse_window.cuh) in its window's rows, the warp together those of its four rows: at rc 20 a
+ band of 44 rows of a 48 pixels wide tile, where a warp of 32 x 1 would scan 41 rows of a 72 wide one. The test is "does any point qualify", so the list's order cannot change the result. With
  p.confidence both tests run wherever they can (the confidence's evidence), whatever the check keeps. */
 template <typename T>
 __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
@@ -89,7 +90,7 @@ __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, P
     }
     if (needCheck || needNear)
     {
-        // The points in this row's band of the window (a warp is a row).
+        // The points in this pixel's band of the window.
         const int r = listRadius(p), * const points = tile.points;
         for (int k = tile.begin(y - r), k1 = tile.end(y + r); k < k1; k++)
         {
@@ -121,7 +122,7 @@ __global__ void encodeKernel(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out
         store(out, x, y, disp16(y, x), minD);
 }
 
-const dim3 BLOCK(32, 8);
+const dim3 BLOCK(32, 8), CHECK_BLOCK(8, 32);
 
 static dim3 gridFor(int cols, int rows)
 {
@@ -133,8 +134,9 @@ void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short
               PtrStepSz<short> sparse16, const SparseRows& sparseRows, const RingCheckMaps& rings,
               const PipelineParams& p, PtrStepSz<T> out, PtrStepSz<float> confidence, cudaStream_t stream)
 {
-    const size_t smem = lidarTestOn(p, sparse16) ? tileKernelSmem(checkKernel<T>, BLOCK, listRadius(p)) : 0;
-    checkKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
+    const size_t smem = lidarTestOn(p, sparse16) ? tileKernelSmem(checkKernel<T>, CHECK_BLOCK, listRadius(p)) : 0;
+    const dim3 grid(cv::cudev::divUp(disp16.cols, CHECK_BLOCK.x), cv::cudev::divUp(disp16.rows, CHECK_BLOCK.y));
+    checkKernel<T><<<grid, CHECK_BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
                                                                                 sparseRows, rings, p, out, confidence);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
