@@ -1027,8 +1027,8 @@ void runPackedWindowPaths(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrSte
         windowMatchingCosts(censusL, censusR, facts, windows, p, ddc, (unsigned*)sum.data, costs, stream);
     const int W = censusL.cols, H = censusL.rows;
     const int maxLines = p.numPaths == 8 ? W + H - 1 : std::max(W, H);
-    const int linesPerBlock = WARPS_PER_BLOCK * 32 / (costs ? PackedWindowWalk<false, false, true>::LW
-                                                            : PackedWindowWalk<false, false, false>::LW);
+    const int linesPerBlock = WARPS_PER_BLOCK * 32 / (costs ? (int)PackedWindowWalk<false, false, true>::LW
+                                                            : (int)PackedWindowWalk<false, false, false>::LW);
     const int lineBlocks = cv::cudev::divUp(maxLines, linesPerBlock);
     const dim3 grid = p.numPaths == 8 ? dim3(lineBlocks * 8) : dim3(lineBlocks, p.numPaths);
     const bool e = p.edgeThreshold > 0;   // the edge rule
