@@ -36,8 +36,9 @@ __host__ __device__ __forceinline__ int listRadius(const PipelineParams& p)
 
 /* One block = 8 x 32 pixels (CHECK_BLOCK), a warp 8 x 4 of them. For the LiDAR test each pixel scans the sparse points
  of its block's tile (sparse_window.cuh) in its window's rows, the warp together those of its four rows: at rc 20 a
- band of 44 rows of a 48 pixels wide tile, where a warp of 32 x 1 would scan 41 rows of a 72 wide one. The test is "does any point qualify", so the list's order cannot change the result. With
- p.confidence both tests run wherever they can (the confidence's evidence), whatever the check keeps. */
+ band of 44 rows of a 48 pixels wide tile, where a warp of 32 x 1 would scan 41 rows of a 72 wide one. The test is
+ "does any point qualify", so the list's order cannot change the result. With p.confidence both tests run wherever
+ they can (the confidence's evidence), whatever the check keeps. */
 template <typename T>
 __global__ void checkKernel(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short> dispRight,
                             PtrStepSz<short> sparse16, SparseRows sparseRows, RingCheckMaps rings, PipelineParams p,
@@ -124,9 +125,9 @@ __global__ void encodeKernel(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out
 
 const dim3 BLOCK(32, 8), CHECK_BLOCK(8, 32);
 
-static dim3 gridFor(int cols, int rows)
+static dim3 gridFor(int cols, int rows, dim3 block)
 {
-    return dim3(cv::cudev::divUp(cols, BLOCK.x), cv::cudev::divUp(rows, BLOCK.y));
+    return dim3(cv::cudev::divUp(cols, block.x), cv::cudev::divUp(rows, block.y));
 }
 
 template <typename T>
@@ -135,16 +136,15 @@ void runCheck(PtrStepSz<short> disp16, PtrStepSz<short> dispInt, PtrStepSz<short
               const PipelineParams& p, PtrStepSz<T> out, PtrStepSz<float> confidence, cudaStream_t stream)
 {
     const size_t smem = lidarTestOn(p, sparse16) ? tileKernelSmem(checkKernel<T>, CHECK_BLOCK, listRadius(p)) : 0;
-    const dim3 grid(cv::cudev::divUp(disp16.cols, CHECK_BLOCK.x), cv::cudev::divUp(disp16.rows, CHECK_BLOCK.y));
-    checkKernel<T><<<grid, CHECK_BLOCK, smem, stream>>>(disp16, dispInt, dispRight, sparse16,
-                                                                                sparseRows, rings, p, out, confidence);
+    checkKernel<T><<<gridFor(disp16.cols, disp16.rows, CHECK_BLOCK), CHECK_BLOCK, smem, stream>>>(
+        disp16, dispInt, dispRight, sparse16, sparseRows, rings, p, out, confidence);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
 template <typename T>
 void runEncode(PtrStepSz<short> disp16, int minD, PtrStepSz<T> out, cudaStream_t stream)
 {
-    encodeKernel<T><<<gridFor(disp16.cols, disp16.rows), BLOCK, 0, stream>>>(disp16, minD, out);
+    encodeKernel<T><<<gridFor(disp16.cols, disp16.rows, BLOCK), BLOCK, 0, stream>>>(disp16, minD, out);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
