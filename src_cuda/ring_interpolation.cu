@@ -7,6 +7,7 @@
 
 #include "cuda_stages.hpp"
 #include "histogram.cuh"
+#include "pixel_rows.cuh"
 #include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -15,22 +16,38 @@ namespace {
 
 /* A block of 32 columns x 32 row segments: each thread finds its segment's first and last point, the segments before
 and after it give the points beyond its segment (the nearest above is the last one of the segments before, the
-nearest below the first one of those after), then it writes its segment's rows. */
+nearest below the first one of those after), then it writes its segment's rows. A thread reads its rows R at a time,
+their loads in flight together (one at a time, a block's 1024 threads wait on each in turn). */
 __global__ void ringNeighboursKernel(PtrStepSz<short> sparse16, PtrStepSz<short> above, PtrStepSz<short> below)
 {
+    const int R = 4;
     __shared__ short first[32][33], last[32][33];   // [segment][column], padded against bank conflicts
     const int tx = threadIdx.x, ts = threadIdx.y;
     const int x = blockIdx.x * 32 + tx, H = sparse16.rows, len = (H + 31) / 32;
     const int y0 = ts * len, y1 = ::min(y0 + len, H);
     const bool inside = x < sparse16.cols;
-    short f = -1, l = -1;
-    for (int y = y0; inside && y < y1; y++)
-        if (sparse16(y, x) != NO_DISP)
+    // Rows y .. y + R - 1 of the column (y < y1): whether each holds a point (none past the segment). The loads read
+    // clamped pixels, with no branch between them; read-only, they need not wait for the stores.
+    const int xc = ::min(x, sparse16.cols - 1);
+    const auto points = [&](int y) {
+        unsigned bits = 0;
+#pragma unroll
+        for (int j = 0; j < R; j++)
         {
-            if (f < 0)
-                f = (short)y;
-            l = (short)y;
+            const short v = __ldg(&sparse16(::min(y + j, y1 - 1), xc));
+            bits |= (unsigned)(inside & (y + j < y1) & (v != NO_DISP)) << j;
         }
+        return bits;
+    };
+    short f = -1, l = -1;
+    for (int y = y0; y < y1; y += R)
+    {
+        const unsigned bits = points(y);
+        if (bits && f < 0)
+            f = (short)(y + __ffs(bits) - 1);
+        if (bits)
+            l = (short)(y + 31 - __clz(bits));
+    }
     first[ts][tx] = f;
     last[ts][tx] = l;
     __syncthreads();
@@ -42,21 +59,33 @@ __global__ void ringNeighboursKernel(PtrStepSz<short> sparse16, PtrStepSz<short>
     for (int t = 31; t > ts; t--)
         if (first[t][tx] >= 0)
             b = first[t][tx];
-    for (int y = y0; y < y1; y++)
+    for (int y = y0; y < y1; y += R)
     {
-        above(y, x) = a;
-        if (sparse16(y, x) != NO_DISP)
-            a = (short)y;
+        const unsigned bits = points(y);
+#pragma unroll
+        for (int j = 0; j < R && y + j < y1; j++)
+        {
+            above(y + j, x) = a;
+            a = bits >> j & 1u ? (short)(y + j) : a;
+        }
     }
-    for (int y = y1 - 1; y >= y0; y--)
+    for (int top = y1 - R; top + R > y0; top -= R)   // rows [top, top + R), bottom up
     {
-        below(y, x) = b;
-        if (sparse16(y, x) != NO_DISP)
-            b = (short)y;
+        const int from = ::max(top, y0);
+        const unsigned bits = points(from);   // bit j: row from + j
+#pragma unroll
+        for (int j = R - 1; j >= 0; j--)
+        {
+            if (from + j >= top + R)
+                continue;
+            below(from + j, x) = b;
+            b = bits >> j & 1u ? (short)(from + j) : b;
+        }
     }
 }
 
-// A block counts in shared memory first: most points fall in a few bins, and their global atomics would queue on them.
+/* A block counts in shared memory first: most points fall in a few bins, and their global atomics would queue on them.
+ PixelRows: four pixels a thread, their loads in flight together. */
 __global__ void ringGapHistogramKernel(PtrStepSz<short> sparse16, PtrStepSz<short> above, PtrStepSz<short> below,
                                        int* hist)
 {
@@ -64,13 +93,25 @@ __global__ void ringGapHistogramKernel(PtrStepSz<short> sparse16, PtrStepSz<shor
     const int tid = threadIdx.y * blockDim.x + threadIdx.x, nthreads = blockDim.x * blockDim.y;
     for (int i = tid; i < RING_GAP_BINS; i += nthreads)
         local[i] = 0;
-    __syncthreads();
-    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    if (x < sparse16.cols && y < sparse16.rows && sparse16(y, x) != NO_DISP)
+    const int x = PixelRows::x();
+    short v[PixelRows::N];
+#pragma unroll
+    for (int k = 0; k < PixelRows::N; k++)
     {
-        const int g = ringPointGap(above.ptr(y), below.ptr(y), x, sparse16.cols, y);
-        if (g >= 0)
-            atomicAdd(local + g, 1);
+        const int y = PixelRows::y(k);
+        v[k] = x < sparse16.cols && y < sparse16.rows ? sparse16(y, x) : (short)NO_DISP;
+    }
+    __syncthreads();
+#pragma unroll
+    for (int k = 0; k < PixelRows::N; k++)
+    {
+        const int y = PixelRows::y(k);
+        if (v[k] != NO_DISP)
+        {
+            const int g = ringPointGap(above.ptr(y), below.ptr(y), x, sparse16.cols, y);
+            if (g >= 0)
+                atomicAdd(local + g, 1);
+        }
     }
     __syncthreads();
     for (int i = tid; i < RING_GAP_BINS; i += nthreads)
@@ -115,7 +156,7 @@ void interpolateRings(PtrStepSz<int> censusL, PtrStepSz<int> censusR, PtrStepSz<
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
     CV_CUDEV_SAFE_CALL(cudaMemsetAsync(stats, 0, (RING_GAP_BINS + 1) * sizeof(int), stream));
     const dim3 block(32, 8), grid(divUp(W, block.x), divUp(H, block.y));
-    ringGapHistogramKernel<<<grid, block, 0, stream>>>(sparse16, above, below, stats);
+    ringGapHistogramKernel<<<PixelRows::grid(W, H), PixelRows::block(), 0, stream>>>(sparse16, above, below, stats);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
     ringGapLimitKernel<<<1, 32, 0, stream>>>(stats, p.ringGapFactor16);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());

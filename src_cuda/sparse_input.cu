@@ -5,6 +5,7 @@
 // and the units check's counts); the map's points row by row (SparseRows) for the kernels that list a tile's points.
 
 #include "cuda_stages.hpp"
+#include "pixel_rows.cuh"
 #include "opencv2/cudev/common.hpp"
 
 namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
@@ -12,40 +13,59 @@ namespace cv { namespace lidarsgm { namespace detail { namespace cuda_impl {
 __device__ __forceinline__ int sparseValue(ushort v, int lo, int hi) { return sparseFromKitti16(v, lo, hi); }
 __device__ __forceinline__ int sparseValue(float v, int lo, int hi) { return sparseFromFloat(v, lo, hi); }
 
+//! PixelRows: four pixels a thread, their loads in flight together.
 template <typename T>
 __global__ void convertSparseKernel(PtrStepSz<T> sparse, int lo, int hi, PtrStepSz<short> out, int* counts)
 {
-    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
-    const bool inside = x < out.cols && y < out.rows;
-    bool measured = false, kept = false, beyond = false;
-    if (inside)
+    __shared__ int blockCounts[3];
+    const int x = PixelRows::x(), tid = threadIdx.y * PixelRows::BX + threadIdx.x;
+    if (tid < 3)
+        blockCounts[tid] = 0;
+    T v[PixelRows::N];
+#pragma unroll
+    for (int k = 0; k < PixelRows::N; k++)
     {
-        const T v = sparse(y, x);
-        const int d16 = sparseValue(v, lo, hi);
-        out(y, x) = (short)d16;
-        countSparseValue(v, d16, out.cols, measured, kept, beyond);
+        const int y = PixelRows::y(k);
+        v[k] = x < out.cols && y < out.rows ? sparse(y, x) : T();
     }
-    // The units check's counts (SparseCounts): one atomic per block and count.
-    const int m = __syncthreads_count(measured), k = __syncthreads_count(kept), b = __syncthreads_count(beyond);
-    if (counts && threadIdx.x == 0 && threadIdx.y == 0)
+    int c[3] = { 0, 0, 0 };   // measured, kept, beyond
+#pragma unroll
+    for (int k = 0; k < PixelRows::N; k++)
     {
-        if (m)
-            atomicAdd(counts, m);
-        if (k)
-            atomicAdd(counts + 1, k);
-        if (b)
-            atomicAdd(counts + 2, b);
+        const int y = PixelRows::y(k);
+        if (x < out.cols && y < out.rows)
+        {
+            const int d16 = sparseValue(v[k], lo, hi);
+            out(y, x) = (short)d16;
+            bool measured, kept, beyond;
+            countSparseValue(v[k], d16, out.cols, measured, kept, beyond);
+            c[0] += measured;
+            c[1] += kept;
+            c[2] += beyond;
+        }
     }
+    // The units check's counts (SparseCounts): summed by the warps, then one atomic per block and count.
+    if (!counts)
+        return;
+    __syncthreads();
+#pragma unroll
+    for (int i = 0; i < 3; i++)
+    {
+        const int s = __reduce_add_sync(0xFFFFFFFFu, c[i]);
+        if (threadIdx.x == 0 && s)
+            atomicAdd(blockCounts + i, s);
+    }
+    __syncthreads();
+    if (tid < 3 && blockCounts[tid])
+        atomicAdd(counts + tid, blockCounts[tid]);
 }
 
 template <typename T>
 void runConvert(PtrStepSz<T> sparse, int minDisparity, int numDisparities, PtrStepSz<short> sparse16, int* counts,
                 cudaStream_t stream)
 {
-    const dim3 block(32, 8);
-    const dim3 grid(cv::cudev::divUp(sparse16.cols, block.x), cv::cudev::divUp(sparse16.rows, block.y));
-    convertSparseKernel<T><<<grid, block, 0, stream>>>(sparse, minDisparity, minDisparity + numDisparities - 1,
-                                                       sparse16, counts);
+    convertSparseKernel<T><<<PixelRows::grid(sparse16.cols, sparse16.rows), PixelRows::block(), 0, stream>>>(
+        sparse, minDisparity, minDisparity + numDisparities - 1, sparse16, counts);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
 }
 
