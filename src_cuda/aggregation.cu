@@ -18,7 +18,6 @@
 
 #include "cuda_stages.hpp"
 #include "aggregation.cuh"
-#include "pixel_rows.cuh"
 #include "opencv2/cudev/common.hpp"
 #include <cuda.h>
 #include <algorithm>
@@ -67,52 +66,40 @@ int pathLines(const PipelineParams& p, int W, int H)
 const int PACKED_WINDOW_BLOCKS_PER_SM = 5, STORED_COSTS_BLOCKS_PER_SM = 6;
 using namespace aggregation;
 
-/* The facts of each pixel (packFacts), PixelRows: four pixels a thread, their loads in flight together. May write over
- prior16 (same size and memory): each thread reads its pixels' priors before it writes. */
+/* The facts of each pixel (packFacts). May write over prior16 (same size and memory): each thread reads its pixel's
+ prior before it writes. */
 template <typename T>
 __global__ void factsKernel(PtrStepSz<short> prior16, PtrStepSz<short> own16, const int* scan, PtrStepSz<T> image,
-                            int minD, int edgeThreshold, PtrStepSz<ushort> facts)
+                           int minD, int edgeThreshold, PtrStepSz<ushort> facts)
 {
-    const int N = PixelRows::N, x = PixelRows::x();
-    if (x >= facts.cols)
+    const int x = blockIdx.x * blockDim.x + threadIdx.x, y = blockIdx.y * blockDim.y + threadIdx.y;
+    if (x >= facts.cols || y >= facts.rows)
         return;
-    const int fx[4] = { 1, 0, 1, -1 };   // the edge bits' neighbours: (x - fx[b], y - (b > 0))
-    int pr[N], own[N], ip[N], iq[N][4];
-#pragma unroll
-    for (int k = 0; k < N; k++)
+    int k = 0, cls = 0;
+    if (prior16.data)
     {
-        const int y = PixelRows::y(k);
-        const bool in = y < facts.rows;
-        pr[k] = in && prior16.data ? prior16(y, x) : NO_DISP;
-        own[k] = in && own16.data ? own16(y, x) : NO_DISP;
-        ip[k] = in && edgeThreshold > 0 ? image(y, x) : 0;
-#pragma unroll
-        for (int b = 0; b < 4; b++)   // -1: no neighbour there
+        const int pr = prior16(y, x);
+        if (pr != NO_DISP)
         {
-            const int qx = x - fx[b], qy = y - (b == 0 ? 0 : 1);
-            iq[k][b] = in && edgeThreshold > 0 && qx >= 0 && qx < image.cols && qy >= 0 ? image(qy, qx) : -1;
+            const bool copied = own16.data && copiedPrior(*scan != 0, pr, own16(y, x));
+            k = roundDisp16(pr) - minD;
+            cls = copied ? 2 : 1;
         }
     }
-    const bool scanned = own16.data && *scan != 0;
-#pragma unroll
-    for (int k = 0; k < N; k++)
+    unsigned edges = 0;
+    if (edgeThreshold > 0)
     {
-        const int y = PixelRows::y(k);
-        if (y >= facts.rows)
-            break;
-        int kp = 0, cls = 0;
-        if (pr[k] != NO_DISP)
-        {
-            kp = roundDisp16(pr[k]) - minD;
-            cls = own16.data && copiedPrior(scanned, pr[k], own[k]) ? 2 : 1;
-        }
-        unsigned edges = 0;
+        const int ip = image(y, x);
+        const int fx[4] = { 1, 0, 1, -1 };
 #pragma unroll
         for (int b = 0; b < 4; b++)
-            if (iq[k][b] >= 0 && intensityEdge(ip[k], iq[k][b], edgeThreshold))
+        {
+            const int qx = x - fx[b], qy = y - (b == 0 ? 0 : 1);
+            if (qx >= 0 && qx < image.cols && qy >= 0 && intensityEdge(ip, image(qy, qx), edgeThreshold))
                 edges |= 1u << b;
-        facts(y, x) = (ushort)packFacts(kp, cls, edges);
+        }
     }
+    facts(y, x) = (ushort)packFacts(k, cls, edges);
 }
 
 //! a b as a 64-bit product (mul.wide.u32: the compiler otherwise widens one operand early and multiplies in 64 bits).
@@ -1090,8 +1077,9 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
     const bool ddc = prior16.data != nullptr;
     if (ddc || p.edgeThreshold > 0)
     {
-        factsKernel<T><<<PixelRows::grid(W, H), PixelRows::block(), 0, stream>>>(prior16, in.own16, in.scan, in.left,
-                                                                                 p.minDisparity, p.edgeThreshold, facts);
+        const dim3 block(32, 8), grid(cv::cudev::divUp(censusL.cols, 32), cv::cudev::divUp(censusL.rows, 8));
+        factsKernel<T><<<grid, block, 0, stream>>>(prior16, in.own16, in.scan, in.left, p.minDisparity,
+                                                  p.edgeThreshold, facts);
         CV_CUDEV_SAFE_CALL(cudaGetLastError());
     }
     // With windows from 112 to 128 disparities, 4 or 8 lanes a line over the union of a warp's windows

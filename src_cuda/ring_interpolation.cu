@@ -16,38 +16,22 @@ namespace {
 
 /* A block of 32 columns x 32 row segments: each thread finds its segment's first and last point, the segments before
 and after it give the points beyond its segment (the nearest above is the last one of the segments before, the
-nearest below the first one of those after), then it writes its segment's rows. A thread reads its rows R at a time,
-their loads in flight together (one at a time, a block's 1024 threads wait on each in turn). */
+nearest below the first one of those after), then it writes its segment's rows. */
 __global__ void ringNeighboursKernel(PtrStepSz<short> sparse16, PtrStepSz<short> above, PtrStepSz<short> below)
 {
-    const int R = 4;
     __shared__ short first[32][33], last[32][33];   // [segment][column], padded against bank conflicts
     const int tx = threadIdx.x, ts = threadIdx.y;
     const int x = blockIdx.x * 32 + tx, H = sparse16.rows, len = (H + 31) / 32;
     const int y0 = ts * len, y1 = ::min(y0 + len, H);
     const bool inside = x < sparse16.cols;
-    // Rows y .. y + R - 1 of the column (y < y1): whether each holds a point (none past the segment). The loads read
-    // clamped pixels, with no branch between them; read-only, they need not wait for the stores.
-    const int xc = ::min(x, sparse16.cols - 1);
-    const auto points = [&](int y) {
-        unsigned bits = 0;
-#pragma unroll
-        for (int j = 0; j < R; j++)
-        {
-            const short v = __ldg(&sparse16(::min(y + j, y1 - 1), xc));
-            bits |= (unsigned)(inside & (y + j < y1) & (v != NO_DISP)) << j;
-        }
-        return bits;
-    };
     short f = -1, l = -1;
-    for (int y = y0; y < y1; y += R)
-    {
-        const unsigned bits = points(y);
-        if (bits && f < 0)
-            f = (short)(y + __ffs(bits) - 1);
-        if (bits)
-            l = (short)(y + 31 - __clz(bits));
-    }
+    for (int y = y0; inside && y < y1; y++)
+        if (sparse16(y, x) != NO_DISP)
+        {
+            if (f < 0)
+                f = (short)y;
+            l = (short)y;
+        }
     first[ts][tx] = f;
     last[ts][tx] = l;
     __syncthreads();
@@ -59,28 +43,17 @@ __global__ void ringNeighboursKernel(PtrStepSz<short> sparse16, PtrStepSz<short>
     for (int t = 31; t > ts; t--)
         if (first[t][tx] >= 0)
             b = first[t][tx];
-    for (int y = y0; y < y1; y += R)
+    for (int y = y0; y < y1; y++)
     {
-        const unsigned bits = points(y);
-#pragma unroll
-        for (int j = 0; j < R && y + j < y1; j++)
-        {
-            above(y + j, x) = a;
-            a = bits >> j & 1u ? (short)(y + j) : a;
-        }
+        above(y, x) = a;
+        if (sparse16(y, x) != NO_DISP)
+            a = (short)y;
     }
-    for (int top = y1 - R; top + R > y0; top -= R)   // rows [top, top + R), bottom up
+    for (int y = y1 - 1; y >= y0; y--)
     {
-        const int from = ::max(top, y0);
-        const unsigned bits = points(from);   // bit j: row from + j
-#pragma unroll
-        for (int j = R - 1; j >= 0; j--)
-        {
-            if (from + j >= top + R)
-                continue;
-            below(from + j, x) = b;
-            b = bits >> j & 1u ? (short)(from + j) : b;
-        }
+        below(y, x) = b;
+        if (sparse16(y, x) != NO_DISP)
+            b = (short)y;
     }
 }
 

@@ -127,21 +127,14 @@ __global__ void __launch_bounds__(1024, 2) visibilityKernel(PtrStepSz<short> spa
         // visibilityRadiusY plus that growth hold every point that can.
         const int growth = visibilityGrowthAllowed(tile.maxValue - dq, p);
         const int ry = p.visibilityRadiusY + growth;
-        // The warp stops at the first 32 points in which a lane finds one that hides dq (one vote a 32 points): a
-        // lane that stopped alone would hold the others to the longest search.
         const int k1 = tile.end(y + ry);
         bool h = false;
-        for (int i0 = tile.begin(y - ry); i0 < k1 && !h; i0 += 32)
+        for (int i = tile.begin(y - ry) + lane; i < k1 && !h; i += 32)
         {
-            const int i = i0 + lane;
-            bool hi = false;
-            if (i < k1)
-            {
-                const int at = tile.points[2 * i];
-                hi = hiddenBy(tile.points[2 * i + 1], dq, (at & 0xFFFF) - xq, (at >> 16) - y, p);
-            }
-            h = __any_sync(0xFFFFFFFFu, hi);
+            const int at = tile.points[2 * i];
+            h = hiddenBy(tile.points[2 * i + 1], dq, (at & 0xFFFF) - xq, (at >> 16) - y, p);
         }
+        h = __any_sync(0xFFFFFFFFu, h);
         hidden = lane == src ? h : hidden;
     }
     if (inside)
