@@ -1117,10 +1117,10 @@ void aggregate(const AggregationInputs<T>& in, const PipelineParams& p, const Ag
         }
         return;
     }
-    // Up to 32 disparities (the coarse pass of the windows at 128), 16 lanes a line and two lines a warp: with one
+    // Up to 32 disparities (the coarse pass of the windows at 128), 8 lanes a line and four lines a warp: with one
     // a warp, half of its lanes would hold no disparity.
     if (D <= 32)
-        return runPaths<16, 1>(censusL, censusR, facts, p, ddc, sum, stream);
+        return runPaths<8, 2>(censusL, censusR, facts, p, ddc, sum, stream);
     switch ((p.numDisparities + 63) / 64)
     {
     case 1: runPaths<32, 1>(censusL, censusR, facts, p, ddc, sum, stream); break;

@@ -36,6 +36,9 @@ __global__ void coarseKernel(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<T>
  coarse index range (COARSE: coarse pixels in the tile, each standing for COARSE_SCALE^2 pixels; a coarse disparity
  c stands for the full-scale disparities c S - S .. c S + S), clamped to [0, D): ranges(ty, tx) = (kMin, kMax),
  kMin > kMax where the tile has none. */
+//! A tile's threads in tileRangesKernel: four of its pixels each; one coarse pixel each.
+const int TILE_RANGE_THREADS = 256, COARSE_TILE_RANGE_THREADS = 64;
+
 template <bool COARSE>
 __global__ void tileRangesKernel(PtrStepSz<short> map, int minD, int D, PtrStepSz<int2> ranges)
 {
@@ -49,16 +52,22 @@ __global__ void tileRangesKernel(PtrStepSz<short> map, int minD, int D, PtrStepS
     const int S = COARSE ? COARSE_SCALE : 1, span = WINDOW_TILE / S;
     const int x0 = blockIdx.x * span, y0 = blockIdx.y * span;
     const int x1 = ::min(x0 + span, map.cols), y1 = ::min(y0 + span, map.rows);
-    int lo = INT_MAX, hi = INT_MIN;
-    for (int i = threadIdx.x; i < span * span; i += blockDim.x)
+    // The thread's pixels of the tile, their loads in flight together.
+    const int THREADS = COARSE ? COARSE_TILE_RANGE_THREADS : TILE_RANGE_THREADS, PER = span * span / THREADS;
+    int v[PER];
+#pragma unroll
+    for (int k = 0; k < PER; k++)
     {
-        const int x = x0 + i % span, y = y0 + i / span;
-        if (x >= x1 || y >= y1)
+        const int i = threadIdx.x + k * THREADS, x = x0 + i % span, y = y0 + i / span;
+        v[k] = x < x1 && y < y1 ? map(y, x) : NO_DISP;
+    }
+    int lo = INT_MAX, hi = INT_MIN;
+#pragma unroll
+    for (int k = 0; k < PER; k++)
+    {
+        if (v[k] == NO_DISP)
             continue;
-        const int v = map(y, x);
-        if (v == NO_DISP)
-            continue;
-        const int a = COARSE ? v * S - S - minD : roundDisp16(v) - minD, b = COARSE ? v * S + S - minD : a;
+        const int a = COARSE ? v[k] * S - S - minD : roundDisp16(v[k]) - minD, b = COARSE ? v[k] * S + S - minD : a;
         lo = ::min(lo, ::min(::max(a, 0), D - 1));
         hi = ::max(hi, ::min(::max(b, 0), D - 1));
     }
@@ -179,9 +188,9 @@ void searchWindows(PtrStepSz<short> prior16, PtrStepSz<short> coarse, const Pipe
     const dim3 tiles(windows.cols, windows.rows);
     const int D = p.numDisparities, minD = p.minDisparity;
     // An empty prior16 (0 x 0) gives every tile no range.
-    tileRangesKernel<false><<<tiles, 256, 0, stream>>>(prior16, minD, D, ownRanges);
+    tileRangesKernel<false><<<tiles, TILE_RANGE_THREADS, 0, stream>>>(prior16, minD, D, ownRanges);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
-    tileRangesKernel<true><<<tiles, 64, 0, stream>>>(coarse, minD, D, coarseRanges);
+    tileRangesKernel<true><<<tiles, COARSE_TILE_RANGE_THREADS, 0, stream>>>(coarse, minD, D, coarseRanges);
     CV_CUDEV_SAFE_CALL(cudaGetLastError());
     const dim3 block(32, 8), grid(cv::cudev::divUp(windows.cols, 32), cv::cudev::divUp(windows.rows, 8));
     windowsKernel<<<grid, block, 0, stream>>>(ownRanges, coarseRanges, p.searchWindow, D, windows);
