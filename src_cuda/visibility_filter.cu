@@ -103,12 +103,21 @@ __global__ void scanTestKernel(int* stats)
         stats[2 * SCAN_GAP_BINS] = scanGapsApply(rows, columns) ? 1 : 0;
 }
 
+/* Two blocks of 1024 threads an SM where a multiprocessor holds 2048 threads (sm_80, sm_90, sm_100); one elsewhere
+ (sm_86 to sm_89, Jetson Orin's sm_87 among them, and sm_110 hold 1536, sm_75 1024), where ptxas would ignore a bound
+ of two with a warning. */
+#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ != 800 && __CUDA_ARCH__ != 900 && __CUDA_ARCH__ != 1000
+const int VISIBILITY_BLOCKS_PER_SM = 1;
+#else
+const int VISIBILITY_BLOCKS_PER_SM = 2;
+#endif
+
 /* stats: null, or the scan test's result at stats[2 SCAN_GAP_BINS] (0: no parallax growth). A warp is one row of 32
  pixels (blocks of 32 x 32); it takes its sparse pixels one at a time, and its 32 lanes test each against the tile's
  points in the rows that can hide it together: a pixel's own loop over the list would hold the whole warp for its
  longest search (the window grows with the parallax: hundreds of points a tile on a 64-line scan). */
 // (Two blocks an SM: 32 registers. Without the bound nvcc takes 40, which leaves one block of 1024 an SM.)
-__global__ void __launch_bounds__(1024, 2) visibilityKernel(PtrStepSz<short> sparse16, SparseRows rows,
+__global__ void __launch_bounds__(1024, VISIBILITY_BLOCKS_PER_SM) visibilityKernel(PtrStepSz<short> sparse16, SparseRows rows,
                                                             PipelineParams p, int reach, const int* stats,
                                                             PtrStepSz<short> out)
 {
