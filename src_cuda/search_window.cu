@@ -32,13 +32,13 @@ __global__ void coarseKernel(PtrStepSz<T> left, PtrStepSz<T> right, PtrStepSz<T>
     out(y, x) = (T)coarseMean(sum);
 }
 
+//! A tile's threads in tileRangesKernel: four of its pixels each; one coarse pixel each.
+const int TILE_RANGE_THREADS = 256, COARSE_TILE_RANGE_THREADS = 64;
+
 /* Per tile (one block each), the lowest and highest prior index (COARSE false: prior16's pixels in the tile) or
  coarse index range (COARSE: coarse pixels in the tile, each standing for COARSE_SCALE^2 pixels; a coarse disparity
  c stands for the full-scale disparities c S - S .. c S + S), clamped to [0, D): ranges(ty, tx) = (kMin, kMax),
  kMin > kMax where the tile has none. */
-//! A tile's threads in tileRangesKernel: four of its pixels each; one coarse pixel each.
-const int TILE_RANGE_THREADS = 256, COARSE_TILE_RANGE_THREADS = 64;
-
 template <bool COARSE>
 __global__ void tileRangesKernel(PtrStepSz<short> map, int minD, int D, PtrStepSz<int2> ranges)
 {

@@ -117,9 +117,9 @@ const int VISIBILITY_BLOCKS_PER_SM = 2;
  points in the rows that can hide it together: a pixel's own loop over the list would hold the whole warp for its
  longest search (the window grows with the parallax: hundreds of points a tile on a 64-line scan). */
 // (Two blocks an SM: 32 registers. Without the bound nvcc takes 40, which leaves one block of 1024 an SM.)
-__global__ void __launch_bounds__(1024, VISIBILITY_BLOCKS_PER_SM) visibilityKernel(PtrStepSz<short> sparse16, SparseRows rows,
-                                                            PipelineParams p, int reach, const int* stats,
-                                                            PtrStepSz<short> out)
+__global__ void __launch_bounds__(1024, VISIBILITY_BLOCKS_PER_SM)
+visibilityKernel(PtrStepSz<short> sparse16, SparseRows rows, PipelineParams p, int reach, const int* stats,
+                 PtrStepSz<short> out)
 {
     extern __shared__ int smem[];   // listTilePoints
     if (stats && stats[2 * SCAN_GAP_BINS] == 0)
