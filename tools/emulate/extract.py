@@ -6,7 +6,9 @@
 #   python3 extract.py scan_gaps visibility_filter.cu out.inc: scanGapHistogramKernel and its helpers, and its launch's
 #     block rows (SCAN_LAUNCH_ROWS);
 #   python3 extract.py tile_points both.cu out.inc (sparse_window.cuh and sparse_input.cu one after the other):
-#     tilePointsBytes, TilePoints, listTilePoints and listSparseRowsKernel.
+#     tilePointsBytes, TilePoints, listTilePoints and listSparseRowsKernel;
+#   python3 extract.py ring_fill ring_interpolation.cu out.inc: ringFillKernel and its launch's shape
+#     (RING_FILL_PIXEL_ROWS).
 import re, sys
 kind, src, out = sys.argv[1:4]
 s = open(src).read()
@@ -41,8 +43,16 @@ elif kind == "tile_points":
     e = s.index("/* A warp a row: 32 columns a chunk")
     f = s.index("void listSparseRows(", e)
     t = s[a:b] + s[c:d] + s[e:f]
+elif kind == "ring_fill":
+    # ringFillKernel (after ringGapLimitKernel's end), and whether its launch takes PixelRows' shape (else 32 x 8
+    # threads a pixel each)
+    a = s.index("__global__ void ringGapLimitKernel")
+    a = s.index("\n}\n", a) + 3
+    b = s.index("} // namespace", a)
+    t = s[a:b] + "const bool RING_FILL_PIXEL_ROWS = %s;\n" % (
+        "true" if "ringFillKernel<<<PixelRows::grid" in s else "false")
 else:
-    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost, scan_gaps, tile_points)"
-             % kind)
+    sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost, scan_gaps, tile_points,"
+             " ring_fill)" % kind)
 assert "asm" not in t, "asm left"
 open(out, "w").write(t)
