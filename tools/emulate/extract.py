@@ -8,7 +8,9 @@
 #   python3 extract.py tile_points both.cu out.inc (sparse_window.cuh and sparse_input.cu one after the other):
 #     tilePointsBytes, TilePoints, listTilePoints and listSparseRowsKernel;
 #   python3 extract.py ring_fill ring_interpolation.cu out.inc: ringFillKernel and its launch's shape
-#     (RING_FILL_PIXEL_ROWS).
+#     (RING_FILL_PIXEL_ROWS);
+#   python3 extract.py visibility visibility_filter.cu out.inc: visibilityKernel, its dynamic shared memory taken
+#     from the case's buffer (dynamicSmem).
 import re, sys
 kind, src, out = sys.argv[1:4]
 s = open(src).read()
@@ -51,8 +53,14 @@ elif kind == "ring_fill":
     b = s.index("} // namespace", a)
     t = s[a:b] + "const bool RING_FILL_PIXEL_ROWS = %s;\n" % (
         "true" if "ringFillKernel<<<PixelRows::grid" in s else "false")
+elif kind == "visibility":
+    # visibilityKernel and its blocks-per-SM constant; its dynamic shared memory becomes the case's buffer
+    a = s.index("/* Two blocks of 1024 threads an SM")
+    b = s.index("} // namespace\n\nvoid testScan(")
+    t = s[a:b].replace("extern __shared__ int smem[];", "int* const smem = dynamicSmem;")
+    assert "dynamicSmem" in t, "no dynamic shared memory found"
 else:
     sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost, scan_gaps, tile_points,"
-             " ring_fill)" % kind)
+             " ring_fill, visibility)" % kind)
 assert "asm" not in t, "asm left"
 open(out, "w").write(t)
