@@ -15,10 +15,11 @@
 #                     CPU's rule
 #   visibility        visibilityKernel (src_cuda/visibility_filter.cu): the filtered sparse map, also against a
 #                     direct search of hiddenBy's window
+#   consistency_check checkKernel (src_cuda/consistency_check.cu): the output (both types) and the confidence
 #   tools/emulate_kernel.sh KERNEL [old revision, default HEAD~1] [new revision, default the working tree] [seeds, 40]
 set -eo pipefail
 cd "$(dirname "$0")/.."
-USAGE="usage: tools/emulate_kernel.sh packed_walk|winner_takes_all|matching_cost|scan_gaps|tile_points|ring_fill|visibility [old] [new]"
+USAGE="usage: tools/emulate_kernel.sh packed_walk|winner_takes_all|matching_cost|scan_gaps|tile_points|ring_fill|visibility|consistency_check [old] [new]"
 KERNEL=${1:?"$USAGE [seeds]"}
 OLD=${2:-HEAD~1}; NEW=${3:-}; SEEDS=${4:-40}
 case $KERNEL in
@@ -29,8 +30,9 @@ case $KERNEL in
   tile_points) SRC="src_cuda/sparse_window.cuh src_cuda/sparse_input.cu" ;;
   ring_fill) SRC=src_cuda/ring_interpolation.cu ;;
   visibility) SRC=src_cuda/visibility_filter.cu ;;
+  consistency_check) SRC=src_cuda/consistency_check.cu ;;
   *) echo "emulate_kernel.sh: unknown kernel $KERNEL (packed_walk, winner_takes_all, matching_cost, scan_gaps," \
-          "tile_points, ring_fill, visibility)" >&2
+          "tile_points, ring_fill, visibility, consistency_check)" >&2
      exit 2 ;;
 esac
 inc=$(bash tools/cuda_include_flags.sh)

@@ -10,7 +10,8 @@
 #   python3 extract.py ring_fill ring_interpolation.cu out.inc: ringFillKernel and its launch's shape
 #     (RING_FILL_PIXEL_ROWS);
 #   python3 extract.py visibility visibility_filter.cu out.inc: visibilityKernel, its dynamic shared memory taken
-#     from the case's buffer (dynamicSmem).
+#     from the case's buffer (dynamicSmem);
+#   python3 extract.py consistency_check consistency_check.cu out.inc: checkKernel and its helpers, the same.
 import re, sys
 kind, src, out = sys.argv[1:4]
 s = open(src).read()
@@ -59,8 +60,15 @@ elif kind == "visibility":
     b = s.index("} // namespace\n\nvoid testScan(")
     t = s[a:b].replace("extern __shared__ int smem[];", "int* const smem = dynamicSmem;")
     assert "dynamicSmem" in t, "no dynamic shared memory found"
+elif kind == "consistency_check":
+    # the file's anonymous namespace up to encodeKernel (the check's helpers and checkKernel); its dynamic shared
+    # memory becomes the case's buffer
+    a = s.index("\nnamespace {\n") + len("\nnamespace {\n")
+    b = s.index("template <typename T>\n__global__ void encodeKernel")
+    t = s[a:b].replace("extern __shared__ int smem[];", "int* const smem = dynamicSmem;")
+    assert "dynamicSmem" in t, "no dynamic shared memory found"
 else:
     sys.exit("extract.py: unknown kernel %s (packed_walk, winner_takes_all, matching_cost, scan_gaps, tile_points,"
-             " ring_fill, visibility)" % kind)
+             " ring_fill, visibility, consistency_check)" % kind)
 assert "asm" not in t, "asm left"
 open(out, "w").write(t)

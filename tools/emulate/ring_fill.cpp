@@ -10,6 +10,7 @@
 #include "pixel_rows.cuh"
 
 #include "versions.hpp"
+#include "sparse_maps.hpp"
 
 int main(int argc, char** argv)
 {
@@ -19,28 +20,13 @@ int main(int argc, char** argv)
     const bool lines = U(0, 1);
     const int lineStep = U(1, 12), density = U(1, 100), filled = U(0, 100), Ts = U(1, 5);
     const int gap = U(0, 3) == 0 ? U(0, 3) : U(1, 40);
-    std::vector<short> sparse((size_t)W * H, NO_DISP), above((size_t)W * H), below((size_t)W * H);
+    std::vector<short> sparse((size_t)W * H, NO_DISP);
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++)
             if ((!lines || y % lineStep == 0) && U(1, 100) <= density)
                 sparse[(size_t)y * W + x] = (short)U(16 * (lo > 2 ? lo - 2 : 0), 16 * (hi + 2));
-    // Each column's nearest points strictly above and below (ringNeighboursKernel's maps, -1: none).
-    for (int x = 0; x < W; x++)
-    {
-        short a = -1, b = -1;
-        for (int y = 0; y < H; y++)
-        {
-            above[(size_t)y * W + x] = a;
-            if (sparse[(size_t)y * W + x] != NO_DISP)
-                a = (short)y;
-        }
-        for (int y = H - 1; y >= 0; y--)
-        {
-            below[(size_t)y * W + x] = b;
-            if (sparse[(size_t)y * W + x] != NO_DISP)
-                b = (short)y;
-        }
-    }
+    RingNeighbours nb(sparse, W, H);
+    std::vector<short>&above = nb.above, &below = nb.below;
     std::vector<int> cl((size_t)W * H), cr((size_t)W * H);
     for (auto& v : cl) v = 1 << U(0, 4) | 1 << U(0, 4);
     for (auto& v : cr) v = 1 << U(0, 4) | 1 << U(0, 4);

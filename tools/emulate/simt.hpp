@@ -86,6 +86,18 @@ int __ffs(unsigned v) { return v ? __builtin_ctz(v) + 1 : 0; }
 int __popc(unsigned v) { return __builtin_popcount(v); }
 void __syncwarp(unsigned = 0xFFFFFFFFu) { tw->bar.arrive_and_wait(); }
 void __syncthreads() { blockBar->arrive_and_wait(); }
+int blockVote;
+//! Whether p holds for any thread of the block: every thread votes, all read, then the first resets the vote.
+int __syncthreads_or(int p)
+{
+    if (p) __atomic_store_n(&blockVote, 1, __ATOMIC_RELAXED);
+    blockBar->arrive_and_wait();
+    const int r = __atomic_load_n(&blockVote, __ATOMIC_RELAXED);
+    blockBar->arrive_and_wait();
+    if (threadIdx.x == 0 && threadIdx.y == 0 && threadIdx.z == 0) __atomic_store_n(&blockVote, 0, __ATOMIC_RELAXED);
+    blockBar->arrive_and_wait();
+    return r;
+}
 unsigned __byte_perm(unsigned x, unsigned y, unsigned s)
 {
     const unsigned long long v = (unsigned long long)y << 32 | x;

@@ -2,7 +2,7 @@
 // two versions of that file (tools/emulate_kernel.sh extracts them into old.inc and new.inc): both filter the same
 // random sparse map (scan lines with gaps or scattered points on bands of a few levels, a random density, up to the
 // image's edges) with random window radii, parallax growth and threshold, the scan test's result on or off, in blocks
-// of 32 x 32 over the map's rows listed as listSparseRows lists them (built here), and their maps are compared with
+// of 32 x 32 over the map's rows listed as listSparseRows lists them (sparse_maps.hpp), and their maps are compared with
 // each other and with a direct search of every point within the tile's margin by hiddenBy (pipeline.hpp), pixel by
 // pixel.
 #include "simt.hpp"
@@ -13,6 +13,7 @@
 int* dynamicSmem;   // a block's dynamic shared memory (the blocks run one after another)
 
 #include "versions.hpp"
+#include "sparse_maps.hpp"
 
 int main(int argc, char** argv)
 {
@@ -37,27 +38,8 @@ int main(int argc, char** argv)
         for (int x = 0; x < W; x++)
             if ((!lines || y % lineStep == 0) && U(1, 100) <= density)
                 map[(size_t)y * W + x] = (short)(level[x / band % levels] + U(0, 40));
-    // The rows as listSparseRowsKernel lists them: a chunk's points before it and its bits, each point at its rank.
-    const int C = W / 32 + 1;
-    std::vector<int2> chunks((size_t)H * C);
-    std::vector<int> entries((size_t)W * H, -9);
-    for (int y = 0; y < H; y++)
-    {
-        int n = 0;
-        for (int c = 0; c < C; c++)
-        {
-            unsigned bits = 0;
-            for (int b = 0; b < 32 && 32 * c + b < W; b++)
-                if (map[(size_t)y * W + 32 * c + b] != NO_DISP)
-                    bits |= 1u << b;
-            chunks[(size_t)y * C + c] = make_int2(n, (int)bits);
-            for (int b = 0; b < 32; b++)
-                if (bits >> b & 1u)
-                    entries[(size_t)y * W + n++] = (int)((unsigned)map[(size_t)y * W + 32 * c + b] << 16) | (32 * c + b);
-        }
-    }
-    const SparseRows rows = { cv::cuda::PtrStepSz<int2>(H, C, chunks.data(), C * sizeof(int2)),
-                              cv::cuda::PtrStepSz<int>(H, W, entries.data(), W * sizeof(int)) };
+    const ListedRows listed(map, W, H);
+    const SparseRows rows = listed.rows;
     std::vector<int> stats(2 * SCAN_GAP_BINS + 1, 0);
     stats[2 * SCAN_GAP_BINS] = growthOn ? 1 : 0;
     const int* const st = withStats ? stats.data() : nullptr;
