@@ -17,6 +17,8 @@
 #                     direct search of hiddenBy's window
 #   consistency_check checkKernel (src_cuda/consistency_check.cu): the output (both types) and the confidence
 #   tools/emulate_kernel.sh KERNEL [old revision, default HEAD~1] [new revision, default the working tree] [seeds, 40]
+# ("." for a revision: the working tree. With both ".", the kernels whose cases also compare with the CPU's rule or a
+# direct search are tested as they are: the test suite's cuda_kernels_emulated.)
 set -eo pipefail
 cd "$(dirname "$0")/.."
 USAGE="usage: tools/emulate_kernel.sh packed_walk|winner_takes_all|matching_cost|scan_gaps|tile_points|ring_fill|visibility|consistency_check [old] [new]"
@@ -37,8 +39,10 @@ case $KERNEL in
 esac
 inc=$(bash tools/cuda_include_flags.sh)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-for f in $SRC; do git show "$OLD:$f"; done > "$tmp/old.cu"   # (a kernel of two files: one after the other)
-for f in $SRC; do if [ -n "$NEW" ]; then git show "$NEW:$f"; else cat "$f"; fi; done > "$tmp/new.cu"
+# A revision's files, or the working tree's ("" or "."; no git needed then).
+version() { for f in $SRC; do if [ -n "$1" ] && [ "$1" != . ]; then git show "$1:$f"; else cat "$f"; fi; done; }
+version "$OLD" > "$tmp/old.cu"   # (a kernel of two files: one after the other)
+version "$NEW" > "$tmp/new.cu"
 python3 tools/emulate/extract.py "$KERNEL" "$tmp/old.cu" "$tmp/old.inc"
 python3 tools/emulate/extract.py "$KERNEL" "$tmp/new.cu" "$tmp/new.inc"
 g++ -std=c++20 -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -Isrc -Isrc_cuda -I"$tmp" $inc \
@@ -46,5 +50,6 @@ g++ -std=c++20 -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined 
 seq 1 "$SEEDS" | xargs -P "$(nproc)" -I{} "$tmp/emulate" {} > "$tmp/cases.txt" 2>&1 || true
 sort -t' ' -k2n "$tmp/cases.txt"
 total=$(grep -c "^seed" "$tmp/cases.txt" || true); same=$(grep -c " 0 differ$" "$tmp/cases.txt" || true)
-echo "$KERNEL, $OLD against ${NEW:-the working tree}: $same of $SEEDS cases the same word for word ($total ran)"
+label() { if [ -z "$1" ] || [ "$1" = . ]; then echo "the working tree"; else echo "$1"; fi; }
+echo "$KERNEL, $(label "$OLD") against $(label "$NEW"): $same of $SEEDS cases the same word for word ($total ran)"
 [ "$same" = "$SEEDS" ]
