@@ -10,6 +10,7 @@
 #include "opencv2/core/utils/filesystem.hpp"
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 
 namespace cv { namespace lidarsgm {
 
@@ -122,16 +123,30 @@ static int editDistance(const String& a, const String& b)
     return row[b.size()];
 }
 
+//! Letters that a and b share from their start, case ignored.
+static size_t commonPrefix(const String& a, const String& b)
+{
+    size_t i = 0;
+    while (i < a.size() && i < b.size() && std::tolower((unsigned char)a[i]) == std::tolower((unsigned char)b[i]))
+        i++;
+    return i;
+}
+
 String nearestName(const String& key, const std::vector<String>& names)
 {
+    // Between names as near, the one that starts as key does: a misspelling seldom begins at the first letter
+    // (numDisparity is 3 edits from both minDisparity and numDisparities).
     String best;
     int bestDistance = INT_MAX;
+    size_t bestPrefix = 0;
     for (const String& n : names)
     {
         const int d = editDistance(key, n);
-        if (d < bestDistance)
+        const size_t prefix = commonPrefix(key, n);
+        if (d < bestDistance || (d == bestDistance && prefix > bestPrefix))
         {
             bestDistance = d;
+            bestPrefix = prefix;
             best = n;
         }
     }
@@ -409,8 +424,17 @@ Ptr<StereoLidarSGM> StereoLidarSGM::load(const String& filename, const String& o
     }
     catch (const cv::Exception& e)   // the parser's message names the line
     {
+        // OpenCV's YAML parser needs the version line that save() writes first.
+        const size_t dot = filename.rfind('.');
+        const String ext = dot == String::npos ? String() : filename.substr(dot + 1);
+        String first;
+        std::getline(std::ifstream(filename), first);
+        const bool noHeader = (ext == "yml" || ext == "yaml") && first.compare(0, 5, "%YAML") != 0;
         LIDARSGM_Error(Error::StsParseError, "lidarsgm: the parameter file " + filename + " cannot be parsed: " +
-                                             parserMessage(e));
+                                             parserMessage(e) +
+                                             (noHeader ? " (a YAML file starts with the line %YAML:1.0, as save() "
+                                                         "writes it)"
+                                                       : ""));
     }
     if (!fs.isOpened())
         LIDARSGM_Error(Error::StsParseError, "lidarsgm: the parameter file " + filename + " cannot be read as YAML, XML "
@@ -419,6 +443,10 @@ Ptr<StereoLidarSGM> StereoLidarSGM::load(const String& filename, const String& o
     if (fn.empty())
         LIDARSGM_Error(Error::StsParseError, "lidarsgm: the parameter file " + filename + " holds no " +
                                              (objname.empty() ? String("parameters") : "node " + objname));
+    if (objname.empty() && !fn.isMap())
+        LIDARSGM_Error(Error::StsParseError, "lidarsgm: the parameter file " + filename + " has its keys at the top "
+                                             "level: they go under a node lidarsgm_StereoLidarSGM: (as save() "
+                                             "writes them)");
     Ptr<StereoLidarSGM> m = create();
     try
     {

@@ -69,6 +69,21 @@ def rows(tool, tmp):
     with open(broken, 'w') as f:
         f.write('%YAML:1.0\n---\nlidarsgm_StereoLidarSGM:\n   P1: 10\n   P2: [120\n   Q1: 5\n')
     yield ('A malformed parameter file (an unclosed `[`)', cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(broken)))
+    near = os.path.join(tmp, 'near.yml')
+    with open(near, 'w') as f:
+        f.write(best.replace('numDisparities:', 'numDisparity:'))
+    yield ('A misspelt key as near to two names (`numDisparity`: 3 edits from `minDisparity` too)',
+           cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(near)))
+    flat = os.path.join(tmp, 'flat.yml')
+    with open(flat, 'w') as f:
+        f.write('%YAML:1.0\n---\nnumDisparities: 64\nsearchWindow: 4\n')
+    yield ('A parameter file written by hand with its keys at the top level',
+           cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(flat)))
+    bare = os.path.join(tmp, 'bare.yml')
+    with open(bare, 'w') as f:
+        f.write('lidarsgm_StereoLidarSGM:\n   numDisparities: 64\n')
+    yield ('A YAML parameter file without its first line `%YAML:1.0`',
+           cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(bare)))
     yield ('An unknown keyword of `create()` (`numPath`)', type_error(lambda: cv.lidarsgm.StereoLidarSGM.create(numPath=4)))
     rig = os.path.join(tmp, 'rig.yml')
     fs = cv.FileStorage(rig, cv.FILE_STORAGE_WRITE)
@@ -117,6 +132,7 @@ def tool_cases(tmp):
         ('Tool: a word where a number belongs', ['--kitti-frame', KITTI, '--num-disparities', 'abc']),
         ('Tool: a parameter out of range', ['--kitti-frame', KITTI, '--paths', '6']),
         ('Tool: a misspelt option', ['--kitti-frame', KITTI, '--serch-window', '4']),
+        ('Tool: a frame that is not there', ['--kitti-frame', KITTI, '--id', '000003']),
     ]
 
 

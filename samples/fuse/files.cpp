@@ -8,11 +8,15 @@
 
 namespace lidarsgm_fuse {
 
-cv::Mat readImage(const std::string& path)
+cv::Mat readImage(const std::string& path, const std::string& what)
 {
+    // Tested first: imread would log its own warning before this message.
+    if (!std::ifstream(path).good())
+        CV_Error(cv::Error::StsObjectNotFound, "cannot read " + what + " " + path + ": no such file, or not readable");
     cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
     if (img.empty())
-        CV_Error(cv::Error::StsObjectNotFound, "cannot read image " + path);
+        CV_Error(cv::Error::StsObjectNotFound, "cannot read " + what + " " + path + ": not an image format OpenCV "
+                                               "decodes");
     return img;
 }
 

@@ -12,8 +12,8 @@
 
 namespace lidarsgm_fuse {
 
-//! An image as stored (grey or colour); raises cv::Exception naming the file.
-cv::Mat readImage(const std::string& path);
+//! An image as stored (grey or colour); raises cv::Exception "cannot read <what> <path>: why".
+cv::Mat readImage(const std::string& path, const std::string& what = "image");
 //! An image as one grey channel (colour converted with cv::cvtColor, as the datasets API does).
 cv::Mat toGrey(const cv::Mat& img);
 inline cv::Mat readGrey(const std::string& path) { return toGrey(readImage(path)); }

@@ -135,8 +135,10 @@ void printResiduals(const std::vector<std::pair<std::string, const PassRows*> >&
                "%zu frame(s), largest %.2f px (%s)\n", r[r.size() / 2], r.size(), largest, worst.c_str());
     }
     if (!above.empty())
-        printf("  above %.0f px, where the LiDAR pulls the fusion off the images (check the calibration: "
-               "--check-calibration, --refine-calibration): %s\n", lidarsgm::LidarFailSafe::maxResidual(), above.c_str());
+        printf("  above %.0f px, where the LiDAR pulls the fusion off the images (check that the sparse input holds "
+               "disparities of the left view in pixels, x 256 in a 16-bit PNG, not depth; then the calibration: "
+               "--check-calibration, and with --kitti or --kitti-raw --refine-calibration): %s\n",
+               lidarsgm::LidarFailSafe::maxResidual(), above.c_str());
     if (!misplaced.empty())
         printf("  the LiDAR misplaced on the images (cv::lidarsgm::LidarFailSafe: moving the points lowers the residual by "
                "a fifth or more; check the calibration: --refine-calibration), %s: %s\n",

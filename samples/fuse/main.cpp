@@ -69,9 +69,7 @@ Frame loadFrame(const Options& o)
     }
     else if (o.has("sparse"))
     {
-        f.sparse = imread(o.str("sparse"), IMREAD_UNCHANGED);
-        if (f.sparse.empty())
-            CV_Error(Error::StsObjectNotFound, "cannot read sparse disparity " + o.str("sparse"));
+        f.sparse = readImage(o.str("sparse"), "sparse disparity");
         if (o.has("calib"))
             f.calibration = lidarsgm::readKittiCalibration(o.str("calib"));
     }

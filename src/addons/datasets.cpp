@@ -83,12 +83,22 @@ KittiCalibration calibrationOf(const Mat& P2, const Mat& P3, const Mat& R0, cons
     return k;
 }
 
-Mat readImage(const String& path)
+//! The image file at path as stored, what it holds named in the messages ("cannot read <what> <path>: why").
+static Mat readImageFile(const String& path, const String& what)
 {
+    // Tested first: imread would log its own warning before this message.
+    if (!std::ifstream(path).good())
+        LIDARSGM_Error(Error::StsObjectNotFound, "cannot read " + what + " " + path + ": no such file, or not readable");
     Mat img = imread(path, IMREAD_UNCHANGED);
     if (img.empty())
-        LIDARSGM_Error(Error::StsObjectNotFound, "cannot read image " + path);
+        LIDARSGM_Error(Error::StsObjectNotFound, "cannot read " + what + " " + path + ": not an image format OpenCV "
+                                                 "decodes");
     return img;
+}
+
+Mat readImage(const String& path)
+{
+    return readImageFile(path, "image");
 }
 
 Mat toGrey(const Mat& img)
@@ -179,9 +189,9 @@ Mat readVelodyneScan(const String& path)
 
 Mat readKittiDisparity(const String& path)
 {
-    Mat raw = imread(path, IMREAD_UNCHANGED);
-    if (raw.empty() || raw.type() != CV_16UC1)
-        LIDARSGM_Error(Error::StsObjectNotFound, "cannot read KITTI disparity PNG " + path);
+    Mat raw = readImageFile(path, "KITTI disparity PNG");
+    if (raw.type() != CV_16UC1)
+        LIDARSGM_Error(Error::StsBadArg, "cannot read KITTI disparity PNG " + path + ": not 16-bit single-channel");
     Mat d;
     raw.convertTo(d, CV_32F, 1.0 / 256);
     d.setTo(-1.f, raw == 0);
@@ -190,9 +200,9 @@ Mat readKittiDisparity(const String& path)
 
 Mat readKittiDepthAsDisparity(const String& path, double focalBaseline)
 {
-    Mat raw = imread(path, IMREAD_UNCHANGED);
-    if (raw.empty() || raw.type() != CV_16UC1)
-        LIDARSGM_Error(Error::StsObjectNotFound, "cannot read KITTI depth PNG " + path);
+    Mat raw = readImageFile(path, "KITTI depth PNG");
+    if (raw.type() != CV_16UC1)
+        LIDARSGM_Error(Error::StsBadArg, "cannot read KITTI depth PNG " + path + ": not 16-bit single-channel");
     Mat d(raw.size(), CV_32F);
     for (int y = 0; y < raw.rows; y++)
         for (int x = 0; x < raw.cols; x++)

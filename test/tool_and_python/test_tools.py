@@ -435,7 +435,9 @@ class ToolTest(unittest.TestCase):
 
     def test_exit_codes_and_messages(self):
         cases = [
-            (["--kitti-frame", os.path.join(self.tmp, "missing"), "--id", "000002"], 1, "cannot read image"),
+            (["--kitti-frame", os.path.join(self.tmp, "missing"), "--id", "000002"], 1,
+             "cannot read image " + os.path.join(self.tmp, "missing", "image_2", "000002_10.png") +
+             ": no such file, or not readable"),
             (["--kitti", os.path.join(self.tmp, "missing")], 1, "frames.txt"),
             (["--middlebury", self.tmp], 1, "no Middlebury scene"),
             (["--left", os.path.join(KITTI, "image_2", "000002_10.png"), "--right",
@@ -468,6 +470,7 @@ class ToolTest(unittest.TestCase):
             rc, so, se = run([TOOL] + args)
             self.assertEqual(rc, code, " ".join(args) + "\n" + se)
             self.assertIn(message, se, " ".join(args))
+            self.assertNotIn("WARN", se, " ".join(args))   # the tool's message alone, no OpenCV log line before it
 
     def test_conflicting_and_idle_options_exit_2_naming_both(self):
         """Two inputs, an option that does nothing with the input, two LiDARs, an option without its companion: refused

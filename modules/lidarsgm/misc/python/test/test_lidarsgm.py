@@ -399,6 +399,28 @@ class lidarsgm_test(NewOpenCVTests):
         self.assertIn("did you mean 'edgeThreshold'", str(ctx.exception))
         self.assertIn(path, str(ctx.exception))
 
+    def load_error(self, text):
+        """What load() raises for a parameter file of this text."""
+        path = os.path.join(tempfile.mkdtemp(), 'params.yml')
+        with open(path, 'w') as f:
+            f.write(text)
+        with self.assertRaises(cv.error) as ctx:
+            cv.lidarsgm.StereoLidarSGM.load(path)
+        return str(ctx.exception)
+
+    def test_parameter_file_key_as_near_to_two_names(self):
+        # 3 edits from both minDisparity and numDisparities: the one that starts the same way is meant.
+        said = self.load_error('%YAML:1.0\n---\nlidarsgm_StereoLidarSGM:\n   numDisparity: 64\n')
+        self.assertIn("did you mean 'numDisparities'", said)
+
+    def test_parameter_file_without_its_node(self):
+        said = self.load_error('%YAML:1.0\n---\nnumDisparities: 64\nP1: 10\n')
+        self.assertIn('has its keys at the top level: they go under a node lidarsgm_StereoLidarSGM:', said)
+
+    def test_parameter_file_without_the_yaml_line(self):
+        said = self.load_error('lidarsgm_StereoLidarSGM:\n   numDisparities: 64\n')
+        self.assertIn('a YAML file starts with the line %YAML:1.0', said)
+
 
 if __name__ == '__main__':
     NewOpenCVTests.bootstrap()
