@@ -79,11 +79,6 @@ def rows(tool, tmp):
         f.write('%YAML:1.0\n---\nnumDisparities: 64\nsearchWindow: 4\n')
     yield ('A parameter file written by hand with its keys at the top level',
            cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(flat)))
-    bare = os.path.join(tmp, 'bare.yml')
-    with open(bare, 'w') as f:
-        f.write('lidarsgm_StereoLidarSGM:\n   numDisparities: 64\n')
-    yield ('A YAML parameter file without its first line `%YAML:1.0`',
-           cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(bare)))
     yield ('An unknown keyword of `create()` (`numPath`)', type_error(lambda: cv.lidarsgm.StereoLidarSGM.create(numPath=4)))
     rig = os.path.join(tmp, 'rig.yml')
     fs = cv.FileStorage(rig, cv.FILE_STORAGE_WRITE)
