@@ -53,32 +53,25 @@ def rows(tool, tmp):
     yield ('Colour images', cv_message(lambda: m.compute(frame.leftImage, frame.leftImage, sparse)))
     yield ("numpy's float64 for the sparse map", cv_message(lambda: m.compute(left, right, sparse.astype(np.float64))))
     best = open(os.path.join('doc', 'params', 'kitti_best.yml')).read()
-    typo = os.path.join(tmp, 'typo.yml')
-    with open(typo, 'w') as f:
-        f.write(best.replace('edgeThreshold:', 'edgeTreshold:'))
+
+    def loaded(name, text):
+        """What StereoLidarSGM.load says of a parameter file <tmp>/name of this text."""
+        path = os.path.join(tmp, name)
+        with open(path, 'w') as f:
+            f.write(text)
+        return cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(path))
     yield ('A misspelt key in a parameter file (`edgeTreshold`)',
-           cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(typo)))
-    bad = os.path.join(tmp, 'bad_value.yml')
-    with open(bad, 'w') as f:
-        f.write(best.replace('numPaths: 8', 'numPaths: 6'))
+           loaded('typo.yml', best.replace('edgeThreshold:', 'edgeTreshold:')))
     yield ('A value out of range in a parameter file (`numPaths: 6`)',
-           cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(bad)))
+           loaded('bad_value.yml', best.replace('numPaths: 8', 'numPaths: 6')))
     yield ('A parameter file that does not exist',
            cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(os.path.join(tmp, 'kitti_bset.yml'))))
-    broken = os.path.join(tmp, 'broken.yml')
-    with open(broken, 'w') as f:
-        f.write('%YAML:1.0\n---\nlidarsgm_StereoLidarSGM:\n   P1: 10\n   P2: [120\n   Q1: 5\n')
-    yield ('A malformed parameter file (an unclosed `[`)', cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(broken)))
-    near = os.path.join(tmp, 'near.yml')
-    with open(near, 'w') as f:
-        f.write(best.replace('numDisparities:', 'numDisparity:'))
+    yield ('A malformed parameter file (an unclosed `[`)',
+           loaded('broken.yml', '%YAML:1.0\n---\nlidarsgm_StereoLidarSGM:\n   P1: 10\n   P2: [120\n   Q1: 5\n'))
     yield ('A misspelt key as near to two names (`numDisparity`: 3 edits from `minDisparity` too)',
-           cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(near)))
-    flat = os.path.join(tmp, 'flat.yml')
-    with open(flat, 'w') as f:
-        f.write('%YAML:1.0\n---\nnumDisparities: 64\nsearchWindow: 4\n')
+           loaded('near.yml', best.replace('numDisparities:', 'numDisparity:')))
     yield ('A parameter file written by hand with its keys at the top level',
-           cv_message(lambda: cv.lidarsgm.StereoLidarSGM.load(flat)))
+           loaded('flat.yml', '%YAML:1.0\n---\nnumDisparities: 64\nsearchWindow: 4\n'))
     yield ('An unknown keyword of `create()` (`numPath`)', type_error(lambda: cv.lidarsgm.StereoLidarSGM.create(numPath=4)))
     rig = os.path.join(tmp, 'rig.yml')
     fs = cv.FileStorage(rig, cv.FILE_STORAGE_WRITE)
