@@ -10,34 +10,28 @@
 set -eo pipefail
 cd "$(dirname "$0")/.."
 CACHE=${LIDARSGM_CACHE_DIR:-$HOME/.cache/lidarsgm}
-B=$CACHE/build-${ARCH_KEY:-cuda90}
+KEY=${ARCH_KEY:-cuda90}   # the CUDA build's key, as tools/pack_device_build.sh takes it
+B=$CACHE/build-$KEY
 [ -f "$B/build.ninja" ] || { echo "no CUDA build in $B (run the README's build in this clone first)"; exit 1; }
 git diff --quiet HEAD && git diff --cached --quiet || { echo "this clone has uncommitted changes"; exit 1; }
-start=$(git rev-parse HEAD)
-trap 'git checkout -q --detach "$start"' EXIT
-first=1
+dest=.device; builds=()
 for arg in "$@"; do
   case $arg in
-    DEST=*) continue ;;
-    *=*) ;;
+    DEST=*) dest=${arg#DEST=} ;;
+    *=*) builds+=("$arg") ;;
     *) echo "pack_variants.sh: NAME=REV expected, got $arg"; exit 2 ;;
   esac
+done
+start=$(git rev-parse HEAD)
+trap 'git checkout -q --detach "$start"' EXIT
+for arg in "${builds[@]}"; do
   name=${arg%%=*}; rev=${arg#*=}
   git checkout -q --detach "$rev"
   ninja -C "$B" opencv_test_lidarsgm opencv_perf_lidarsgm lidarsgm_fuse > /tmp/pack_variants_$name.log 2>&1 ||
     { tail -20 /tmp/pack_variants_$name.log; exit 1; }
-  if [ $first = 1 ]; then
-    PACK_NAME=prebuilt_$name bash tools/pack_device_build.sh "$CACHE"
-    first=0
-  else
-    MODULE_ONLY=1 PACK_NAME=prebuilt_$name bash tools/pack_device_build.sh "$CACHE"
+  only=1; [ "$arg" = "${builds[0]}" ] && only=0   # the first in full
+  MODULE_ONLY=$only PACK_NAME=prebuilt_$name bash tools/pack_device_build.sh "$CACHE" "$KEY"
+  if [ "$dest" != .device ]; then
+    mkdir -p "$dest" && cp ".device/prebuilt_$name.tar.xz" "$dest/"
   fi
 done
-dest=.device
-for arg in "$@"; do case $arg in DEST=*) dest=${arg#DEST=} ;; esac; done
-if [ "$dest" != .device ]; then
-  mkdir -p "$dest"
-  for arg in "$@"; do
-    case $arg in DEST=*) ;; *) cp ".device/prebuilt_${arg%%=*}.tar.xz" "$dest/" ;; esac
-  done
-fi
